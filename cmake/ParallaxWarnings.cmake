@@ -1,0 +1,17 @@
+# parallax_warnings(<target>): the project's warning set, errors when PARALLAX_WERROR is ON.
+function(parallax_warnings target)
+  get_target_property(_type ${target} TYPE)
+  if(_type STREQUAL "INTERFACE_LIBRARY")
+    set(_scope INTERFACE)
+  else()
+    set(_scope PRIVATE)
+  endif()
+  target_compile_options(${target} ${_scope} -Wall -Wextra -Wpedantic -Wshadow -Wconversion
+                         -Wno-sign-conversion)
+  if(PARALLAX_WERROR)
+    target_compile_options(${target} ${_scope} -Werror)
+  endif()
+  if(PARALLAX_NATIVE)
+    target_compile_options(${target} ${_scope} -march=native)
+  endif()
+endfunction()

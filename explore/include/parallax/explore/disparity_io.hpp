@@ -1,0 +1,44 @@
+// Disparity maps on disk (docs/algorithm.md section 6) and as pictures.
+//
+// Disk format: KITTI 16-bit single-channel PNG, value = round(256 * d), 0 = invalid. A valid
+// disparity 0 (a point at infinity) is written as 1 (1/256 px) so that it stays valid.
+#pragma once
+
+#include <filesystem>
+
+#include <opencv2/core.hpp>
+
+namespace parallax::explore {
+
+// A disparity map and its validity: disparity_px CV_32FC1 in pixels, valid_mask CV_8UC1 of the
+// same size, non-zero = valid. Values under an invalid mask are meaningless.
+struct DisparityMap {
+  cv::Mat disparity_px;
+  cv::Mat valid_mask;
+};
+
+// Largest disparity the KITTI format can hold: 65535 / 256 px.
+constexpr double kKittiMaxDisparityPx = 65535.0 / 256.0;
+
+// Writes a KITTI disparity PNG. Valid pixels must hold a finite d in [0, 65535/256] (after
+// rounding): anything else throws std::invalid_argument naming the file and the pixel. Throws
+// std::runtime_error naming the file if it cannot be written.
+void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& disparity_px,
+                           const cv::Mat& valid_mask);
+
+// Reads a KITTI disparity PNG: d = value / 256, value 0 = invalid (mask 0, d 0); mask 255
+// elsewhere. Throws InputError (dataset.hpp) naming the file if it is missing, undecodable or
+// not 16-bit single-channel.
+DisparityMap read_kitti_disparity(const std::filesystem::path& file);
+
+// A picture of a disparity map, CV_8UC3 BGR: HSV hue from 240 deg (blue, d = 0, far) to 0 deg
+// (red, d >= max_disparity_px, near), full saturation and value; invalid pixels black.
+// max_disparity_px must be > 0 (std::invalid_argument otherwise).
+cv::Mat colourize_disparity(const cv::Mat& disparity_px, const cv::Mat& valid_mask,
+                            double max_disparity_px);
+
+// Writes any 8- or 16-bit image as PNG (compression level fixed, so runs are reproducible).
+// Throws std::runtime_error naming the file if it cannot be written.
+void write_png(const std::filesystem::path& file, const cv::Mat& image);
+
+}  // namespace parallax::explore

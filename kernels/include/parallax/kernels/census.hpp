@@ -1,0 +1,67 @@
+// Census transform with Hamming distance (docs/algorithm.md §2) as a cost policy of CostStage.
+// Window up to 9x7 (w*h - 1 <= 64 bits), clamped border, bit = neighbour < centre, first tap in
+// the most significant used bit. C++14 synthesisable subset.
+#pragma once
+
+#include "parallax/kernels/caps.hpp"
+#include "parallax/kernels/common.hpp"
+#include "parallax/kernels/cost_stage.hpp"
+#include "parallax/kernels/line_buffer.hpp"
+
+namespace parallax {
+namespace kern {
+
+template <class Caps>
+class CensusMatcher {
+ public:
+  void configure(const StereoParams& p) {
+    w_ = p.window_w;
+    h_ = p.window_h;
+    cost_max_ = uint16_t(cost_max(p));
+  }
+
+  // Computes the left and right codes of pixel (x, y); the right code joins the ring of the last
+  // D right codes of this row. Contract: called once per pixel, in raster order, before cost().
+  template <class LB>
+  void begin_pixel(const LB& left, const LB& right, int x, int y) {
+    left_code_ = code(left, x, y);
+    right_codes_[x & (kColumnRing - 1)] = code(right, x, y);
+  }
+
+  template <class LB>
+  uint16_t cost(const LB&, const LB&, int x, int, int d) const {
+    if (x - d < 0) return cost_max_;
+    return uint16_t(popcount64(left_code_ ^ right_codes_[(x - d) & (kColumnRing - 1)]));
+  }
+
+ private:
+  template <class LB>
+  uint64_t code(const LB& lb, int x, int y) const {
+    int cols[kMaxWindow];
+  census_clamp_cols:
+    for (int i = 0; i < w_; ++i) cols[i] = lb.clamp_x(x + i - w_ / 2);
+    const uint8_t centre = lb.row_clamped(y)[x];
+    uint64_t c = 0;
+  census_rows:
+    for (int j = 0; j < h_; ++j) {
+      const uint8_t* row = lb.row_clamped(y + j - h_ / 2);
+    census_cols:
+      for (int i = 0; i < w_; ++i) {
+        if (i == w_ / 2 && j == h_ / 2) continue;
+        c = (c << 1) | uint64_t(row[cols[i]] < centre ? 1u : 0u);
+      }
+    }
+    return c;
+  }
+
+  int w_ = 5, h_ = 5;
+  uint16_t cost_max_ = 24;
+  uint64_t left_code_ = 0;
+  uint64_t right_codes_[kColumnRing];
+};
+
+template <class Caps>
+using CensusCostStage = CostStage<Caps, CensusMatcher<Caps> >;
+
+}  // namespace kern
+}  // namespace parallax

@@ -1,0 +1,96 @@
+// Matching-cost stage: streams the left and right pixels (raster order) into line buffers and
+// emits, for every left pixel in raster order, D matching costs in D/PU firings of PU lanes.
+// The cost function is a policy (census.hpp, sad.hpp). C++14 synthesisable subset.
+#pragma once
+
+#include "parallax/kernels/caps.hpp"
+#include "parallax/kernels/common.hpp"
+#include "parallax/kernels/line_buffer.hpp"
+
+namespace parallax {
+namespace kern {
+
+// What the next firing of a cost stage does. Contract: plan() is const and cheap; fire() does
+// exactly what the plan said, and a plan with neither flag set never occurs before done().
+struct CostPlan {
+  bool read;   // reads one pixel from each of the left and right input streams
+  bool write;  // writes one token of PU costs
+};
+
+template <class Caps, class Matcher>
+class CostStage {
+ public:
+  typedef Lanes<uint16_t, Caps::lanes> Token;
+  static constexpr int kRows = kMaxWindow + 1;  // line-buffer slots: window rows + 1
+
+  void configure(const StereoParams& p) {
+    p_ = p;
+    rx_ = p.window_w / 2;
+    ry_ = p.window_h / 2;
+    lanes_ = p.parallel_units;
+    chunks_ = p.disparities / p.parallel_units;
+    left_.configure(p.width_px, p.height_px, p.window_h + 1);
+    right_.configure(p.width_px, p.height_px, p.window_h + 1);
+    matcher_.configure(p);
+    start_frame();
+  }
+  void start_frame() {
+    left_.reset();
+    right_.reset();
+    x_ = 0;
+    y_ = 0;
+    chunk_ = 0;
+    out_done_ = false;
+  }
+  bool done() const { return out_done_; }
+
+  CostPlan plan() const {
+    CostPlan pl;
+    pl.write = !out_done_ && left_.window_ready(x_, y_, rx_, ry_);
+    pl.read = left_.input_allowed(y_, ry_) && (chunk_ == 0 || !pl.write);
+    return pl;
+  }
+
+  template <class InS, class OutS>
+  void fire(const CostPlan& pl, InS& left_in, InS& right_in, OutS& out) {
+    if (pl.write) {
+      if (chunk_ == 0) matcher_.begin_pixel(left_, right_, x_, y_);
+      Token t;
+      const int d0 = chunk_ * lanes_;
+    cost_lanes:
+      for (int i = 0; i < lanes_; ++i) {
+        PX_PRAGMA("HLS UNROLL")
+        t.v[i] = matcher_.cost(left_, right_, x_, y_, d0 + i);
+      }
+      out.write(t);
+      advance();
+    }
+    if (pl.read) {
+      left_.push(left_in.read());
+      right_.push(right_in.read());
+    }
+  }
+
+  const StereoParams& params() const { return p_; }
+
+ private:
+  void advance() {
+    if (++chunk_ < chunks_) return;
+    chunk_ = 0;
+    if (++x_ < p_.width_px) return;
+    x_ = 0;
+    if (++y_ < p_.height_px) return;
+    out_done_ = true;
+  }
+
+  StereoParams p_;
+  int rx_ = 0, ry_ = 0, lanes_ = 1, chunks_ = 1;
+  int x_ = 0, y_ = 0, chunk_ = 0;
+  bool out_done_ = true;
+  LineBuffer<uint8_t, Caps::max_width_px, kRows> left_;
+  LineBuffer<uint8_t, Caps::max_width_px, kRows> right_;
+  Matcher matcher_;
+};
+
+}  // namespace kern
+}  // namespace parallax

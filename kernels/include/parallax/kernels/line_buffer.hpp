@@ -1,0 +1,67 @@
+// A raster-order line buffer with clamped ("replicate") window access, the common memory of the
+// window stages (census, SAD, median). It holds SLOTS rows of up to MAX_W pixels; input row yi
+// lives in slot yi % rows. C++14 synthesisable subset.
+#pragma once
+
+#include "parallax/kernels/common.hpp"
+
+namespace parallax {
+namespace kern {
+
+template <class T, int MAX_W, int SLOTS>
+class LineBuffer {
+ public:
+  // rows: slots in use (<= SLOTS). Contract: the caller never writes row yi while a pending
+  // output still reads row yi - rows (see window_input_allowed()).
+  void configure(int width_px, int height_px, int rows) {
+    width_px_ = width_px;
+    height_px_ = height_px;
+    rows_ = rows;
+    written_ = 0;
+  }
+  void reset() { written_ = 0; }
+
+  // Appends the next input pixel in raster order.
+  void push(T v) {
+    const int yi = int(written_ / width_px_);
+    const int xi = int(written_ - int64_t(yi) * width_px_);
+    mem_[yi % rows_][xi] = v;
+    ++written_;
+  }
+  int64_t written() const { return written_; }
+  bool input_done() const { return written_ >= int64_t(width_px_) * height_px_; }
+
+  // Pixel (x, y) with both coordinates clamped to the image; it must be resident.
+  T at_clamped(int x, int y) const {
+    const int cx = clamp_int(x, 0, width_px_ - 1);
+    const int cy = clamp_int(y, 0, height_px_ - 1);
+    return mem_[cy % rows_][cx];
+  }
+
+  // The resident row holding image row clamp(y); columns are not clamped.
+  const T* row_clamped(int y) const { return mem_[clamp_int(y, 0, height_px_ - 1) % rows_]; }
+  int clamp_x(int x) const { return clamp_int(x, 0, width_px_ - 1); }
+
+  // True when every pixel of the clamped window of radius (rx, ry) around (x, y) is resident.
+  bool window_ready(int x, int y, int rx, int ry) const {
+    const int64_t last = int64_t(min_int(y + ry, height_px_ - 1)) * width_px_ + min_int(x + rx, width_px_ - 1);
+    return written_ > last;
+  }
+  // True when the next input row may be written without overwriting a row that the window of
+  // radius ry around output row y_out still needs.
+  bool input_allowed(int y_out, int ry) const {
+    if (input_done()) return false;
+    const int yi = int(written_ / width_px_);
+    return yi - rows_ < max_int(0, y_out - ry);
+  }
+
+ private:
+  T mem_[SLOTS][MAX_W];
+  int width_px_ = 0;
+  int height_px_ = 0;
+  int rows_ = 1;
+  int64_t written_ = 0;
+};
+
+}  // namespace kern
+}  // namespace parallax

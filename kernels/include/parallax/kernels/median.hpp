@@ -1,0 +1,102 @@
+// k x k median of disparity codes (docs/algorithm.md §5): clamped border, output = element of
+// rank (k*k - 1) / 2 of the sorted window, invalid code D sorting above every valid code.
+// Reads and writes one code per firing in steady state (II = 1); the last k/2 rows are emitted
+// after the input has ended. k = 0 or 1 passes codes through. C++14 synthesisable subset.
+#pragma once
+
+#include "parallax/kernels/caps.hpp"
+#include "parallax/kernels/common.hpp"
+#include "parallax/kernels/line_buffer.hpp"
+
+namespace parallax {
+namespace kern {
+
+struct MedianPlan {
+  bool read;   // one input code
+  bool write;  // one output code
+};
+
+template <class Caps>
+class Median {
+ public:
+  static constexpr int kRows = kMaxMedian + 1;  // line-buffer slots: k rows + 1
+
+  void configure(const StereoParams& p) {
+    k_ = p.median >= 3 ? p.median : 1;
+    r_ = k_ / 2;
+    width_px_ = p.width_px;
+    height_px_ = p.height_px;
+    lb_.configure(p.width_px, p.height_px, k_ + 1);
+    start_frame();
+  }
+  void start_frame() {
+    lb_.reset();
+    x_ = 0;
+    y_ = 0;
+    done_ = false;
+  }
+  bool done() const { return done_; }
+
+  MedianPlan plan() const {
+    MedianPlan pl;
+    pl.write = !done_ && lb_.window_ready(x_, y_, r_, r_);
+    pl.read = lb_.input_allowed(y_, r_);
+    return pl;
+  }
+
+  template <class InS, class OutS>
+  void fire(const MedianPlan& pl, InS& in, OutS& out) {
+    if (pl.write) {
+      out.write(k_ == 1 ? lb_.at_clamped(x_, y_)
+                        : k_ == 3 ? window_median<3>() : k_ == 5 ? window_median<5>() : window_median<7>());
+      if (++x_ == width_px_) {
+        x_ = 0;
+        if (++y_ == height_px_) done_ = true;
+      }
+    }
+    if (pl.read) lb_.push(in.read());
+  }
+
+ private:
+  // Rank selection by counting on distinct keys (code * 64 + window index): the keys are a
+  // permutation-free total order, so exactly one has (k*k - 1) / 2 smaller keys, and its code
+  // is the median. A fixed n*n comparison array: no data-dependent control flow.
+  template <int K>
+  DispCode window_median() const {
+    const int r = K / 2;
+    uint16_t key[K * K];
+    int cols[K];
+  median_clamp_cols:
+    for (int i = 0; i < K; ++i) cols[i] = lb_.clamp_x(x_ + i - r);
+    int n = 0;
+  median_gather_rows:
+    for (int j = 0; j < K; ++j) {
+      const DispCode* row = lb_.row_clamped(y_ + j - r);
+    median_gather_cols:
+      for (int i = 0; i < K; ++i, ++n) key[n] = uint16_t((row[cols[i]] << 6) | n);
+    }
+    uint16_t smaller[K * K];
+  median_clear:
+    for (int a = 0; a < K * K; ++a) smaller[a] = 0;
+  median_count:
+    for (int b = 0; b < K * K; ++b) {
+      const uint16_t kb = key[b];
+    median_count_inner:
+      for (int a = 0; a < K * K; ++a) smaller[a] = uint16_t(smaller[a] + (kb < key[a] ? 1 : 0));
+    }
+    const int want = (K * K - 1) / 2;
+    DispCode result = 0;
+  median_pick:
+    for (int a = 0; a < K * K; ++a)
+      if (smaller[a] == want) result = DispCode(key[a] >> 6);
+    return result;
+  }
+
+  int k_ = 1, r_ = 0, width_px_ = 0, height_px_ = 0;
+  int x_ = 0, y_ = 0;
+  bool done_ = true;
+  LineBuffer<DispCode, Caps::max_width_px, kRows> lb_;
+};
+
+}  // namespace kern
+}  // namespace parallax

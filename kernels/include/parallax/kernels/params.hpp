@@ -1,0 +1,95 @@
+// The kernels' type header: the runtime parameters of one disparity pipeline and the bit
+// widths derived from them. C++14, no STL, no heap: this header is shared by the kernels, the
+// golden model and every tool, and it is the only thing the kernels depend on.
+#pragma once
+
+#include <stdint.h>
+
+namespace parallax {
+namespace kern {
+
+enum CostKind : int { kCostCensus = 0, kCostSad = 1 };
+
+// One bit per SGM path direction. Angles are the direction of travel (docs/algorithm.md §3).
+enum PathBit : unsigned {
+  kPath0 = 1u << 0,    // predecessor (x-1, y)
+  kPath45 = 1u << 1,   // predecessor (x-1, y-1)
+  kPath90 = 1u << 2,   // predecessor (x,   y-1)
+  kPath135 = 1u << 3,  // predecessor (x+1, y-1)
+  kPath180 = 1u << 4,  // predecessor (x+1, y)
+  kPath225 = 1u << 5,  // predecessor (x+1, y+1)
+  kPath270 = 1u << 6,  // predecessor (x,   y+1)
+  kPath315 = 1u << 7,  // predecessor (x-1, y+1)
+};
+constexpr unsigned kForwardPaths = kPath0 | kPath45 | kPath90 | kPath135;
+constexpr unsigned kBackwardPaths = kPath180 | kPath225 | kPath270 | kPath315;
+constexpr unsigned kAllPaths = kForwardPaths | kBackwardPaths;
+
+// Hard limits of the software instantiations (the HLS export replaces them by the exact values).
+constexpr int kMaxWidthPx = 4096;
+constexpr int kMaxHeightPx = 4096;
+constexpr int kMaxDisparities = 256;
+constexpr int kMaxWindow = 9;       // census/SAD window side; census also needs w*h-1 <= 64
+constexpr int kMaxCensusBits = 64;
+constexpr int kMaxMedian = 7;
+
+// Runtime parameters of the disparity pipeline. Structure fields (sizes, D, PU, paths, windows)
+// and registers (p1, p2, lr_tolerance) are all runtime values in software; the HLS export turns
+// the structure fields into compile-time constants.
+struct StereoParams {
+  int width_px;
+  int height_px;
+  int cost;            // CostKind
+  int window_w;        // odd
+  int window_h;        // odd
+  int disparities;     // D: disparities [0, D)
+  int parallel_units;  // PU: disparities computed per firing; divides D
+  unsigned path_mask;  // PathBit set
+  int p1;              // register, 0 <= p1 < p2
+  int p2;              // register
+  bool lr_check;
+  int lr_tolerance;    // register
+  int median;          // 0 = off, 3, 5, 7
+};
+
+enum RectifyMode : int { kRectifyNone = 0, kRectifyNearest = 1, kRectifyBilinear = 2 };
+
+// Rectification by remap tables (docs/algorithm.md §1).
+struct RectifyParams {
+  int width_px;
+  int height_px;
+  int mode;         // RectifyMode
+  int frac_bits;    // F: fractional bits of the map entries (0 for nearest)
+  int buffer_rows;  // R: line-buffer rows
+};
+
+// Number of bits needed to store v (>= 1).
+constexpr int bits_for(uint64_t v) { return v <= 1 ? 1 : 1 + bits_for(v >> 1); }
+
+constexpr int popcount_u32(unsigned v) { return v == 0 ? 0 : int(v & 1u) + popcount_u32(v >> 1); }
+
+inline int path_count(const StereoParams& p) { return popcount_u32(p.path_mask); }
+
+inline uint32_t cost_max(const StereoParams& p) {
+  return p.cost == kCostCensus ? uint32_t(p.window_w * p.window_h - 1)
+                               : uint32_t(255 * p.window_w * p.window_h);
+}
+
+// Largest value the P2 register can hold at the width needed for the configured P2.
+inline uint32_t p2_register_max(const StereoParams& p) {
+  return (uint32_t(1) << bits_for(uint64_t(p.p2 < 0 ? 0 : p.p2))) - 1u;
+}
+
+inline int cost_bits(const StereoParams& p) { return bits_for(cost_max(p)); }
+inline int penalty_bits(const StereoParams& p) { return bits_for(uint64_t(p.p2 < 0 ? 0 : p.p2)); }
+// Lr <= cost_max + P2 (docs/algorithm.md §3).
+inline int path_bits(const StereoParams& p) { return bits_for(uint64_t(cost_max(p)) + p2_register_max(p)); }
+inline int aggregate_bits(const StereoParams& p) {
+  return bits_for(uint64_t(path_count(p)) * (uint64_t(cost_max(p)) + p2_register_max(p)));
+}
+// Disparity codes are [0, D]; the code D means invalid.
+inline int disparity_bits(const StereoParams& p) { return bits_for(uint64_t(p.disparities)); }
+inline int invalid_code(const StereoParams& p) { return p.disparities; }
+
+}  // namespace kern
+}  // namespace parallax

@@ -1,0 +1,99 @@
+// Rectification by remap tables through a line buffer (docs/algorithm.md §1): nearest
+// neighbour on integer maps (as in the paper) or bilinear with F-bit fixed-point weights.
+// One map entry is read per output pixel; input pixels are read in raster order up to
+// A = R/2 rows ahead of the output row. Taps outside the buffered rows read 0 and are counted
+// as window misses. C++14 synthesisable subset.
+#pragma once
+
+#include "parallax/kernels/common.hpp"
+
+namespace parallax {
+namespace kern {
+
+struct RectifyPlan {
+  bool read_pixel;  // one input pixel
+  bool write;       // reads one map entry and writes one output pixel
+};
+
+template <int MAX_W, int MAX_ROWS>
+class Rectify {
+ public:
+  void configure(const RectifyParams& p) {
+    p_ = p;
+    ahead_ = p.buffer_rows / 2;
+    start_frame();
+  }
+  void start_frame() {
+    in_count_ = 0;
+    x_ = 0;
+    y_ = 0;
+    done_ = false;
+    window_misses_ = 0;
+  }
+  bool done() const { return done_; }
+  int64_t window_misses() const { return window_misses_; }
+
+  RectifyPlan plan() const {
+    RectifyPlan pl;
+    const int64_t total = int64_t(p_.width_px) * p_.height_px;
+    const int last_row = min_int(y_ + ahead_, p_.height_px - 1);
+    pl.write = !done_ && in_count_ >= int64_t(last_row + 1) * p_.width_px;
+    pl.read_pixel = in_count_ < total && in_count_ / p_.width_px <= y_ + ahead_;
+    return pl;
+  }
+
+  template <class PixIn, class MapIn, class PixOut>
+  void fire(const RectifyPlan& pl, PixIn& in, MapIn& map_in, PixOut& out) {
+    if (pl.write) {
+      const MapEntry m = map_in.read();
+      out.write(p_.mode == kRectifyBilinear ? bilinear(m) : tap(m.x, m.y));
+      if (++x_ == p_.width_px) {
+        x_ = 0;
+        if (++y_ == p_.height_px) done_ = true;
+      }
+    }
+    if (pl.read_pixel) {
+      const int yi = int(in_count_ / p_.width_px);
+      const int xi = int(in_count_ - int64_t(yi) * p_.width_px);
+      lb_[yi % p_.buffer_rows][xi] = in.read();
+      ++in_count_;
+    }
+  }
+
+ private:
+  // Rows resident while producing output row y: [y + A - R + 1, y + A] within the image.
+  uint8_t tap(int ix, int iy) {
+    if (ix < 0 || ix >= p_.width_px || iy < 0 || iy >= p_.height_px) return 0;
+    if (iy > y_ + ahead_ || iy < y_ + ahead_ - p_.buffer_rows + 1) {
+      ++window_misses_;
+      return 0;
+    }
+    return lb_[iy % p_.buffer_rows][ix];
+  }
+
+  uint8_t bilinear(const MapEntry& m) {
+    const int f = p_.frac_bits;
+    const int32_t one = int32_t(1) << f;
+    const int ix = int(m.x >> f);
+    const int iy = int(m.y >> f);
+    const int32_t fx = m.x & (one - 1);
+    const int32_t fy = m.y & (one - 1);
+    const int32_t t00 = tap(ix, iy), t10 = tap(ix + 1, iy);
+    const int32_t t01 = tap(ix, iy + 1), t11 = tap(ix + 1, iy + 1);
+    const int32_t acc = t00 * (one - fx) * (one - fy) + t10 * fx * (one - fy) +
+                        t01 * (one - fx) * fy + t11 * fx * fy;
+    const int32_t round = f > 0 ? (int32_t(1) << (2 * f - 1)) : 0;
+    return uint8_t((acc + round) >> (2 * f));
+  }
+
+  RectifyParams p_;
+  int ahead_ = 0;
+  int64_t in_count_ = 0;
+  int x_ = 0, y_ = 0;
+  bool done_ = true;
+  int64_t window_misses_ = 0;
+  uint8_t lb_[MAX_ROWS][MAX_W];
+};
+
+}  // namespace kern
+}  // namespace parallax

@@ -1,0 +1,227 @@
+// SGM aggregation over up to four streaming path kinds in one raster pass (docs/algorithm.md §3).
+// For every pixel it consumes D/PU cost tokens and emits D/PU aggregate tokens
+// S(p, d) = sum over the active paths of Lr(p, d) [+ F(p, d) from a previous pass].
+// C++14 synthesisable subset.
+//
+// Path kinds are relative to the stream order, so the same kernel serves the forward pass
+// (kinds = paths 0/45/90/135) and, on a reversed stream, the backward pass of the eight-path
+// variant (kinds = paths 180/225/270/315). Adding a path kind means adding an enumerator, its
+// predecessor rule in predecessor(), and its memory (see docs/kernels.md).
+#pragma once
+
+#include "parallax/kernels/caps.hpp"
+#include "parallax/kernels/common.hpp"
+
+namespace parallax {
+namespace kern {
+
+enum StreamPathKind : int {
+  kKindPixel = 0,     // predecessor (x-1, y): previous pixel of the stream
+  kKindRowLeft = 1,   // predecessor (x-1, y-1): previous row, one column back
+  kKindRowUp = 2,     // predecessor (x, y-1): previous row, same column
+  kKindRowRight = 3,  // predecessor (x+1, y-1): previous row, one column ahead
+  kKindCount = 4
+};
+
+// The stream kinds of one pass for an image-direction path mask. forward: 0/45/90/135 map to
+// pixel/row-left/row-up/row-right; backward (reversed stream): 180/225/270/315 likewise.
+inline unsigned stream_kinds(unsigned path_mask, bool backward) {
+  const unsigned m = backward ? (path_mask >> 4) : path_mask;
+  return m & 0xFu;
+}
+
+struct AggPlan {
+  bool read_cost;     // one cost token
+  bool read_forward;  // one token of the forward sum F (second pass of the 8-path variant)
+  bool write_sum;     // one aggregate token
+  bool write_tee;     // the cost token again, for the frame buffer (first pass of 8 paths)
+};
+
+template <class Caps, class Word>
+class SgmAggregate {
+ public:
+  typedef Lanes<uint16_t, Caps::lanes> CostToken;
+  typedef Lanes<Word, Caps::lanes> SumToken;
+  static constexpr int kMaxW = Caps::max_width_px;
+  static constexpr int kMaxD = Caps::max_disparities;
+  // Larger than any path cost (<= 2^path_bits - 1) and safe to add P1 to in 32 bits.
+  static constexpr uint32_t kNone = sizeof(Word) == 2 ? 0xFFFFu : 0x7FFFFFFFu;
+
+  // kinds: StreamPathKind bits; add_forward: add F from a second input; tee_cost: copy the
+  // costs to a second output.
+  void configure(const StereoParams& p, unsigned kinds, bool add_forward, bool tee_cost) {
+    p_ = p;
+    add_forward_ = add_forward;
+    tee_cost_ = tee_cost;
+    n_slots_ = 0;
+  agg_config_kinds:
+    for (int k = 0; k < kKindCount; ++k)
+      if (kinds & (1u << k)) kind_[n_slots_++] = k;
+    lanes_ = p.parallel_units;
+    chunks_ = p.disparities / p.parallel_units;
+  agg_config_pad:
+    for (int s = 0; s < kKindCount; ++s)
+      for (int b = 0; b < 2; ++b) {
+        hold_[s][b][0] = Word(kNone);
+        hold_[s][b][p.disparities + 1] = Word(kNone);
+      }
+    start_frame();
+  }
+  void start_frame() {
+    x_ = 0;
+    y_ = 0;
+    chunk_ = 0;
+    parity_ = 0;
+    done_ = false;
+  }
+  bool done() const { return done_; }
+  int slots() const { return n_slots_; }
+
+  AggPlan plan() const {
+    AggPlan pl;
+    pl.read_cost = !done_;
+    pl.read_forward = !done_ && add_forward_;
+    pl.write_sum = !done_;
+    pl.write_tee = !done_ && tee_cost_;
+    return pl;
+  }
+
+  template <class CostIn, class FwdIn, class SumOut, class TeeOut>
+  void fire(const AggPlan& pl, CostIn& cost_in, FwdIn& fwd_in, SumOut& sum_out, TeeOut& tee_out) {
+    (void)pl;
+    const CostToken c = cost_in.read();
+    SumToken s;
+    if (add_forward_) {
+      const SumToken f = fwd_in.read();
+    agg_add_forward:
+      for (int i = 0; i < lanes_; ++i) s.v[i] = f.v[i];
+    } else {
+    agg_clear:
+      for (int i = 0; i < lanes_; ++i) s.v[i] = 0;
+    }
+    const int lo = chunk_ * lanes_;
+    const uint32_t p1 = uint32_t(p_.p1);
+    const uint32_t p2 = uint32_t(p_.p2);
+  agg_paths:
+    for (int slot = 0; slot < n_slots_; ++slot) {
+      Word pred_local[Caps::lanes + 2];
+      const Word* pred = 0;  // pred[i] is Lr(q, lo - 1 + i)
+      uint32_t m_prev = 0;
+      Word* dest = 0;
+      const bool valid = predecessor(slot, lo, pred_local, &pred, &m_prev, &dest);
+      if (chunk_ == 0) min_[slot] = kNone;
+      uint32_t run_min = min_[slot];
+      if (valid) {
+        const uint32_t m_p2 = m_prev + p2;
+      agg_lanes:
+        for (int i = 0; i < lanes_; ++i) {
+          PX_PRAGMA("HLS UNROLL")
+          const uint32_t a = pred[i + 1];
+          const uint32_t b = uint32_t(pred[i]) + p1;
+          const uint32_t e = uint32_t(pred[i + 2]) + p1;
+          uint32_t m = a < b ? a : b;
+          m = m < e ? m : e;
+          m = m < m_p2 ? m : m_p2;
+          const uint32_t lr = uint32_t(c.v[i]) + m - m_prev;
+          dest[i] = Word(lr);
+          s.v[i] = Word(s.v[i] + lr);
+          run_min = lr < run_min ? lr : run_min;
+        }
+      } else {
+      agg_lanes_start:
+        for (int i = 0; i < lanes_; ++i) {
+          PX_PRAGMA("HLS UNROLL")
+          const uint32_t lr = c.v[i];
+          dest[i] = Word(lr);
+          s.v[i] = Word(s.v[i] + lr);
+          run_min = lr < run_min ? lr : run_min;
+        }
+      }
+      min_[slot] = run_min;
+      if (chunk_ + 1 == chunks_) finish_pixel(slot);
+    }
+    sum_out.write(s);
+    if (tee_cost_) tee_out.write(c);
+    advance();
+  }
+
+ private:
+  // Fetches the predecessor lanes [lo - 1, lo + PU] of slot's path, its minimum M and where the
+  // new Lr lanes go. Returns false at the start of the path (predecessor outside the image).
+  // Memory contract: row_[s][x] holds the previous row's Lr until this pixel overwrites it;
+  // hold_[s][parity] receives the old row values of this pixel (read before the write).
+  bool predecessor(int slot, int lo, Word* local, const Word** pred, uint32_t* m_prev, Word** dest) {
+    const int d_count = p_.disparities;
+    const int kind = kind_[slot];
+    const int par = parity_;
+    Word* row_here = &row_[slot][x_ * kMaxD];
+    if (kind == kKindPixel) {
+      *pred = &hold_[slot][par ^ 1][lo];
+      *m_prev = hold_min_[slot][par ^ 1];
+      *dest = &hold_[slot][par][1 + lo];
+      return x_ > 0;
+    }
+    *dest = row_here + lo;
+    if (kind == kKindRowUp || kind == kKindRowLeft) {
+      // Read the old (previous-row) lanes of this column before they are overwritten; row-up
+      // also needs lane lo + PU, which the next chunk has not written yet.
+      const int hi = kind == kKindRowUp ? min_int(lo + lanes_, d_count - 1) : lo + lanes_ - 1;
+    agg_hold_copy:
+      for (int d = lo; d <= hi; ++d) hold_[slot][par][1 + d] = row_here[d];
+      if (chunk_ == 0) hold_min_[slot][par] = row_min_[slot][x_];
+      if (kind == kKindRowUp) {
+        *pred = &hold_[slot][par][lo];
+        *m_prev = hold_min_[slot][par];
+        return y_ > 0;
+      }
+      *pred = &hold_[slot][par ^ 1][lo];
+      *m_prev = hold_min_[slot][par ^ 1];
+      return y_ > 0 && x_ > 0;
+    }
+    // Row-right: column x + 1 still holds the previous row.
+    const bool valid = y_ > 0 && x_ + 1 < p_.width_px;
+    if (!valid) return false;
+    const Word* row_next = &row_[slot][(x_ + 1) * kMaxD];
+  agg_right_copy:
+    for (int i = 0; i < lanes_ + 2; ++i) {
+      const int d = lo - 1 + i;
+      local[i] = (d < 0 || d >= d_count) ? Word(kNone) : row_next[d];
+    }
+    *pred = local;
+    *m_prev = row_min_[slot][x_ + 1];
+    return true;
+  }
+
+  void finish_pixel(int slot) {
+    if (kind_[slot] == kKindPixel)
+      hold_min_[slot][parity_] = Word(min_[slot]);
+    else
+      row_min_[slot][x_] = Word(min_[slot]);
+  }
+
+  void advance() {
+    if (++chunk_ < chunks_) return;
+    chunk_ = 0;
+    parity_ ^= 1;
+    if (++x_ < p_.width_px) return;
+    x_ = 0;
+    if (++y_ < p_.height_px) return;
+    done_ = true;
+  }
+
+  StereoParams p_;
+  bool add_forward_ = false, tee_cost_ = false;
+  int kind_[kKindCount];
+  int n_slots_ = 0;
+  int lanes_ = 1, chunks_ = 1;
+  int x_ = 0, y_ = 0, chunk_ = 0, parity_ = 0;
+  bool done_ = true;
+  uint32_t min_[kKindCount];                  // running min of this pixel's Lr, per slot
+  Word hold_[kKindCount][2][kMaxD + 2];       // ping-pong per pixel parity, sentinel-padded
+  Word hold_min_[kKindCount][2];
+  Word row_[kKindCount][kMaxW * kMaxD];       // previous-row Lr per column (row kinds)
+  Word row_min_[kKindCount][kMaxW];           // previous-row min_k Lr per column
+};
+
+}  // namespace kern
+}  // namespace parallax

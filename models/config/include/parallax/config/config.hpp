@@ -1,0 +1,75 @@
+// PipelineConfig: the single source of truth for one design. Every constraint on it is written
+// once, in validate(), which returns all violations with their field names and allowed ranges;
+// the CLI, the explorer and the HLS export all use it. Nothing is silently adjusted.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "parallax/kernels/params.hpp"
+
+namespace parallax::config {
+
+struct PipelineConfig {
+  std::string name = "unnamed";
+  // Region of interest processed by the design: centred crop of the input (docs/evaluation.md);
+  // roi_full = true processes the whole image.
+  bool roi_full = false;
+  int roi_width_px = 640;
+  int roi_height_px = 360;
+  std::string cost = "census";  // census | sad
+  int window_w = 5;
+  int window_h = 5;
+  int disparities = 64;
+  int parallel_units = 1;
+  unsigned path_mask = kern::kForwardPaths;
+  int p1 = 8;
+  int p2 = 32;
+  bool lr_check = true;
+  int lr_tolerance = 1;
+  int median = 5;              // 0 = off, 3, 5, 7
+  int clock_mhz = 200;         // processing clock (used by the timing model)
+  std::string rectify = "none";  // none | nearest | bilinear
+  int rectify_rows = 16;       // line-buffer rows of the rectification stage
+  int rectify_frac_bits = 5;   // fixed-point fraction bits of bilinear maps
+
+  // The kernel parameters for an image (or ROI) of the given size.
+  kern::StereoParams stereo_params(int width_px, int height_px) const;
+};
+
+struct FieldError {
+  std::string field;
+  std::string message;
+};
+
+// All violations, empty when the configuration is valid.
+std::vector<FieldError> validate(const PipelineConfig& c);
+
+// A configuration file or override that cannot be used: the message names the file and every
+// offending field.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Reads a YAML configuration (flat mapping of the field names above). Unknown fields, bad
+// values and violated constraints are all reported together. Throws ConfigError.
+PipelineConfig load_config(const std::string& path);
+PipelineConfig parse_config(const std::string& yaml_text, const std::string& source_name);
+
+// Sets one field from text, as `--set key=value` and sweeps do. Throws ConfigError naming the
+// field. Call validate() afterwards.
+void set_field(PipelineConfig& c, const std::string& key, const std::string& value);
+
+// The field names accepted in files, in documentation order.
+const std::vector<std::string>& field_names();
+
+// Canonical text of the configuration (YAML), stable for hashing and for reports.
+std::string to_yaml(const PipelineConfig& c);
+
+// "4" / "8" / "0,45,90" -> path mask; throws ConfigError on bad input.
+unsigned parse_paths(const std::string& text);
+std::string paths_to_string(unsigned mask);
+
+}  // namespace parallax::config

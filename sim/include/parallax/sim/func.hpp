@@ -1,0 +1,69 @@
+// The `func` run: the kernels of kernels/ fired by a plain dataflow scheduler over small bounded
+// FIFOs, as fast as software allows. Bit-identical to the cycle run and the golden model.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "parallax/kernels/common.hpp"
+#include "parallax/kernels/params.hpp"
+
+namespace parallax::sim {
+
+struct GreyImage {
+  int width_px = 0;
+  int height_px = 0;
+  std::vector<uint8_t> px;  // row-major
+};
+
+// Disparity codes, row-major; code == disparities means invalid (docs/algorithm.md §5).
+struct DisparityCodes {
+  int width_px = 0;
+  int height_px = 0;
+  int disparities = 0;
+  std::vector<uint16_t> code;
+};
+
+struct FuncOptions {
+  // false: fire the disparity stages with the widest lanes this build carries (a divisor of D,
+  // at most 64), which gives the same bits as the design's PU and runs fastest; true: use the
+  // configured parallel_units (the equivalence tests do).
+  bool use_design_pu = false;
+};
+
+// Problems with the parameters that the kernels cannot run (empty when runnable). The full,
+// user-facing validation lives in models/config; this is the kernels' own guard.
+std::vector<std::string> func_param_errors(const kern::StereoParams& p);
+
+// Reusable pipeline: keeps its (large) stage objects between frames.
+class FuncPipeline {
+ public:
+  FuncPipeline();
+  ~FuncPipeline();
+  FuncPipeline(const FuncPipeline&) = delete;
+  FuncPipeline& operator=(const FuncPipeline&) = delete;
+
+  // Runs one frame. Aborts on parameters rejected by func_param_errors (callers validate).
+  DisparityCodes run(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                     const FuncOptions& opt = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The rectification stage alone (one camera), fired over a whole frame: map entries are the
+// fixed-point source positions of every output pixel, row-major.
+struct RectifyOutput {
+  GreyImage image;
+  int64_t window_misses = 0;
+};
+RectifyOutput run_rectify_func(const GreyImage& in, const std::vector<kern::MapEntry>& map,
+                               const kern::RectifyParams& p);
+
+DisparityCodes run_func(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                        const FuncOptions& opt = {});
+
+}  // namespace parallax::sim
