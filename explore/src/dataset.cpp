@@ -6,12 +6,11 @@
 #include <cstdint>
 #include <fstream>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <set>
 #include <sstream>
 #include <system_error>
-
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "parallax/explore/disparity_io.hpp"
 
@@ -157,8 +156,8 @@ std::vector<FrameRef> read_pairs_tsv(const fs::path& tsv) {
   const int c_invalid = column("invalid", true);
   const int c_width = column("width", false);
   const int c_height = column("height", false);
-  const int needed = std::max({c_scene, c_left, c_right, c_gt, c_divisor, c_invalid, c_width,
-                               c_height}) + 1;
+  const int needed =
+      std::max({c_scene, c_left, c_right, c_gt, c_divisor, c_invalid, c_width, c_height}) + 1;
 
   const fs::path base = tsv.parent_path();
   std::vector<FrameRef> pairs;
@@ -383,9 +382,8 @@ cv::Mat crop_to_roi(const cv::Mat& image, const Roi& roi) {
   if (roi.x0 < 0 || roi.y0 < 0 || roi.width_px <= 0 || roi.height_px <= 0 ||
       roi.x0 + roi.width_px > image.cols || roi.y0 + roi.height_px > image.rows) {
     throw std::invalid_argument("crop_to_roi: ROI " + size_text(roi.width_px, roi.height_px) +
-                                " at (" + std::to_string(roi.x0) + ", " +
-                                std::to_string(roi.y0) + ") does not fit in a " +
-                                size_text(image) + " image");
+                                " at (" + std::to_string(roi.x0) + ", " + std::to_string(roi.y0) +
+                                ") does not fit in a " + size_text(image) + " image");
   }
   return image(cv::Rect(roi.x0, roi.y0, roi.width_px, roi.height_px));
 }
@@ -395,9 +393,12 @@ cv::Mat crop_to_roi(const cv::Mat& image, const Roi& roi) {
 
 std::string to_string(DatasetLayout layout) {
   switch (layout) {
-    case DatasetLayout::kitti2015: return "kitti2015";
-    case DatasetLayout::kitti2012: return "kitti2012";
-    case DatasetLayout::middlebury: return "middlebury";
+    case DatasetLayout::kitti2015:
+      return "kitti2015";
+    case DatasetLayout::kitti2012:
+      return "kitti2012";
+    case DatasetLayout::middlebury:
+      return "middlebury";
   }
   return "unknown";
 }
@@ -430,7 +431,8 @@ Dataset open_dataset(const fs::path& dir) {
     dataset.frames_dir = given / "training";
     dataset.root = given;
   } else {
-    throw InputError(dir.string() + ": unknown dataset layout (expected KITTI 2015 image_2/ + "
+    throw InputError(dir.string() +
+                     ": unknown dataset layout (expected KITTI 2015 image_2/ + "
                      "image_3/, KITTI 2012 image_0/ + image_1/, or a Middlebury pairs.tsv, in "
                      "the folder or its training/ subfolder)");
   }
@@ -442,8 +444,8 @@ Dataset open_dataset(const fs::path& dir) {
 
 std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind,
                                   const std::string& frame_filter) {
-  const std::string what = to_string(dataset.layout) + " dataset " +
-                           dataset.frames_dir.string() + " (" + to_string(gt_kind) + " GT)";
+  const std::string what = to_string(dataset.layout) + " dataset " + dataset.frames_dir.string() +
+                           " (" + to_string(gt_kind) + " GT)";
   std::vector<FrameRef> candidates;
   std::vector<std::string> ids;
   std::vector<std::string> aliases;
@@ -497,8 +499,10 @@ Frame load_frame(const FrameRef& ref) {
 
   const cv::Mat gt = read_raw(ref.gt_path, "ground-truth");
   if (gt.channels() != 1 || (gt.depth() != CV_8U && gt.depth() != CV_16U)) {
-    throw InputError(ref.gt_path.string() + ": ground truth must be a single-channel 8- or "
-                     "16-bit image, got " + std::to_string(gt.channels()) + " channel(s) of " +
+    throw InputError(ref.gt_path.string() +
+                     ": ground truth must be a single-channel 8- or "
+                     "16-bit image, got " +
+                     std::to_string(gt.channels()) + " channel(s) of " +
                      std::to_string(8 * gt.elemSize1()) + " bits");
   }
   if (gt.size() != frame.left.size()) {
@@ -554,8 +558,7 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
   }
   const std::vector<std::string> ids(union_ids.begin(), union_ids.end());
   if (ids.empty()) throw InputError(src_dir.string() + ": no frame with the requested GT");
-  const std::string what = to_string(dataset.layout) + " dataset " +
-                           dataset.frames_dir.string();
+  const std::string what = to_string(dataset.layout) + " dataset " + dataset.frames_dir.string();
   const std::vector<std::size_t> chosen = select_frames(ids, {}, true, frame_filter, what);
 
   const KittiDirs src = kitti_dirs(dataset.layout);
@@ -600,8 +603,7 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
       }
       if (gt.size() != left.size()) {
         throw InputError(gt_path.string() + ": ground truth is " + size_text(gt) +
-                         " but the left image " + left_path.string() + " is " +
-                         size_text(left));
+                         " but the left image " + left_path.string() + " is " + size_text(left));
       }
       // Raw uint16 values are copied unchanged: the crop's GT is bit-identical to the source.
       outputs.push_back({crop_to_roi(gt, roi).clone(),
@@ -625,8 +627,8 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
     std::ofstream out(target, std::ios::binary);
     out << in.rdbuf();
     out.close();
-    if (!out) throw std::runtime_error(target.string() + ": cannot write a copy of " +
-                                       licence.string());
+    if (!out)
+      throw std::runtime_error(target.string() + ": cannot write a copy of " + licence.string());
     summary.files_written.push_back(target);
   }
   return summary;

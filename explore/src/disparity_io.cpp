@@ -4,11 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "parallax/explore/dataset.hpp"
 
@@ -36,12 +35,36 @@ cv::Vec3b hue_to_bgr(double hue_deg) {
   double g = 0.0;
   double b = 0.0;
   switch (i) {
-    case 0: r = 1.0; g = f; b = 0.0; break;
-    case 1: r = 1.0 - f; g = 1.0; b = 0.0; break;
-    case 2: r = 0.0; g = 1.0; b = f; break;
-    case 3: r = 0.0; g = 1.0 - f; b = 1.0; break;
-    case 4: r = f; g = 0.0; b = 1.0; break;
-    default: r = 1.0; g = 0.0; b = 1.0 - f; break;
+    case 0:
+      r = 1.0;
+      g = f;
+      b = 0.0;
+      break;
+    case 1:
+      r = 1.0 - f;
+      g = 1.0;
+      b = 0.0;
+      break;
+    case 2:
+      r = 0.0;
+      g = 1.0;
+      b = f;
+      break;
+    case 3:
+      r = 0.0;
+      g = 1.0 - f;
+      b = 1.0;
+      break;
+    case 4:
+      r = f;
+      g = 0.0;
+      b = 1.0;
+      break;
+    default:
+      r = 1.0;
+      g = 0.0;
+      b = 1.0 - f;
+      break;
   }
   auto byte = [](double c) { return static_cast<std::uint8_t>(std::lround(255.0 * c)); };
   return cv::Vec3b(byte(b), byte(g), byte(r));
@@ -74,8 +97,7 @@ void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& dis
       const double value = std::isfinite(scaled) ? std::round(scaled) : -1.0;
       if (!(value >= 0.0 && value <= 65535.0)) {
         throw std::invalid_argument(file.string() + ": disparity " + std::to_string(d[x]) +
-                                    " px at (x " + std::to_string(x) + ", y " +
-                                    std::to_string(y) +
+                                    " px at (x " + std::to_string(x) + ", y " + std::to_string(y) +
                                     ") is outside the KITTI range [0, 65535/256]");
       }
       out[x] = static_cast<std::uint16_t>(std::max(1.0, value));  // valid 0 -> 1
@@ -92,9 +114,11 @@ DisparityMap read_kitti_disparity(const std::filesystem::path& file) {
   const cv::Mat encoded = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
   if (encoded.empty()) throw InputError(file.string() + ": cannot be decoded as an image");
   if (encoded.type() != CV_16UC1) {
-    throw InputError(file.string() + ": not a KITTI disparity map (expected a 16-bit "
-                     "single-channel PNG, got " + std::to_string(encoded.channels()) +
-                     " channel(s) of " + std::to_string(8 * encoded.elemSize1()) + " bits)");
+    throw InputError(file.string() +
+                     ": not a KITTI disparity map (expected a 16-bit "
+                     "single-channel PNG, got " +
+                     std::to_string(encoded.channels()) + " channel(s) of " +
+                     std::to_string(8 * encoded.elemSize1()) + " bits)");
   }
   DisparityMap map{cv::Mat(encoded.size(), CV_32FC1), cv::Mat(encoded.size(), CV_8UC1)};
   for (int y = 0; y < encoded.rows; ++y) {

@@ -10,8 +10,7 @@
 namespace parallax::explore {
 namespace {
 
-void require_same_size(const cv::Mat& a, const cv::Mat& b, const char* name_a,
-                       const char* name_b) {
+void require_same_size(const cv::Mat& a, const cv::Mat& b, const char* name_a, const char* name_b) {
   if (a.size() != b.size()) {
     throw std::invalid_argument(std::string("metrics: ") + name_a + " is " +
                                 std::to_string(a.cols) + "x" + std::to_string(a.rows) + " but " +

@@ -1,19 +1,19 @@
 // Dataset layouts, frame lists and filters, frame loading and its errors, and the cropper, on
 // small synthetic datasets written to a temporary folder; plus the shipped crop in data/.
+#include "parallax/explore/dataset.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <string>
-#include <vector>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
 
-#include "parallax/explore/dataset.hpp"
 #include "parallax/explore/disparity_io.hpp"
 #include "temp_dir.hpp"
 
@@ -90,7 +90,8 @@ void make_middlebury(const fs::path& root) {
   tsv << "scene\tleft\tright\tgt_left\tgt_format\tdisparity = value / divisor\tinvalid\twidth\t"
          "height\tgt_density\n"
       << "2001/tsukuba\t2001/tsukuba/im3.png\t2001/tsukuba/im4.png\t2001/tsukuba/disp3.pgm\t"
-         "pgm8\t16\t0\t" << kW << "\t" << kH << "\t0.9\n"
+         "pgm8\t16\t0\t"
+      << kW << "\t" << kH << "\t0.9\n"
       << "2003/teddy\t2003/teddy/im2.png\t2003/teddy/im6.png\t2003/teddy/disp2.png\tpng8\t4\t0\t"
       << kW << "\t" << kH << "\t0.9\n";
 }
@@ -133,10 +134,12 @@ TEST(Dataset, ListsFramesByGtKindAndFilter) {
   make_kitti2015(dir.path());
   const px::Dataset ds = px::open_dataset(dir.path());
   using V = std::vector<std::string>;
-  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc)), (V{"000000", "000001", "000002", "000046"}));
+  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc)),
+            (V{"000000", "000001", "000002", "000046"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::occ)), (V{"000001"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "all")).size(), 4u);
-  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "46, 0-1")), (V{"000000", "000001", "000046"}));
+  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "46, 0-1")),
+            (V{"000000", "000001", "000046"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "000002,2,1-2")), (V{"000001", "000002"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "1-40")), (V{"000001", "000002"}));
   const std::vector<px::FrameRef> f = px::list_frames(ds, px::GtKind::occ, "1");
@@ -286,12 +289,12 @@ TEST(Crop, WritesKitti2015LayoutWithCentredRoi) {
   EXPECT_FALSE(fs::exists(out / "training" / "disp_occ_0" / "000046_10.png"));
 
   const px::Roi roi = px::centred_roi(21, 11, 10, 6);  // x0 5, y0 2
-  const cv::Mat left = cv::imread((out / "training/image_2/000046_10.png").string(),
-                                  cv::IMREAD_UNCHANGED);
+  const cv::Mat left =
+      cv::imread((out / "training/image_2/000046_10.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(left.type(), CV_8UC3);  // colour kept
   EXPECT_EQ(cv::norm(left, px::crop_to_roi(colour_image(21, 11, 46), roi), cv::NORM_INF), 0.0);
-  const cv::Mat gt = cv::imread((out / "training/disp_occ_0/000001_10.png").string(),
-                                cv::IMREAD_UNCHANGED);
+  const cv::Mat gt =
+      cv::imread((out / "training/disp_occ_0/000001_10.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(gt.type(), CV_16UC1);
   EXPECT_EQ(cv::norm(gt, px::crop_to_roi(kitti_gt(21, 11), roi), cv::NORM_INF), 0.0);
 
@@ -311,10 +314,10 @@ TEST(Crop, Errors) {
   TempDir src;
   TempDir out;
   make_kitti2015(src.path());
-  expect_input_error([&] { px::crop_dataset(src.path(), "", {px::GtKind::noc}, 30, 6, out.path()); },
-                     {"larger"});
-  expect_input_error([&] { px::crop_dataset(src.path(), "2", {px::GtKind::occ}, 5, 5, out.path()); },
-                     {"000002"});
+  expect_input_error(
+      [&] { px::crop_dataset(src.path(), "", {px::GtKind::noc}, 30, 6, out.path()); }, {"larger"});
+  expect_input_error(
+      [&] { px::crop_dataset(src.path(), "2", {px::GtKind::occ}, 5, 5, out.path()); }, {"000002"});
   TempDir mb;
   make_middlebury(mb.path());
   expect_input_error([&] { px::crop_dataset(mb.path(), "", {px::GtKind::noc}, 5, 5, out.path()); },

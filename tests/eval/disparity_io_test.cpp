@@ -1,16 +1,16 @@
 // KITTI disparity PNG round trip, encoding rules, errors and the colour map.
+#include "parallax/explore/disparity_io.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <string>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
 
 #include "parallax/explore/dataset.hpp"
-#include "parallax/explore/disparity_io.hpp"
 #include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -33,9 +33,9 @@ TEST(DisparityIo, RoundTripKeepsValuesZeroAndInvalid) {
   EXPECT_EQ(raw.at<std::uint16_t>(0, 1), 384);    // 1.5 * 256
   EXPECT_EQ(raw.at<std::uint16_t>(0, 2), 16320);  // 63.75 * 256
   EXPECT_EQ(raw.at<std::uint16_t>(0, 3), 65535);
-  EXPECT_EQ(raw.at<std::uint16_t>(1, 0), 3149);  // round(12.3 * 256 = 3148.8)
-  EXPECT_EQ(raw.at<std::uint16_t>(1, 1), 0);     // invalid
-  EXPECT_EQ(raw.at<std::uint16_t>(1, 2), 1);     // rounds to 0 but valid -> 1
+  EXPECT_EQ(raw.at<std::uint16_t>(1, 0), 3149);   // round(12.3 * 256 = 3148.8)
+  EXPECT_EQ(raw.at<std::uint16_t>(1, 1), 0);      // invalid
+  EXPECT_EQ(raw.at<std::uint16_t>(1, 2), 1);      // rounds to 0 but valid -> 1
   EXPECT_EQ(raw.at<std::uint16_t>(1, 3), 25344);  // any non-zero mask byte is valid
 
   const px::DisparityMap back = px::read_kitti_disparity(file);
@@ -54,12 +54,12 @@ TEST(DisparityIo, RoundTripKeepsValuesZeroAndInvalid) {
 TEST(DisparityIo, OutOfRangeValuesAreRejected) {
   TempDir dir;
   const cv::Mat m(1, 1, CV_8UC1, cv::Scalar(255));
-  EXPECT_THROW(px::write_kitti_disparity(dir.path() / "a.png", cv::Mat(1, 1, CV_32FC1,
-                                                                        cv::Scalar(256.0)), m),
+  EXPECT_THROW(px::write_kitti_disparity(dir.path() / "a.png",
+                                         cv::Mat(1, 1, CV_32FC1, cv::Scalar(256.0)), m),
                std::invalid_argument);
-  EXPECT_THROW(px::write_kitti_disparity(dir.path() / "b.png", cv::Mat(1, 1, CV_32FC1,
-                                                                        cv::Scalar(-1.0)), m),
-               std::invalid_argument);
+  EXPECT_THROW(
+      px::write_kitti_disparity(dir.path() / "b.png", cv::Mat(1, 1, CV_32FC1, cv::Scalar(-1.0)), m),
+      std::invalid_argument);
   // An invalid pixel may hold anything.
   px::write_kitti_disparity(dir.path() / "c.png", cv::Mat(1, 1, CV_32FC1, cv::Scalar(-1.0)),
                             cv::Mat(1, 1, CV_8UC1, cv::Scalar(0)));

@@ -1,12 +1,11 @@
 // Metrics on hand-made maps with hand-computed counts, pooling, and the devkit fill.
+#include "parallax/explore/metrics.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <vector>
-
 #include <opencv2/core.hpp>
-
-#include "parallax/explore/metrics.hpp"
+#include <vector>
 
 namespace px = parallax::explore;
 
@@ -117,9 +116,8 @@ TEST(Metrics, NoValidPredictionCountsAllGtAsFilledOutliers) {
 
 TEST(Metrics, KeyNames) {
   const auto named = px::named_metrics(px::DerivedMetrics{});
-  const std::vector<std::string> keys = {"density_pct",       "density_gt_pct",
-                                         "correct_3px_pct",   "d1_all_pct",
-                                         "d1_all_filled_pct", "mean_abs_error_px"};
+  const std::vector<std::string> keys = {"density_pct", "density_gt_pct",    "correct_3px_pct",
+                                         "d1_all_pct",  "d1_all_filled_pct", "mean_abs_error_px"};
   ASSERT_EQ(named.size(), keys.size());
   for (std::size_t i = 0; i < keys.size(); ++i) EXPECT_EQ(named[i].first, keys[i]);
   px::FrameCounts c;
@@ -206,8 +204,7 @@ TEST(DevkitFill, InnerRunsTakeTheSmallerNeighbour) {
 }
 
 TEST(DevkitFill, LeftAndRightExtrapolation) {
-  EXPECT_EQ(fill(1, 7, {kNo, kNo, 5, kNo, 3, kNo, kNo}),
-            (std::vector<float>{5, 5, 5, 3, 3, 3, 3}));
+  EXPECT_EQ(fill(1, 7, {kNo, kNo, 5, kNo, 3, kNo, kNo}), (std::vector<float>{5, 5, 5, 3, 3, 3, 3}));
   EXPECT_EQ(fill(1, 3, {kNo, 7, kNo}), (std::vector<float>{7, 7, 7}));
   // A run touching column 0 is extrapolated with the first valid value, not min-filled.
   EXPECT_EQ(fill(1, 4, {kNo, kNo, 2, 9}), (std::vector<float>{2, 2, 2, 9}));

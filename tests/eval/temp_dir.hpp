@@ -2,13 +2,12 @@
 // coexist in one test), removed at the end.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <string>
 #include <system_error>
-
-#include <gtest/gtest.h>
 
 namespace parallax::test {
 

@@ -9,11 +9,10 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace parallax::explore {
 
@@ -75,8 +74,8 @@ enum class DatasetLayout { kitti2015, kitti2012, middlebury };
 // Middlebury has a single GT map (gt_left of pairs.tsv); both kinds select it.
 enum class GtKind { noc, occ };
 
-std::string to_string(DatasetLayout layout);  // "kitti2015", "kitti2012", "middlebury"
-std::string to_string(GtKind kind);           // "noc", "occ"
+std::string to_string(DatasetLayout layout);    // "kitti2015", "kitti2012", "middlebury"
+std::string to_string(GtKind kind);             // "noc", "occ"
 GtKind parse_gt_kind(const std::string& text);  // "noc" | "occ"; throws InputError otherwise
 
 // The default ROI of a layout: KITTI 640x360 centred, Middlebury full.
@@ -126,10 +125,10 @@ std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind,
 // One loaded frame, whole images (crop with crop_to_roi).
 struct Frame {
   std::string id;
-  cv::Mat left;             // CV_8UC1
-  cv::Mat right;            // CV_8UC1, same size as left
-  cv::Mat gt_disparity_px;  // CV_32FC1, same size as left; 0 where there is no GT
-  cv::Mat gt_mask;          // CV_8UC1, 255 = GT present, 0 = none
+  cv::Mat left;                        // CV_8UC1
+  cv::Mat right;                       // CV_8UC1, same size as left
+  cv::Mat gt_disparity_px;             // CV_32FC1, same size as left; 0 where there is no GT
+  cv::Mat gt_mask;                     // CV_8UC1, 255 = GT present, 0 = none
   bool converted_from_colour = false;  // left/right were colour and converted to grey
   std::vector<std::string> notes;      // human-readable facts for the CLI to print
 };
@@ -144,7 +143,7 @@ Frame load_frame(const FrameRef& frame);
 // Cropping a dataset
 
 struct CropSummary {
-  std::vector<std::string> frame_ids;              // frames written, dataset order
+  std::vector<std::string> frame_ids;                // frames written, dataset order
   std::vector<std::filesystem::path> files_written;  // every file written, including LICENSE
 };
 

@@ -5,7 +5,6 @@
 #pragma once
 
 #include <filesystem>
-
 #include <opencv2/core.hpp>
 
 namespace parallax::explore {

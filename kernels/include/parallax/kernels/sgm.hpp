@@ -99,7 +99,8 @@ class SgmAggregate {
     agg_clear:
       for (int i = 0; i < lanes_; ++i) s.v[i] = 0;
     }
-    const int lo = chunk_ * lanes_;
+    const int n = lanes_;  // a local bound: stores through dest must not hide the trip count
+    const int lo = chunk_ * n;
     const uint32_t p1 = uint32_t(p_.p1);
     const uint32_t p2 = uint32_t(p_.p2);
   agg_paths:
@@ -114,7 +115,7 @@ class SgmAggregate {
       if (valid) {
         const uint32_t m_p2 = m_prev + p2;
       agg_lanes:
-        for (int i = 0; i < lanes_; ++i) {
+        for (int i = 0; i < n; ++i) {
           PX_PRAGMA("HLS UNROLL")
           const uint32_t a = pred[i + 1];
           const uint32_t b = uint32_t(pred[i]) + p1;
@@ -129,7 +130,7 @@ class SgmAggregate {
         }
       } else {
       agg_lanes_start:
-        for (int i = 0; i < lanes_; ++i) {
+        for (int i = 0; i < n; ++i) {
           PX_PRAGMA("HLS UNROLL")
           const uint32_t lr = c.v[i];
           dest[i] = Word(lr);

@@ -74,14 +74,25 @@ class WtaLr {
       best_cost_ = 0xFFFFFFFFu;
       best_d_ = 0;
     }
-  wta_lanes:
-    for (int i = 0; i < lanes_; ++i) {
+    const int n = lanes_;
+    // Min tree, then a priority encoder for the smallest lane holding the minimum.
+    uint32_t chunk_min = 0xFFFFFFFFu;
+  wta_min:
+    for (int i = 0; i < n; ++i) {
       PX_PRAGMA("HLS UNROLL")
       const uint32_t s = t.v[i];
-      if (s < best_cost_) {
-        best_cost_ = s;
-        best_d_ = lo + i;
-      }
+      chunk_min = s < chunk_min ? s : chunk_min;
+    }
+    int first = n;
+  wta_first:
+    for (int i = 0; i < n; ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      const int hit = uint32_t(t.v[i]) == chunk_min ? i : n;
+      first = hit < first ? hit : first;
+    }
+    if (chunk_min < best_cost_) {  // strict: an earlier chunk (smaller d) wins ties
+      best_cost_ = chunk_min;
+      best_d_ = lo + first;
     }
     if (p_.lr_check) right_candidates(t, lo);
     if (chunk_ + 1 == chunks_) left_d_[x_ & kRingMask] = DispCode(best_d_);

@@ -1,0 +1,385 @@
+// parallax: the command-line front end. Every command has --help; user errors (bad files, bad
+// configurations) print one clear message naming the file or field and exit with status 2.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "parallax/config/config.hpp"
+#include "parallax/explore/dataset.hpp"
+#include "parallax/explore/disparity_io.hpp"
+#include "parallax/explore/evaluate.hpp"
+#include "parallax/explore/metrics.hpp"
+#include "parallax/sim/func.hpp"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace parallax;
+using namespace parallax::explore;
+
+namespace {
+
+constexpr int kExitUserError = 2;
+
+struct ConfigArgs {
+  std::string path;
+  std::vector<std::string> sets;
+};
+
+void add_config_options(CLI::App* cmd, ConfigArgs& a, bool required) {
+  auto* opt = cmd->add_option("--config", a.path, "Design configuration (YAML), e.g. configs/ruf2018-census.yaml");
+  if (required) opt->required();
+  cmd->add_option("--set", a.sets, "Override one field, KEY=VALUE (repeatable), e.g. --set p2=64");
+}
+
+config::PipelineConfig load_config_args(const ConfigArgs& a) {
+  config::PipelineConfig c = config::load_config(a.path);
+  std::vector<std::string> problems;
+  for (const auto& kv : a.sets) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) {
+      problems.push_back("--set '" + kv + "': expected KEY=VALUE");
+      continue;
+    }
+    try {
+      config::set_field(c, kv.substr(0, eq), kv.substr(eq + 1));
+    } catch (const config::ConfigError& e) {
+      problems.push_back(std::string("--set: ") + e.what());
+    }
+  }
+  for (const auto& fe : config::validate(c)) problems.push_back("field '" + fe.field + "': " + fe.message);
+  if (!problems.empty()) {
+    std::string msg = a.path + " with overrides: invalid configuration:";
+    for (const auto& p : problems) msg += "\n  - " + p;
+    throw config::ConfigError(msg);
+  }
+  return c;
+}
+
+json metrics_json(const DerivedMetrics& m) {
+  json j;
+  for (const auto& kv : named_metrics(m)) j[kv.first] = kv.second;
+  return j;
+}
+
+json counts_json(const FrameCounts& c) {
+  json j;
+  for (const auto& kv : named_counts(c)) j[kv.first] = kv.second;
+  return j;
+}
+
+json result_json(const EvalResult& r) {
+  json j = metrics_json(r.pooled.metrics);
+  j["frames"] = int(r.frames.size());
+  j["counts"] = counts_json(r.pooled.counts);
+  j["per_frame"] = json::array();
+  for (const auto& f : r.frames) {
+    json fj = metrics_json(f.metrics);
+    fj["frame"] = f.frame_id;
+    j["per_frame"].push_back(fj);
+  }
+  j["seconds"] = r.seconds;
+  return j;
+}
+
+void print_result_text(const EvalResult& r, const std::string& title) {
+  std::printf("%s\n", title.c_str());
+  std::printf("%-8s %9s %9s %9s %9s %9s %9s\n", "frame", "density", "dens_gt", "correct", "d1_all", "d1_fill", "mae_px");
+  auto row = [](const FrameRow& f) {
+    const auto& m = f.metrics;
+    std::printf("%-8s %8.2f%% %8.2f%% %8.2f%% %8.2f%% %8.2f%% %9.3f\n", f.frame_id.c_str(), m.density_pct,
+                m.density_gt_pct, m.correct_3px_pct, m.d1_all_pct, m.d1_all_filled_pct, m.mean_abs_error_px);
+  };
+  for (const auto& f : r.frames) row(f);
+  row(r.pooled);
+  std::printf("%zu frames in %.2f s\n", r.frames.size(), r.seconds);
+}
+
+void print_notes(const std::vector<std::string>& notes) {
+  for (const auto& n : notes) std::fprintf(stderr, "parallax: note: %s\n", n.c_str());
+}
+
+// A progress line on stderr: rewritten in place on a terminal, one line per step otherwise.
+std::function<void(int, int, const std::string&)> progress_printer(bool quiet) {
+  if (quiet) return {};
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  return [tty](int done, int total, const std::string& id) {
+    if (tty) {
+      std::fprintf(stderr, "\r[%d/%d] %s   ", done, total, id.c_str());
+      if (done == total) std::fprintf(stderr, "\n");
+    } else {
+      std::fprintf(stderr, "[%d/%d] %s\n", done, total, id.c_str());
+    }
+  };
+}
+
+int default_threads() {
+  const unsigned n = std::thread::hardware_concurrency();
+  return n == 0 ? 1 : int(n);
+}
+
+cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<std::string>& notes) {
+  if (!fs::exists(path)) throw InputError(path + ": " + role + " image not found");
+  cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (raw.empty()) throw InputError(path + ": cannot read the " + std::string(role) + " image (not an image OpenCV can decode)");
+  if (raw.depth() != CV_8U) throw InputError(path + ": " + role + " image must have 8-bit samples");
+  cv::Mat grey;
+  if (raw.channels() == 1) {
+    grey = raw;
+  } else if (raw.channels() == 3 || raw.channels() == 4) {
+    cv::cvtColor(raw, grey, raw.channels() == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
+    notes.push_back(path + ": colour input converted to grey as OpenCV's cvtColor does (0.299 R + 0.587 G + 0.114 B)");
+  } else {
+    throw InputError(path + ": " + role + " image has " + std::to_string(raw.channels()) + " channels");
+  }
+  return grey;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"parallax: bit-accurate simulator and design-space explorer of an FPGA stereo (SGM) pipeline"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "parallax 0.1.0");
+
+  // run
+  ConfigArgs run_cfg;
+  std::string run_left, run_right, run_out, run_gt, run_colour;
+  bool run_json = false;
+  auto* run = app.add_subcommand("run", "Compute the disparity of one stereo pair with a design (func run)");
+  add_config_options(run, run_cfg, true);
+  run->add_option("--left", run_left, "Left image (8-bit grey or colour)")->required();
+  run->add_option("--right", run_right, "Right image, same size")->required();
+  run->add_option("--out", run_out, "Disparity as KITTI 16-bit PNG (value = 256 d, 0 = invalid)")->required();
+  run->add_option("--colour", run_colour, "Colour-coded picture (default: OUT with _colour.png)");
+  run->add_option("--gt", run_gt, "Ground truth (KITTI 16-bit PNG, full image or ROI size) to score against");
+  run->add_flag("--json", run_json, "Print a JSON object (metrics when --gt is given)");
+
+  // eval
+  ConfigArgs eval_cfg;
+  std::string eval_dataset, eval_frames, eval_gt = "noc", eval_save, eval_roi;
+  bool eval_json = false, eval_quiet = false;
+  int eval_threads = default_threads();
+  auto* eval = app.add_subcommand("eval", "Score a design on a dataset (KITTI 2015/2012 or Middlebury)");
+  add_config_options(eval, eval_cfg, true);
+  eval->add_option("--dataset", eval_dataset, "Dataset folder (KITTI root or training/, or a Middlebury pairs.tsv folder)")->required();
+  eval->add_option("--frames", eval_frames, "Frames, e.g. 1-5,7 or 000046 (default: all with GT)");
+  eval->add_option("--gt", eval_gt, "Ground truth kind: noc or occ")->check(CLI::IsMember({"noc", "occ"}));
+  eval->add_option("--roi", eval_roi, "Override the config's ROI: WxH or full");
+  eval->add_option("--save", eval_save, "Write each frame's disparity (KITTI PNG) and colour picture here");
+  eval->add_option("--threads", eval_threads, "Frames in parallel (default: all cores)")->check(CLI::Range(1, 256));
+  eval->add_flag("--json", eval_json, "Print JSON: pooled metrics, counts and per-frame rows");
+  eval->add_flag("--quiet", eval_quiet, "No progress lines");
+
+  // score
+  std::string score_pred, score_dataset, score_frames, score_gt = "noc", score_roi;
+  bool score_json = false;
+  auto* score = app.add_subcommand("score", "Score existing KITTI-format disparity PNGs (any method) with the same protocol");
+  score->add_option("--pred", score_pred, "Folder of predictions named like the GT files (NNNNNN_10.png)")->required();
+  score->add_option("--dataset", score_dataset, "Dataset folder with the ground truth")->required();
+  score->add_option("--frames", score_frames, "Frames to score (default: all with GT)");
+  score->add_option("--gt", score_gt, "Ground truth kind: noc or occ")->check(CLI::IsMember({"noc", "occ"}));
+  score->add_option("--roi", score_roi, "ROI WxH or full (default: the dataset's, 640x360 for KITTI)");
+  score->add_flag("--json", score_json, "Print JSON");
+
+  // baseline
+  std::string base_name, base_dataset, base_frames, base_gt = "noc", base_save, base_roi;
+  BaselineParams base_params;
+  bool base_json = false, base_quiet = false;
+  int base_threads = default_threads();
+  auto* baseline = app.add_subcommand("baseline", "Score OpenCV StereoSGBM (opencv-hh4 | opencv-sgbm) on the same crops");
+  baseline->add_option("method", base_name, "opencv-hh4 or opencv-sgbm")->required()->check(CLI::IsMember({"opencv-hh4", "opencv-sgbm"}));
+  baseline->add_option("--dataset", base_dataset, "Dataset folder")->required();
+  baseline->add_option("--frames", base_frames, "Frames (default: all with GT)");
+  baseline->add_option("--gt", base_gt, "noc or occ")->check(CLI::IsMember({"noc", "occ"}));
+  baseline->add_option("--roi", base_roi, "ROI WxH or full (default: the dataset's, 640x360 for KITTI)");
+  baseline->add_option("--disparities", base_params.disparities, "Disparity count (rounded up to a multiple of 16)")->capture_default_str();
+  baseline->add_option("--block-size", base_params.block_size, "Matching block size")->capture_default_str();
+  baseline->add_option("--p1", base_params.p1, "P1")->capture_default_str();
+  baseline->add_option("--p2", base_params.p2, "P2")->capture_default_str();
+  baseline->add_option("--save", base_save, "Write each frame's disparity and colour picture here");
+  baseline->add_option("--threads", base_threads, "Frames in parallel")->check(CLI::Range(1, 256));
+  baseline->add_flag("--json", base_json, "Print JSON");
+  baseline->add_flag("--quiet", base_quiet, "No progress lines");
+
+  // config
+  ConfigArgs show_cfg;
+  auto* show = app.add_subcommand("config", "Validate a configuration and print it in canonical form with derived bit widths");
+  add_config_options(show, show_cfg, true);
+
+  // crop-dataset
+  std::string crop_src, crop_out, crop_frames, crop_roi = "640x360";
+  auto* crop = app.add_subcommand("crop-dataset", "Write the centred ROI crop of a KITTI 2015 dataset (images and GT) as a new dataset");
+  crop->add_option("--dataset", crop_src, "Source dataset")->required();
+  crop->add_option("--frames", crop_frames, "Frames (default: all)");
+  crop->add_option("--roi", crop_roi, "ROI WxH")->capture_default_str();
+  crop->add_option("--out", crop_out, "Output folder")->required();
+
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    if (*run) {
+      const config::PipelineConfig cfg = load_config_args(run_cfg);
+      std::vector<std::string> notes;
+      cv::Mat left = load_grey_file(run_left, "left", notes);
+      cv::Mat right = load_grey_file(run_right, "right", notes);
+      if (left.size() != right.size())
+        throw InputError(run_right + ": right image is " + std::to_string(right.cols) + "x" + std::to_string(right.rows) +
+                         " but the left image " + run_left + " is " + std::to_string(left.cols) + "x" +
+                         std::to_string(left.rows));
+      const Roi roi = resolve_roi(roi_for(cfg), left.cols, left.rows);
+      const cv::Mat l = crop_to_roi(left, roi), r = crop_to_roi(right, roi);
+      sim::FuncPipeline pipe;
+      const DisparityMap d = run_design(cfg, l, r, pipe);
+      write_kitti_disparity(run_out, d.disparity_px, d.valid_mask);
+      std::string colour = run_colour;
+      if (colour.empty()) {
+        fs::path p(run_out);
+        colour = (p.parent_path() / (p.stem().string() + "_colour.png")).string();
+      }
+      write_png(colour, colourize_disparity(d.disparity_px, d.valid_mask, cfg.disparities));
+      print_notes(notes);
+      json j;
+      j["config"] = cfg.name;
+      j["roi"] = {{"x0", roi.x0}, {"y0", roi.y0}, {"width_px", roi.width_px}, {"height_px", roi.height_px}};
+      j["out"] = run_out;
+      j["colour"] = colour;
+      const int valid = cv::countNonZero(d.valid_mask);
+      j["density_pct"] = 100.0 * valid / double(roi.width_px * roi.height_px);
+      if (!run_gt.empty()) {
+        DisparityMap gt = read_kitti_disparity(run_gt);
+        if (gt.disparity_px.size() == left.size()) {
+          gt.disparity_px = crop_to_roi(gt.disparity_px, roi);
+          gt.valid_mask = crop_to_roi(gt.valid_mask, roi);
+        } else if (gt.disparity_px.cols != roi.width_px || gt.disparity_px.rows != roi.height_px) {
+          throw InputError(run_gt + ": ground truth is " + std::to_string(gt.disparity_px.cols) + "x" +
+                           std::to_string(gt.disparity_px.rows) + ", neither the image size " + std::to_string(left.cols) +
+                           "x" + std::to_string(left.rows) + " nor the ROI size " + std::to_string(roi.width_px) + "x" +
+                           std::to_string(roi.height_px));
+        }
+        const FrameRow row = make_frame_row("pair", count_frame(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask));
+        j.update(metrics_json(row.metrics));
+      }
+      if (run_json) {
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::printf("wrote %s and %s (ROI %dx%d at %d,%d)\n", run_out.c_str(), colour.c_str(), roi.width_px,
+                    roi.height_px, roi.x0, roi.y0);
+        std::printf("density_pct %.2f\n", j["density_pct"].get<double>());
+        if (!run_gt.empty())
+          for (const char* k : {"density_gt_pct", "correct_3px_pct", "d1_all_pct", "d1_all_filled_pct", "mean_abs_error_px"})
+            std::printf("%s %.3f\n", k, j[k].get<double>());
+      }
+      return 0;
+    }
+    if (*eval) {
+      const config::PipelineConfig cfg = load_config_args(eval_cfg);
+      const Dataset ds = open_dataset(eval_dataset);
+      EvalOptions opt;
+      opt.gt_kind = parse_gt_kind(eval_gt);
+      opt.frames = eval_frames;
+      opt.threads = eval_threads;
+      opt.save_dir = eval_save;
+      opt.colour_max_disparity_px = cfg.disparities;
+      opt.progress = progress_printer(eval_quiet || eval_json);
+      if (!eval_roi.empty()) {
+        opt.roi_from_config = false;
+        opt.roi = parse_roi_size(eval_roi);
+      }
+      const EvalResult r = evaluate_design(cfg, ds, opt);
+      print_notes(r.notes);
+      if (eval_json) {
+        json j = result_json(r);
+        j["config"] = cfg.name;
+        j["dataset"] = eval_dataset;
+        j["gt"] = eval_gt;
+        std::cout << j.dump(2) << "\n";
+      } else {
+        print_result_text(r, cfg.name + " on " + eval_dataset + " (" + eval_gt + ")");
+      }
+      return 0;
+    }
+    if (*score) {
+      const Dataset ds = open_dataset(score_dataset);
+      EvalOptions opt;
+      opt.gt_kind = parse_gt_kind(score_gt);
+      opt.frames = score_frames;
+      const RoiSize roi = score_roi.empty() ? default_roi_size(ds.layout) : parse_roi_size(score_roi);
+      const EvalResult r = score_predictions(score_pred, ds, roi, opt);
+      if (score_json)
+        std::cout << result_json(r).dump(2) << "\n";
+      else
+        print_result_text(r, score_pred + " on " + score_dataset + " (" + score_gt + ")");
+      return 0;
+    }
+    if (*baseline) {
+      const Baseline b = parse_baseline(base_name);
+      const Dataset ds = open_dataset(base_dataset);
+      EvalOptions opt;
+      opt.gt_kind = parse_gt_kind(base_gt);
+      opt.frames = base_frames;
+      opt.threads = base_threads;
+      opt.save_dir = base_save;
+      opt.colour_max_disparity_px = base_params.disparities;
+      opt.progress = progress_printer(base_quiet || base_json);
+      const RoiSize roi = base_roi.empty() ? default_roi_size(ds.layout) : parse_roi_size(base_roi);
+      const EvalResult r = evaluate(
+          ds, roi,
+          [&]() -> Matcher {
+            return [&](const cv::Mat& l, const cv::Mat& rr) { return run_baseline(b, base_params, l, rr); };
+          },
+          opt);
+      print_notes(r.notes);
+      if (base_json) {
+        json j = result_json(r);
+        j["baseline"] = base_name;
+        std::cout << j.dump(2) << "\n";
+      } else {
+        print_result_text(r, base_name + " on " + base_dataset + " (" + base_gt + ")");
+      }
+      return 0;
+    }
+    if (*show) {
+      const config::PipelineConfig cfg = load_config_args(show_cfg);
+      std::cout << config::to_yaml(cfg);
+      const kern::StereoParams p = cfg.stereo_params(cfg.roi_width_px, cfg.roi_height_px);
+      std::cout << "# derived: cost_bits " << kern::cost_bits(p) << ", penalty_bits " << kern::penalty_bits(p)
+                << ", path_bits " << kern::path_bits(p) << ", aggregate_bits " << kern::aggregate_bits(p)
+                << ", disparity_bits " << kern::disparity_bits(p) << " (invalid code " << kern::invalid_code(p) << ")\n";
+      return 0;
+    }
+    if (*crop) {
+      int w = 640, h = 360;
+      const RoiSize rs = parse_roi_size(crop_roi);
+      if (rs.full) throw InputError("--roi: crop-dataset needs a size WxH, not full");
+      w = rs.width_px;
+      h = rs.height_px;
+      const CropSummary s = crop_dataset(crop_src, crop_frames, {GtKind::noc, GtKind::occ}, w, h, crop_out);
+      std::printf("wrote %zu frames (%zu files) to %s\n", s.frame_ids.size(), s.files_written.size(), crop_out.c_str());
+      return 0;
+    }
+  } catch (const config::ConfigError& e) {
+    std::fprintf(stderr, "parallax: error: %s\n", e.what());
+    return kExitUserError;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "parallax: error: %s\n", e.what());
+    return kExitUserError;
+  } catch (const cv::Exception& e) {
+    std::fprintf(stderr, "parallax: error: OpenCV: %s\n", e.what());
+    return kExitUserError;
+  } catch (const fs::filesystem_error& e) {
+    std::fprintf(stderr, "parallax: error: %s\n", e.what());
+    return kExitUserError;
+  }
+  return 0;
+}
