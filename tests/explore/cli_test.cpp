@@ -1,0 +1,156 @@
+// reject: the CLI's answer to bad input is one clear message naming the file or field and a
+// non-zero exit, never a crash; and the happy paths write what they promise.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+CliRun run_cli(const std::string& args) {
+  const std::string cmd = std::string(PARALLAX_CLI) + " " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), int(buf.size()), p)) r.output += buf.data();
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("parallax_cli_test_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+const std::string kData = PARALLAX_DATA_DIR "/kitti2015-640x360/training";
+const std::string kCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
+
+TEST(Cli, HelpOnEveryCommand) {
+  for (const char* c : {"run", "eval", "score", "baseline", "config", "crop-dataset"}) {
+    const CliRun r = run_cli(std::string(c) + " --help");
+    EXPECT_EQ(r.status, 0) << c;
+    EXPECT_NE(r.output.find("Usage"), std::string::npos) << c;
+  }
+}
+
+TEST(Cli, RunWritesKittiPngAndColourAndScores) {
+  const fs::path d = temp_dir("run");
+  const CliRun r = run_cli("run --config " + kCensus + " --left " + kData + "/image_2/000001_10.png --right " + kData +
+                        "/image_3/000001_10.png --gt " + kData + "/disp_noc_0/000001_10.png --out " +
+                        (d / "d.png").string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("\"correct_3px_pct\""), std::string::npos);
+  EXPECT_NE(r.output.find("colour input converted to grey"), std::string::npos);
+  const cv::Mat disp = cv::imread((d / "d.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(disp.type(), CV_16UC1);
+  EXPECT_EQ(disp.cols, 640);
+  EXPECT_EQ(disp.rows, 360);
+  const cv::Mat colour = cv::imread((d / "d_colour.png").string(), cv::IMREAD_UNCHANGED);
+  EXPECT_EQ(colour.type(), CV_8UC3);
+}
+
+TEST(Cli, MissingImageNamesTheFile) {
+  const CliRun r = run_cli("run --config " + kCensus + " --left /nonexistent/left.png --right " + kData +
+                        "/image_3/000001_10.png --out /tmp/x.png");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("/nonexistent/left.png"), std::string::npos) << r.output;
+}
+
+TEST(Cli, UnreadableImageNamesTheFile) {
+  const fs::path d = temp_dir("unreadable");
+  std::ofstream(d / "junk.png") << "not a png";
+  const CliRun r = run_cli("run --config " + kCensus + " --left " + (d / "junk.png").string() + " --right " + kData +
+                        "/image_3/000001_10.png --out " + (d / "o.png").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("junk.png"), std::string::npos) << r.output;
+}
+
+TEST(Cli, SizeMismatchIsRejected) {
+  const fs::path d = temp_dir("mismatch");
+  cv::Mat small(100, 700, CV_8UC1, cv::Scalar(7));
+  cv::imwrite((d / "small.png").string(), small);
+  const CliRun r = run_cli("run --config " + kCensus + " --left " + kData + "/image_2/000001_10.png --right " +
+                        (d / "small.png").string() + " --out " + (d / "o.png").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("small.png"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "o.png"));
+}
+
+TEST(Cli, GroundTruthOfAnotherSizeIsRejected) {
+  const fs::path d = temp_dir("gt");
+  cv::imwrite((d / "gt.png").string(), cv::Mat(50, 50, CV_16UC1, cv::Scalar(256)));
+  const CliRun r = run_cli("run --config " + kCensus + " --left " + kData + "/image_2/000001_10.png --right " + kData +
+                        "/image_3/000001_10.png --gt " + (d / "gt.png").string() + " --out " + (d / "o.png").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("gt.png"), std::string::npos) << r.output;
+}
+
+TEST(Cli, EveryViolatedConfigFieldIsNamed) {
+  const fs::path d = temp_dir("cfg");
+  std::ofstream(d / "bad.yaml") << "cost: census\nwindow: 6x5\ndisparities: 300\nparallel_units: 7\np1: 40\np2: 20\n"
+                                   "median: 4\nfrobnicate: 1\n";
+  const CliRun r = run_cli("config --config " + (d / "bad.yaml").string());
+  EXPECT_EQ(r.status, 2);
+  for (const char* field : {"bad.yaml", "'window'", "'disparities'", "'parallel_units'", "'p2'", "'median'", "'frobnicate'"})
+    EXPECT_NE(r.output.find(field), std::string::npos) << field << " not named in:\n" << r.output;
+}
+
+TEST(Cli, BadOverrideIsNamed) {
+  const CliRun r = run_cli("config --config " + kCensus + " --set paths=5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("'paths'"), std::string::npos) << r.output;
+}
+
+TEST(Cli, MissingConfigFileIsNamed) {
+  const CliRun r = run_cli("config --config /nonexistent/design.yaml");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("/nonexistent/design.yaml"), std::string::npos) << r.output;
+}
+
+TEST(Cli, UnknownFrameIsRejected) {
+  const CliRun r = run_cli("eval --config " + kCensus + " --dataset " + kData + " --frames 000002 --quiet");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("000002"), std::string::npos) << r.output;
+}
+
+TEST(Cli, EvalJsonCarriesTheMetricKeys) {
+  const CliRun r = run_cli("eval --config " + kCensus + " --dataset " + kData + " --json 2>/dev/null");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* k : {"density_pct", "density_gt_pct", "correct_3px_pct", "d1_all_pct", "d1_all_filled_pct",
+                        "mean_abs_error_px", "per_frame"})
+    EXPECT_NE(r.output.find(std::string("\"") + k + "\""), std::string::npos) << k;
+}
+
+TEST(Cli, ScoreAcceptsFullSizeAndRoiSizePredictions) {
+  const fs::path d = temp_dir("score");
+  const CliRun e = run_cli("eval --config " + kCensus + " --dataset " + kData + " --save " + d.string() + " --quiet");
+  ASSERT_EQ(e.status, 0) << e.output;
+  const CliRun s = run_cli("score --pred " + d.string() + " --dataset " + kData);
+  ASSERT_EQ(s.status, 0) << s.output;
+  // The saved maps scored by `score` give the same pooled line as `eval`.
+  const auto pooled = [](const std::string& out) { return out.substr(out.find("pooled")); };
+  EXPECT_EQ(pooled(e.output).substr(0, 70), pooled(s.output).substr(0, 70));
+  cv::imwrite((d / "000001_10.png").string(), cv::Mat(10, 10, CV_16UC1, cv::Scalar(0)));
+  const CliRun bad = run_cli("score --pred " + d.string() + " --dataset " + kData);
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("000001_10.png"), std::string::npos) << bad.output;
+}
+
+}  // namespace
