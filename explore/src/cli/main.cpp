@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "parallax/config/config.hpp"
+#include "parallax/explore/bench.hpp"
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/disparity_io.hpp"
 #include "parallax/explore/evaluate.hpp"
@@ -225,6 +226,18 @@ int main(int argc, char** argv) {
   crop->add_option("--roi", crop_roi, "ROI WxH")->capture_default_str();
   crop->add_option("--out", crop_out, "Output folder")->required();
 
+  // bench
+  ConfigArgs bench_cfg;
+  std::string bench_left, bench_right;
+  int bench_iterations = 7;
+  bool bench_json = false;
+  auto* bench = app.add_subcommand("bench", "Time the func run against OpenCV StereoSGBM (HH4, SGBM) on one pair, one thread each, with peak memory");
+  add_config_options(bench, bench_cfg, true);
+  bench->add_option("--left", bench_left, "Left image")->required();
+  bench->add_option("--right", bench_right, "Right image")->required();
+  bench->add_option("--iterations", bench_iterations, "Runs per method (the median is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
+  bench->add_flag("--json", bench_json, "Print JSON");
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -356,6 +369,31 @@ int main(int argc, char** argv) {
       std::cout << "# derived: cost_bits " << kern::cost_bits(p) << ", penalty_bits " << kern::penalty_bits(p)
                 << ", path_bits " << kern::path_bits(p) << ", aggregate_bits " << kern::aggregate_bits(p)
                 << ", disparity_bits " << kern::disparity_bits(p) << " (invalid code " << kern::invalid_code(p) << ")\n";
+      return 0;
+    }
+    if (*bench) {
+      const config::PipelineConfig cfg = load_config_args(bench_cfg);
+      std::vector<std::string> notes;
+      const cv::Mat left = load_grey_file(bench_left, "left", notes);
+      const cv::Mat right = load_grey_file(bench_right, "right", notes);
+      if (left.size() != right.size()) throw InputError(bench_right + ": size differs from the left image " + bench_left);
+      const Roi roi = resolve_roi(roi_for(cfg), left.cols, left.rows);
+      const cv::Mat l = crop_to_roi(left, roi).clone(), r = crop_to_roi(right, roi).clone();
+      const auto rows = bench_pair(cfg, l, r, bench_iterations);
+      if (bench_json) {
+        json j = json::array();
+        for (const auto& row : rows)
+          j.push_back({{"method", row.method}, {"median_ms", row.median_ms}, {"min_ms", row.min_ms},
+                       {"peak_rss_mib", row.peak_rss_mib}, {"peak_extra_rss_mib", row.peak_extra_rss_mib},
+                       {"ratio_to_hh4", row.ratio_to_peer}});
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::printf("%dx%d pair, %d runs per method, one thread each\n", l.cols, l.rows, bench_iterations);
+        std::printf("%-36s %10s %10s %10s %12s %9s\n", "method", "median_ms", "min_ms", "peak_MiB", "extra_MiB", "vs_HH4");
+        for (const auto& row : rows)
+          std::printf("%-36s %10.1f %10.1f %10.1f %12.1f %9.2f\n", row.method.c_str(), row.median_ms, row.min_ms,
+                      row.peak_rss_mib, row.peak_extra_rss_mib, row.ratio_to_peer);
+      }
       return 0;
     }
     if (*crop) {

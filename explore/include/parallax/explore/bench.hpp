@@ -1,0 +1,28 @@
+// Speed benchmark of the func run against OpenCV's StereoSGBM on the same pair, single thread,
+// measured in one run. Figures, never a pass/fail on timing.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "parallax/config/config.hpp"
+
+namespace parallax::explore {
+
+struct BenchRow {
+  std::string method;
+  double median_ms = 0.0;
+  double min_ms = 0.0;
+  double peak_rss_mib = 0.0;       // peak resident memory of a process that ran only this method
+  double peak_extra_rss_mib = 0.0; // the same minus an idle process's peak (images loaded)
+  double ratio_to_peer = 0.0;      // median_ms / the first OpenCV row's median_ms
+};
+
+// Runs each method `iterations` times in its own forked process (so that peak memory is its
+// own), one thread each. Rows: the design's func run, OpenCV MODE_HH4, OpenCV MODE_SGBM.
+std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Mat& left_grey,
+                                 const cv::Mat& right_grey, int iterations);
+
+}  // namespace parallax::explore

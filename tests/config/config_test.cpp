@@ -1,0 +1,135 @@
+// unit + reject: configuration parsing, validation (every field named) and the paper presets.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "parallax/config/config.hpp"
+
+namespace parallax::config {
+namespace {
+
+TEST(Config, PaperPresetsReproduceTheSeedDesign) {
+  for (const char* name : {"ruf2018-census", "ruf2018-sad"}) {
+    const PipelineConfig c = load_config(std::string(PARALLAX_CONFIG_DIR) + "/" + name + ".yaml");
+    EXPECT_EQ(c.name, name);
+    EXPECT_FALSE(c.roi_full);
+    EXPECT_EQ(c.roi_width_px, 640);
+    EXPECT_EQ(c.roi_height_px, 360);
+    EXPECT_EQ(c.window_w, 5);
+    EXPECT_EQ(c.window_h, 5);
+    EXPECT_EQ(c.disparities, 60);
+    EXPECT_EQ(c.path_mask, kern::kPath0 | kern::kPath45 | kern::kPath90 | kern::kPath135);
+    EXPECT_TRUE(c.lr_check);
+    EXPECT_EQ(c.lr_tolerance, 1);
+    EXPECT_EQ(c.median, 5);
+    EXPECT_EQ(c.disparities % c.parallel_units, 0);
+    if (c.cost == "census") {
+      EXPECT_EQ(c.p1, 8);
+      EXPECT_EQ(c.p2, 32);
+    } else {
+      EXPECT_EQ(c.cost, "sad");
+      EXPECT_EQ(c.p1, 200);
+      EXPECT_EQ(c.p2, 800);
+    }
+  }
+}
+
+TEST(Config, PathCountsAndLists) {
+  EXPECT_EQ(parse_paths("1"), unsigned(kern::kPath0));
+  EXPECT_EQ(parse_paths("2"), unsigned(kern::kPath0 | kern::kPath90));
+  EXPECT_EQ(parse_paths("3"), unsigned(kern::kPath0 | kern::kPath45 | kern::kPath90));
+  EXPECT_EQ(parse_paths("4"), kern::kForwardPaths);
+  EXPECT_EQ(parse_paths("8"), kern::kAllPaths);
+  EXPECT_EQ(parse_paths("[0, 180]"), unsigned(kern::kPath0 | kern::kPath180));
+  EXPECT_EQ(parse_paths("90,270"), unsigned(kern::kPath90 | kern::kPath270));
+  EXPECT_THROW(parse_paths("5"), ConfigError);
+  EXPECT_THROW(parse_paths("0,30"), ConfigError);
+  EXPECT_EQ(paths_to_string(kern::kForwardPaths), "4");
+  EXPECT_EQ(paths_to_string(kern::kPath0 | kern::kPath180), "[0,180]");
+}
+
+TEST(Config, CanonicalTextRoundTrips) {
+  PipelineConfig c;
+  c.name = "x";
+  c.cost = "sad";
+  c.window_w = 7;
+  c.window_h = 3;
+  c.disparities = 96;
+  c.parallel_units = 12;
+  c.path_mask = kern::kPath0 | kern::kPath225;
+  c.p1 = 11;
+  c.p2 = 99;
+  c.lr_check = false;
+  c.median = 0;
+  c.roi_full = true;
+  const PipelineConfig d = parse_config(to_yaml(c), "roundtrip");
+  EXPECT_EQ(to_yaml(c), to_yaml(d));
+  EXPECT_EQ(d.path_mask, c.path_mask);
+  EXPECT_TRUE(d.roi_full);
+}
+
+TEST(Config, WindowAcceptsSquareShorthand) {
+  const PipelineConfig c = parse_config("window: 7\ncost: sad\n", "t");
+  EXPECT_EQ(c.window_w, 7);
+  EXPECT_EQ(c.window_h, 7);
+}
+
+// Each invalid value is reported with its field name; all of them at once.
+TEST(Config, EveryViolationNamesItsField) {
+  const struct {
+    const char* yaml;
+    const char* field;
+  } cases[] = {
+      {"window: 4x5", "'window'"},       {"window: 11x3", "'window'"},
+      {"cost: census\nwindow: 9x9", "'window'"},  // 80 census bits
+      {"disparities: 0", "'disparities'"}, {"disparities: 257", "'disparities'"},
+      {"parallel_units: 7", "'parallel_units'"}, {"p1: 32\np2: 32", "'p2'"},
+      {"p1: -1", "'p1'"},               {"median: 4", "'median'"},
+      {"lr_tolerance: -2", "'lr_tolerance'"},   {"cost: ncc", "'cost'"},
+      {"paths: 6", "'paths'"},          {"lr_check: maybe", "'lr_check'"},
+      {"roi: 0x10", "'roi'"},           {"disparities: sixty", "'disparities'"},
+      {"colour: red", "'colour'"},      {"clock_mhz: 0", "'clock_mhz'"},
+  };
+  for (const auto& c : cases) {
+    try {
+      parse_config(c.yaml, "case.yaml");
+      ADD_FAILURE() << "accepted: " << c.yaml;
+    } catch (const ConfigError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(c.field), std::string::npos) << c.yaml << " -> " << msg;
+      EXPECT_NE(msg.find("case.yaml"), std::string::npos) << msg;
+    }
+  }
+  try {
+    parse_config("window: 4x4\ndisparities: 0\nmedian: 2\n", "many.yaml");
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    for (const char* f : {"'window'", "'disparities'", "'median'"}) EXPECT_NE(msg.find(f), std::string::npos) << msg;
+  }
+}
+
+TEST(Config, NotYamlOrNotAMappingIsRejected) {
+  EXPECT_THROW(parse_config("[1, 2", "broken.yaml"), ConfigError);
+  EXPECT_THROW(parse_config("- a\n- b\n", "list.yaml"), ConfigError);
+  EXPECT_THROW(load_config("/nonexistent/x.yaml"), ConfigError);
+}
+
+TEST(Config, DerivedWidthsCoverTheWorstCase) {
+  PipelineConfig c;
+  c.cost = "sad";
+  c.window_w = c.window_h = 9;
+  c.p1 = 100;
+  c.p2 = 60000;
+  c.path_mask = kern::kAllPaths;
+  ASSERT_TRUE(validate(c).empty());
+  const kern::StereoParams p = c.stereo_params(64, 64);
+  // cost_max 20655 + P2 register max 65535 = 86190 < 2^17; times 8 paths < 2^20.
+  EXPECT_EQ(kern::cost_bits(p), 15);
+  EXPECT_EQ(kern::path_bits(p), 17);
+  EXPECT_EQ(kern::aggregate_bits(p), 20);
+  EXPECT_EQ(kern::disparity_bits(p), 7);  // D = 64 plus the invalid code
+}
+
+}  // namespace
+}  // namespace parallax::config
