@@ -41,14 +41,20 @@ class CensusMatcher {
   census_clamp_cols:
     for (int i = 0; i < w_; ++i) cols[i] = lb.clamp_x(x + i - w_ / 2);
     const uint8_t centre = lb.row_clamped(y)[x];
+    const int taps = w_ * h_;
+    const int centre_tap = taps / 2;
     uint64_t c = 0;
   census_rows:
     for (int j = 0; j < h_; ++j) {
       const uint8_t* row = lb.row_clamped(y + j - h_ / 2);
     census_cols:
       for (int i = 0; i < w_; ++i) {
-        if (i == w_ / 2 && j == h_ / 2) continue;
-        c = (c << 1) | uint64_t(row[cols[i]] < centre ? 1u : 0u);
+        // Tap k (raster order, centre skipped) lands in bit taps - 2 - k': the first tap is the
+        // most significant used bit.
+        const int k = j * w_ + i;
+        if (k == centre_tap) continue;
+        const int bit = taps - 2 - (k < centre_tap ? k : k - 1);
+        c |= uint64_t(row[cols[i]] < centre ? 1u : 0u) << bit;
       }
     }
     return c;

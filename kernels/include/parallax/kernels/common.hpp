@@ -18,8 +18,22 @@
 #define PX_PRAGMA(x)
 #endif
 
+// Promise of non-overlapping pointers (lets software builds vectorise lane copies).
+#if defined(__GNUC__) && !defined(__SYNTHESIS__)
+#define PX_RESTRICT __restrict__
+#else
+#define PX_RESTRICT
+#endif
+
 namespace parallax {
 namespace kern {
+
+// Copies n lanes between two distinct memories.
+template <class T>
+inline void copy_lanes(T* PX_RESTRICT dst, const T* PX_RESTRICT src, int n) {
+copy_lanes_loop:
+  for (int i = 0; i < n; ++i) dst[i] = src[i];
+}
 
 // One stream token of up to N disparity lanes. A firing of a disparity stage moves PU lanes;
 // lanes [PU, N) are unused. In HLS the token becomes an ap_uint<PU * bits>.

@@ -113,21 +113,7 @@ class SgmAggregate {
       if (chunk_ == 0) min_[slot] = kNone;
       uint32_t run_min = min_[slot];
       if (valid) {
-        const uint32_t m_p2 = m_prev + p2;
-      agg_lanes:
-        for (int i = 0; i < n; ++i) {
-          PX_PRAGMA("HLS UNROLL")
-          const uint32_t a = pred[i + 1];
-          const uint32_t b = uint32_t(pred[i]) + p1;
-          const uint32_t e = uint32_t(pred[i + 2]) + p1;
-          uint32_t m = a < b ? a : b;
-          m = m < e ? m : e;
-          m = m < m_p2 ? m : m_p2;
-          const uint32_t lr = uint32_t(c.v[i]) + m - m_prev;
-          dest[i] = Word(lr);
-          s.v[i] = Word(s.v[i] + lr);
-          run_min = lr < run_min ? lr : run_min;
-        }
+        run_min = update_lanes(pred, c.v, dest, s.v, n, p1, p2, m_prev, run_min);
       } else {
       agg_lanes_start:
         for (int i = 0; i < n; ++i) {
@@ -155,7 +141,7 @@ class SgmAggregate {
     const int d_count = p_.disparities;
     const int kind = kind_[slot];
     const int par = parity_;
-    Word* row_here = &row_[slot][x_ * kMaxD];
+    Word* row_here = &row_[slot][x_ * d_count];  // rows packed at the runtime D
     if (kind == kKindPixel) {
       *pred = &hold_[slot][par ^ 1][lo];
       *m_prev = hold_min_[slot][par ^ 1];
@@ -167,8 +153,7 @@ class SgmAggregate {
       // Read the old (previous-row) lanes of this column before they are overwritten; row-up
       // also needs lane lo + PU, which the next chunk has not written yet.
       const int hi = kind == kKindRowUp ? min_int(lo + lanes_, d_count - 1) : lo + lanes_ - 1;
-    agg_hold_copy:
-      for (int d = lo; d <= hi; ++d) hold_[slot][par][1 + d] = row_here[d];
+      copy_lanes(&hold_[slot][par][1 + lo], row_here + lo, hi - lo + 1);
       if (chunk_ == 0) hold_min_[slot][par] = row_min_[slot][x_];
       if (kind == kKindRowUp) {
         *pred = &hold_[slot][par][lo];
@@ -182,15 +167,47 @@ class SgmAggregate {
     // Row-right: column x + 1 still holds the previous row.
     const bool valid = y_ > 0 && x_ + 1 < p_.width_px;
     if (!valid) return false;
-    const Word* row_next = &row_[slot][(x_ + 1) * kMaxD];
-  agg_right_copy:
-    for (int i = 0; i < lanes_ + 2; ++i) {
-      const int d = lo - 1 + i;
-      local[i] = (d < 0 || d >= d_count) ? Word(kNone) : row_next[d];
-    }
+    const Word* row_next = &row_[slot][(x_ + 1) * d_count];
+    const int hi = lo + lanes_ - 1;
+    local[0] = lo == 0 ? Word(kNone) : row_next[lo - 1];
+    copy_lanes(local + 1, row_next + lo, lanes_);
+    local[lanes_ + 1] = hi + 1 >= d_count ? Word(kNone) : row_next[hi + 1];
     *pred = local;
     *m_prev = row_min_[slot][x_ + 1];
     return true;
+  }
+
+  // Lr(p, d) = C(p, d) + min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M for n lanes, added into
+  // sum; returns the running minimum. pred[i] is Lr(q, lo - 1 + i), with kNone outside [0, D).
+  // In Word arithmetic: sums that could exceed Word saturate, which cannot change a minimum
+  // because Lr(q, d) <= 2^path_bits - 1 is always a candidate and fits.
+  static uint32_t update_lanes(const Word* pred, const uint16_t* cost, Word* dest, Word* sum, int n,
+                               uint32_t p1, uint32_t p2, uint32_t m_prev, uint32_t run_min) {
+    const Word wp1 = Word(p1);
+    const Word wm = Word(m_prev);
+    const Word wm_p2 = sat_add(wm, Word(p2 > kNone ? kNone : p2));
+    Word lane_min = Word(kNone);
+  agg_lanes:
+    for (int i = 0; i < n; ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      const Word a = pred[i + 1];
+      const Word b = sat_add(pred[i], wp1);
+      const Word e = sat_add(pred[i + 2], wp1);
+      Word m = a < b ? a : b;
+      m = m < e ? m : e;
+      m = m < wm_p2 ? m : wm_p2;
+      const Word lr = Word(Word(cost[i]) + Word(m - wm));
+      dest[i] = lr;
+      sum[i] = Word(sum[i] + lr);
+      lane_min = lr < lane_min ? lr : lane_min;
+    }
+    return uint32_t(lane_min) < run_min ? uint32_t(lane_min) : run_min;
+  }
+
+  // a + b, saturating at kNone (the largest value Lr arithmetic needs).
+  static Word sat_add(Word a, Word b) {
+    const Word r = Word(a + b);
+    return (r < a || r > Word(kNone)) ? Word(kNone) : r;
   }
 
   void finish_pixel(int slot) {
