@@ -104,8 +104,14 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
       try {
         const Frame f = load_frame(refs[i]);
         const Roi r = resolve_roi(roi, f.left.cols, f.left.rows);
-        const cv::Mat l = crop_to_roi(f.left, r), rr = crop_to_roi(f.right, r);
-        const DisparityMap d = match(l, rr);
+        DisparityMap d;
+        if (opt.match_full_image) {
+          const DisparityMap whole = match(f.left, f.right);
+          d.disparity_px = crop_to_roi(whole.disparity_px, r);
+          d.valid_mask = crop_to_roi(whole.valid_mask, r);
+        } else {
+          d = match(crop_to_roi(f.left, r), crop_to_roi(f.right, r));
+        }
         const cv::Mat gt = crop_to_roi(f.gt_disparity_px, r), gt_mask = crop_to_roi(f.gt_mask, r);
         result.frames[i] = make_frame_row(f.id, count_frame(d.disparity_px, d.valid_mask, gt, gt_mask));
         notes[i] = f.notes;

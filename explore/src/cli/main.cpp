@@ -177,6 +177,9 @@ int main(int argc, char** argv) {
   eval->add_option("--frames", eval_frames, "Frames, e.g. 1-5,7 or 000046 (default: all with GT)");
   eval->add_option("--gt", eval_gt, "Ground truth kind: noc or occ")->check(CLI::IsMember({"noc", "occ"}));
   eval->add_option("--roi", eval_roi, "Override the config's ROI: WxH or full");
+  std::string eval_context = "roi";
+  eval->add_option("--context", eval_context, "roi: match the cropped pair (paper); full: match the whole image, then crop")
+      ->check(CLI::IsMember({"roi", "full"}))->capture_default_str();
   eval->add_option("--save", eval_save, "Write each frame's disparity (KITTI PNG) and colour picture here");
   eval->add_option("--threads", eval_threads, "Frames in parallel (default: all cores)")->check(CLI::Range(1, 256));
   eval->add_flag("--json", eval_json, "Print JSON: pooled metrics, counts and per-frame rows");
@@ -304,6 +307,7 @@ int main(int argc, char** argv) {
       opt.threads = eval_threads;
       opt.save_dir = eval_save;
       opt.colour_max_disparity_px = cfg.disparities;
+      opt.match_full_image = eval_context == "full";
       opt.progress = progress_printer(eval_quiet || eval_json);
       if (!eval_roi.empty()) {
         opt.roi_from_config = false;

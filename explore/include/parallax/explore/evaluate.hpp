@@ -42,6 +42,9 @@ struct EvalOptions {
   bool roi_from_config = true;        // else roi below
   RoiSize roi;                        // used when !roi_from_config
   int threads = 1;                    // frames evaluated in parallel
+  // false: the matcher sees the cropped pair (the paper's protocol); true: it sees the whole
+  // image and its output is cropped to the ROI afterwards (more context at the ROI's borders).
+  bool match_full_image = false;
   std::filesystem::path save_dir;     // when set: KITTI PNG + colour picture per frame
   double colour_max_disparity_px = 64.0;  // disparity shown as the reddest colour
   std::function<void(int done, int total, const std::string& frame_id)> progress;

@@ -25,16 +25,33 @@ class CensusMatcher {
   template <class LB>
   void begin_pixel(const LB& left, const LB& right, int x, int y) {
     left_code_ = code(left, x, y);
-    right_codes_[x & (kColumnRing - 1)] = code(right, x, y);
+    right_codes_[slot_of(x)] = code(right, x, y);
   }
 
+  // Costs of lanes d0 .. d0 + n - 1: Hamming distance to the right code at x - d, or cost_max
+  // where x - d < 0. The ring is mirrored (slot of column c is -c mod ring) so that the lanes
+  // read ascending slots.
   template <class LB>
-  uint16_t cost(const LB&, const LB&, int x, int, int d) const {
-    if (x - d < 0) return cost_max_;
-    return uint16_t(popcount64(left_code_ ^ right_codes_[(x - d) & (kColumnRing - 1)]));
+  void costs(const LB&, const LB&, int x, int, int d0, int n, uint16_t* out) const {
+    const int valid = clamp_int(x - d0 + 1, 0, n);  // lanes with x - d >= 0
+    const int base = slot_of(x - d0);
+    const int first_run = min_int(valid, kColumnRing - base);
+    hamming_run(out, 0, first_run, base);
+    hamming_run(out, first_run, valid, base - kColumnRing);
+  census_none:
+    for (int i = valid; i < n; ++i) out[i] = cost_max_;
   }
 
  private:
+  static int slot_of(int column) { return (-column) & (kColumnRing - 1); }
+
+  void hamming_run(uint16_t* PX_RESTRICT out, int i0, int i1, int offset) const {
+    const uint64_t lc = left_code_;
+    const uint64_t* PX_RESTRICT ring = right_codes_;
+  census_hamming:
+    for (int i = i0; i < i1; ++i) out[i] = uint16_t(popcount64(lc ^ ring[offset + i]));
+  }
+
   template <class LB>
   uint64_t code(const LB& lb, int x, int y) const {
     int cols[kMaxWindow];

@@ -57,11 +57,7 @@ class CostStage {
       if (chunk_ == 0) matcher_.begin_pixel(left_, right_, x_, y_);
       Token t;
       const int d0 = chunk_ * lanes_;
-    cost_lanes:
-      for (int i = 0; i < lanes_; ++i) {
-        PX_PRAGMA("HLS UNROLL")
-        t.v[i] = matcher_.cost(left_, right_, x_, y_, d0 + i);
-      }
+      matcher_.costs(left_, right_, x_, y_, d0, lanes_, t.v);
       out.write(t);
       advance();
     }
@@ -89,7 +85,7 @@ class CostStage {
   bool out_done_ = true;
   LineBuffer<uint8_t, Caps::max_width_px, kRows> left_;
   LineBuffer<uint8_t, Caps::max_width_px, kRows> right_;
-  Matcher matcher_;
+  Matcher matcher_;  // mutable state: cost() may keep running sums
 };
 
 }  // namespace kern

@@ -15,40 +15,89 @@ class SadMatcher {
   void configure(const StereoParams& p) {
     w_ = p.window_w;
     h_ = p.window_h;
+    width_px_ = p.width_px;
     cost_max_ = uint16_t(cost_max(p));
   }
 
-  // Latches the left window of pixel (x, y). Contract: once per pixel, before cost().
+  // Latches the left window and the window's row pointers for pixel (x, y).
+  // Contract: once per pixel, in raster order, before cost() is called for every d in [0, D).
   template <class LB>
-  void begin_pixel(const LB& left, const LB&, int x, int y) {
+  void begin_pixel(const LB& left, const LB& right, int x, int y) {
     int k = 0;
   sad_latch_rows:
-    for (int j = -(h_ / 2); j <= h_ / 2; ++j) {
+    for (int j = 0; j < h_; ++j) {
+      left_rows_[j] = left.row_clamped(y + j - h_ / 2);
+      right_rows_[j] = right.row_clamped(y + j - h_ / 2);
     sad_latch_cols:
-      for (int i = -(w_ / 2); i <= w_ / 2; ++i) window_[k++] = left.at_clamped(x + i, y + j);
+      for (int i = -(w_ / 2); i <= w_ / 2; ++i) window_[k++] = left_rows_[j][left.clamp_x(x + i)];
     }
   }
 
+  // Costs of lanes d0 .. d0 + n - 1. Away from the borders the window sum slides:
+  // S(x, d) = S(x-1, d) + column(x + rw) - column(x - 1 - rw), columns of absolute differences
+  // over the h rows; near a border (where a clamp would apply) it is summed over the whole
+  // window. Both give the same integer.
   template <class LB>
-  uint16_t cost(const LB&, const LB& right, int x, int y, int d) const {
-    if (x - d < 0) return cost_max_;
-    int sum = 0;
-    int k = 0;
-  sad_rows:
-    for (int j = -(h_ / 2); j <= h_ / 2; ++j) {
-    sad_cols:
-      for (int i = -(w_ / 2); i <= w_ / 2; ++i) {
-        const int diff = int(window_[k++]) - int(right.at_clamped(x - d + i, y + j));
-        sum += diff < 0 ? -diff : diff;
+  void costs(const LB&, const LB& right, int x, int, int d0, int n, uint16_t* out) {
+    const int rw = w_ / 2;
+    // Lanes are a prefix that slides (d <= x - 1 - rw, right edge clear), then lanes summed
+    // directly (d <= x), then lanes without a right pixel (d > x).
+    const int n_slide = x + rw <= width_px_ - 1 ? clamp_int(x - rw - d0, 0, n) : 0;
+    const int n_valid = clamp_int(x - d0 + 1, 0, n);
+    if (n_slide > 0) slide(x, d0, n_slide, out);
+  sad_lanes:
+    for (int i = n_slide; i < n_valid; ++i) {
+      const int d = d0 + i;
+      uint32_t sum = 0;
+      int k = 0;
+    sad_rows:
+      for (int j = 0; j < h_; ++j) {
+      sad_cols:
+        for (int c = -rw; c <= rw; ++c) {
+          const int diff = int(window_[k++]) - int(right_rows_[j][right.clamp_x(x - d + c)]);
+          sum += uint32_t(diff < 0 ? -diff : diff);
+        }
+      }
+      last_[d] = sum;
+      out[i] = uint16_t(sum);
+    }
+  sad_none:
+    for (int i = n_valid; i < n; ++i) out[i] = cost_max_;
+  }
+
+  // S(x, d) = S(x - 1, d) + column(x + rw, d) - column(x - 1 - rw, d) for lanes [0, n).
+  void slide(int x, int d0, int n, uint16_t* out) {
+    const int rw = w_ / 2;
+    int32_t acc[Caps::lanes];
+  sad_slide_init:
+    for (int i = 0; i < n; ++i) acc[i] = int32_t(last_[d0 + i]);
+  sad_slide_rows:
+    for (int j = 0; j < h_; ++j) {
+      const int lead = left_rows_[j][x + rw];
+      const int trail = left_rows_[j][x - 1 - rw];
+      const uint8_t* PX_RESTRICT r_lead = right_rows_[j] + (x + rw - d0);
+      const uint8_t* PX_RESTRICT r_trail = right_rows_[j] + (x - 1 - rw - d0);
+    sad_slide_lanes:
+      for (int i = 0; i < n; ++i) {
+        const int a = lead - int(r_lead[-i]);
+        const int b = trail - int(r_trail[-i]);
+        acc[i] += (a < 0 ? -a : a) - (b < 0 ? -b : b);
       }
     }
-    return uint16_t(sum);
+  sad_slide_out:
+    for (int i = 0; i < n; ++i) {
+      last_[d0 + i] = uint32_t(acc[i]);
+      out[i] = uint16_t(acc[i]);
+    }
   }
 
  private:
-  int w_ = 5, h_ = 5;
+  int w_ = 5, h_ = 5, width_px_ = 1;
   uint16_t cost_max_ = 0;
   uint8_t window_[kMaxWindow * kMaxWindow];
+  const uint8_t* left_rows_[kMaxWindow];
+  const uint8_t* right_rows_[kMaxWindow];
+  uint32_t last_[kMaxDisparities];  // S(x - 1, d) of this row, where it was a real sum
 };
 
 template <class Caps>

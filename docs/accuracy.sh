@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Reproduces the accuracy table of the README (docs/accuracy.md): both paper presets, protocol
+# variants and the OpenCV peers on ../shared/datasets/kitti2015, pooled over all pixels.
+# Usage: bash docs/accuracy.sh [path/to/parallax]   (prints a Markdown table)
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+P="${1:-build/release/explore/parallax}"
+D=../shared/datasets/kitti2015
+row() {  # label, then the command's arguments
+  local label="$1"; shift
+  "$P" "$@" --json 2>/dev/null | python3 -c '
+import json, sys
+j = json.load(sys.stdin)
+print("| %s | %d | %.1f | %.1f | %.1f | %.1f | %.1f |" % (sys.argv[1], j["frames"], j["density_pct"], j["density_gt_pct"],
+      j["correct_3px_pct"], j["d1_all_pct"], j["d1_all_filled_pct"]))' "$label"
+}
+echo "| design / protocol | frames | density % | density (GT px) % | correct < 3 px % | D1 (valid) % | D1 filled % |"
+echo "|---|---|---|---|---|---|---|"
+for cost in census sad; do
+  C=configs/ruf2018-$cost.yaml
+  row "ruf2018-$cost, noc (preset)" eval --config $C --dataset $D
+  row "ruf2018-$cost, occ (preset)" eval --config $C --dataset $D --gt occ
+  row "ruf2018-$cost, noc, lr_tolerance 0" eval --config $C --dataset $D --set lr_tolerance=0
+  row "ruf2018-$cost, noc, median off" eval --config $C --dataset $D --set median=0
+  row "ruf2018-$cost, noc, lr_tolerance 0, median off" eval --config $C --dataset $D --set lr_tolerance=0 --set median=0
+  row "ruf2018-$cost, noc, D = 128" eval --config $C --dataset $D --set disparities=128 --set parallel_units=8
+  row "ruf2018-$cost, noc, whole image matched, then cropped" eval --config $C --dataset $D --context full
+  row "ruf2018-$cost, noc, 8 paths" eval --config $C --dataset $D --set paths=8
+done
+for b in opencv-hh4 opencv-sgbm; do
+  row "$b (D 64, block 5, P1 200, P2 800), noc" baseline $b --dataset $D
+  row "$b, occ" baseline $b --dataset $D --gt occ
+done
