@@ -52,23 +52,38 @@ class CensusMatcher {
     for (int i = i0; i < i1; ++i) out[i] = uint16_t(popcount64(lc ^ ring[offset + i]));
   }
 
+  // Dispatches the common window shapes to fully unrolled code; same bits as the generic form.
   template <class LB>
   uint64_t code(const LB& lb, int x, int y) const {
+    if (w_ == 5 && h_ == 5) return code_fixed<5, 5>(lb, x, y);
+    if (w_ == 3 && h_ == 3) return code_fixed<3, 3>(lb, x, y);
+    if (w_ == 7 && h_ == 5) return code_fixed<7, 5>(lb, x, y);
+    if (w_ == 9 && h_ == 7) return code_fixed<9, 7>(lb, x, y);
+    return code_generic(lb, x, y, w_, h_);
+  }
+
+  template <int W, int H, class LB>
+  uint64_t code_fixed(const LB& lb, int x, int y) const {
+    return code_generic(lb, x, y, W, H);
+  }
+
+  template <class LB>
+  static uint64_t code_generic(const LB& lb, int x, int y, const int w, const int h) {
     int cols[kMaxWindow];
   census_clamp_cols:
-    for (int i = 0; i < w_; ++i) cols[i] = lb.clamp_x(x + i - w_ / 2);
+    for (int i = 0; i < w; ++i) cols[i] = lb.clamp_x(x + i - w / 2);
     const uint8_t centre = lb.row_clamped(y)[x];
-    const int taps = w_ * h_;
+    const int taps = w * h;
     const int centre_tap = taps / 2;
     uint64_t c = 0;
   census_rows:
-    for (int j = 0; j < h_; ++j) {
-      const uint8_t* row = lb.row_clamped(y + j - h_ / 2);
+    for (int j = 0; j < h; ++j) {
+      const uint8_t* row = lb.row_clamped(y + j - h / 2);
     census_cols:
-      for (int i = 0; i < w_; ++i) {
+      for (int i = 0; i < w; ++i) {
         // Tap k (raster order, centre skipped) lands in bit taps - 2 - k': the first tap is the
         // most significant used bit.
-        const int k = j * w_ + i;
+        const int k = j * w + i;
         if (k == centre_tap) continue;
         const int bit = taps - 2 - (k < centre_tap ? k : k - 1);
         c |= uint64_t(row[cols[i]] < centre ? 1u : 0u) << bit;

@@ -11,12 +11,14 @@ namespace kern {
 template <class T, int MAX_W, int SLOTS>
 class LineBuffer {
  public:
+  static_assert(SLOTS <= 10 && kMaxHeightPx <= 4096, "slot(): the reciprocal is exact only up to 10 rows of 4096");
   // rows: slots in use (<= SLOTS). Contract: the caller never writes row yi while a pending
   // output still reads row yi - rows (see window_input_allowed()).
   void configure(int width_px, int height_px, int rows) {
     width_px_ = width_px;
     height_px_ = height_px;
     rows_ = rows;
+    reciprocal_ = (65536u + uint32_t(rows) - 1u) / uint32_t(rows);
     written_ = 0;
   }
   void reset() { written_ = 0; }
@@ -25,7 +27,7 @@ class LineBuffer {
   void push(T v) {
     const int yi = int(written_ / width_px_);
     const int xi = int(written_ - int64_t(yi) * width_px_);
-    mem_[yi % rows_][xi] = v;
+    mem_[slot(yi)][xi] = v;
     ++written_;
   }
   int64_t written() const { return written_; }
@@ -35,11 +37,13 @@ class LineBuffer {
   T at_clamped(int x, int y) const {
     const int cx = clamp_int(x, 0, width_px_ - 1);
     const int cy = clamp_int(y, 0, height_px_ - 1);
-    return mem_[cy % rows_][cx];
+    return mem_[slot(cy)][cx];
   }
 
   // The resident row holding image row clamp(y); columns are not clamped.
-  const T* row_clamped(int y) const { return mem_[clamp_int(y, 0, height_px_ - 1) % rows_]; }
+  const T* row_clamped(int y) const { return mem_[slot(clamp_int(y, 0, height_px_ - 1))]; }
+  // row % rows by a multiply: exact for row < 4096 and rows <= 10 (error < 4096 * 10 / 2^16).
+  int slot(int row) const { return row - int((uint32_t(row) * reciprocal_) >> 16) * rows_; }
   int clamp_x(int x) const { return clamp_int(x, 0, width_px_ - 1); }
 
   // True when every pixel of the clamped window of radius (rx, ry) around (x, y) is resident.
@@ -61,6 +65,7 @@ class LineBuffer {
   int height_px_ = 0;
   int rows_ = 1;
   int64_t written_ = 0;
+  uint32_t reciprocal_ = 65536u;  // ceil(2^16 / rows)
 };
 
 }  // namespace kern

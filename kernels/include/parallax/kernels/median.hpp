@@ -64,7 +64,11 @@ class Median {
   template <int K>
   DispCode window_median() const {
     const int r = K / 2;
-    uint16_t key[K * K];
+    // Padded to a multiple of 32 lanes with keys above every real key, which never count.
+    const int kPad = (K * K + 31) / 32 * 32;
+    uint16_t key[kPad];
+  median_pad:
+    for (int a = K * K; a < kPad; ++a) key[a] = 0xFFFFu;
     int cols[K];
   median_clamp_cols:
     for (int i = 0; i < K; ++i) cols[i] = lb_.clamp_x(x_ + i - r);
@@ -75,14 +79,14 @@ class Median {
     median_gather_cols:
       for (int i = 0; i < K; ++i, ++n) key[n] = uint16_t((row[cols[i]] << 6) | n);
     }
-    uint16_t smaller[K * K];
+    uint16_t smaller[kPad];
   median_clear:
-    for (int a = 0; a < K * K; ++a) smaller[a] = 0;
+    for (int a = 0; a < kPad; ++a) smaller[a] = 0;
   median_count:
     for (int b = 0; b < K * K; ++b) {
       const uint16_t kb = key[b];
     median_count_inner:
-      for (int a = 0; a < K * K; ++a) smaller[a] = uint16_t(smaller[a] + (kb < key[a] ? 1 : 0));
+      for (int a = 0; a < kPad; ++a) smaller[a] = uint16_t(smaller[a] + (kb < key[a] ? 1 : 0));
     }
     const int want = (K * K - 1) / 2;
     DispCode result = 0;
