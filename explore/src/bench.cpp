@@ -89,8 +89,11 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
   bp.block_size = cfg.window_w;
   add("opencv StereoSGBM MODE_HH4", [&] { (void)run_baseline(Baseline::opencv_hh4, bp, left, right); });
   add("opencv StereoSGBM MODE_SGBM", [&] { (void)run_baseline(Baseline::opencv_sgbm, bp, left, right); });
-  const double peer = rows[1].median_ms;
-  for (auto& r : rows) r.ratio_to_peer = peer > 0 ? r.median_ms / peer : 0.0;
+  const double peer = rows[1].median_ms, peer_min = rows[1].min_ms;
+  for (auto& r : rows) {
+    r.ratio_to_peer = peer > 0 ? r.median_ms / peer : 0.0;
+    r.min_ratio_to_peer = peer_min > 0 ? r.min_ms / peer_min : 0.0;
+  }
   return rows;
 }
 

@@ -18,6 +18,7 @@ struct BenchRow {
   double peak_rss_mib = 0.0;       // peak resident memory of a process that ran only this method
   double peak_extra_rss_mib = 0.0; // the same minus an idle process's peak (images loaded)
   double ratio_to_peer = 0.0;      // median_ms / the first OpenCV row's median_ms
+  double min_ratio_to_peer = 0.0;  // min_ms / the first OpenCV row's min_ms (less sensitive to load)
 };
 
 // Runs each method `iterations` times in its own forked process (so that peak memory is its
