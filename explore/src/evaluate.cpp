@@ -1,9 +1,12 @@
 #include "parallax/explore/evaluate.hpp"
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/persistence.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -102,7 +105,8 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
     }
     for (std::size_t i = next++; i < refs.size(); i = next++) {
       try {
-        const Frame f = load_frame(refs[i]);
+        Frame f = load_frame(refs[i]);
+        if (opt.preprocess) opt.preprocess(f.left, f.right);
         const Roi r = resolve_roi(roi, f.left.cols, f.left.rows);
         DisparityMap d;
         if (opt.match_full_image) {
@@ -156,14 +160,92 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
   return result;
 }
 
-EvalResult evaluate_design(const config::PipelineConfig& cfg, const Dataset& dataset, const EvalOptions& opt) {
-  const RoiSize roi = opt.roi_from_config ? roi_for(cfg) : opt.roi;
-  return evaluate(dataset, roi,
+RectifyMaps load_rectify_maps(const config::PipelineConfig& cfg) {
+  RectifyMaps maps;
+  const int frac = cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0;
+  auto load = [&](const std::string& file, std::vector<kern::MapEntry>& out) {
+    if (!fs::exists(file)) throw InputError(file + ": remap table not found");
+    cv::Mat mx, my;
+    try {
+      cv::FileStorage fsr(file, cv::FileStorage::READ);
+      if (!fsr.isOpened()) throw InputError(file + ": cannot open as an OpenCV FileStorage (YAML, XML or JSON)");
+      fsr["map_x"] >> mx;
+      fsr["map_y"] >> my;
+    } catch (const cv::Exception& e) {
+      throw InputError(file + ": cannot read the remap table: " + e.what());
+    }
+    if (mx.empty() || my.empty()) throw InputError(file + ": needs matrices 'map_x' and 'map_y'");
+    if (mx.size() != my.size() || mx.channels() != 1 || my.channels() != 1)
+      throw InputError(file + ": 'map_x' and 'map_y' must be single-channel matrices of one size");
+    mx.convertTo(mx, CV_64F);
+    my.convertTo(my, CV_64F);
+    if (maps.width_px == 0) {
+      maps.width_px = mx.cols;
+      maps.height_px = mx.rows;
+    } else if (mx.cols != maps.width_px || mx.rows != maps.height_px) {
+      throw InputError(file + ": remap table is " + std::to_string(mx.cols) + "x" + std::to_string(mx.rows) +
+                       ", the left camera's is " + std::to_string(maps.width_px) + "x" + std::to_string(maps.height_px));
+    }
+    const double scale = double(1 << frac);
+    out.resize(std::size_t(mx.total()));
+    for (int y = 0; y < mx.rows; ++y)
+      for (int x = 0; x < mx.cols; ++x) {
+        const double sx = std::round(mx.at<double>(y, x) * scale), sy = std::round(my.at<double>(y, x) * scale);
+        if (!(std::abs(sx) < 1e9 && std::abs(sy) < 1e9))
+          throw InputError(file + ": map entry at (" + std::to_string(x) + ", " + std::to_string(y) + ") is not finite");
+        out[std::size_t(y) * mx.cols + x] = kern::MapEntry{int32_t(sx), int32_t(sy)};
+      }
+  };
+  load(cfg.rectify_maps_left, maps.left);
+  load(cfg.rectify_maps_right, maps.right);
+  return maps;
+}
+
+void rectify_pair(const config::PipelineConfig& cfg, const RectifyMaps& maps, cv::Mat& left, cv::Mat& right,
+                  int64_t* window_misses) {
+  if (left.cols != maps.width_px || left.rows != maps.height_px)
+    throw InputError(cfg.rectify_maps_left + ": remap table is " + std::to_string(maps.width_px) + "x" +
+                     std::to_string(maps.height_px) + " but the images are " + std::to_string(left.cols) + "x" +
+                     std::to_string(left.rows));
+  kern::RectifyParams rp{};
+  rp.width_px = left.cols;
+  rp.height_px = left.rows;
+  rp.mode = cfg.rectify == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest;
+  rp.frac_bits = cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0;
+  rp.buffer_rows = cfg.rectify_rows;
+  auto one = [&](cv::Mat& img, const std::vector<kern::MapEntry>& map) {
+    const sim::RectifyOutput r = sim::run_rectify_func(to_grey_image(img), map, rp);
+    cv::Mat out(img.rows, img.cols, CV_8UC1);
+    std::copy(r.image.px.begin(), r.image.px.end(), out.ptr<uint8_t>(0));
+    img = out;
+    if (window_misses) *window_misses += r.window_misses;
+  };
+  one(left, maps.left);
+  one(right, maps.right);
+}
+
+EvalResult evaluate_design(const config::PipelineConfig& cfg, const Dataset& dataset, const EvalOptions& opt_in) {
+  const RoiSize roi = opt_in.roi_from_config ? roi_for(cfg) : opt_in.roi;
+  EvalOptions opt = opt_in;
+  auto misses = std::make_shared<std::atomic<int64_t>>(0);
+  if (cfg.rectify != "none") {
+    auto maps = std::make_shared<RectifyMaps>(load_rectify_maps(cfg));
+    opt.preprocess = [&cfg, maps, misses](cv::Mat& l, cv::Mat& r) {
+      int64_t m = 0;
+      rectify_pair(cfg, *maps, l, r, &m);
+      *misses += m;
+    };
+  }
+  EvalResult result = evaluate(dataset, roi,
                   [&cfg]() -> Matcher {
                     auto pipe = std::make_shared<sim::FuncPipeline>();
                     return [&cfg, pipe](const cv::Mat& l, const cv::Mat& r) { return run_design(cfg, l, r, *pipe); };
                   },
                   opt);
+  if (misses->load() > 0)
+    result.notes.push_back("rectification: " + std::to_string(misses->load()) +
+                           " map taps fell outside the line buffer's rows (read as 0); raise rectify_rows");
+  return result;
 }
 
 EvalResult score_predictions(const fs::path& pred_dir, const Dataset& dataset, const RoiSize& roi,

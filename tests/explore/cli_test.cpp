@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -151,6 +152,67 @@ TEST(Cli, ScoreAcceptsFullSizeAndRoiSizePredictions) {
   const CliRun bad = run_cli("score --pred " + d.string() + " --dataset " + kData);
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.output.find("000001_10.png"), std::string::npos) << bad.output;
+}
+
+}  // namespace
+
+namespace {
+
+// Writes an OpenCV remap table (float maps) that shifts the image down by dy rows.
+void write_maps(const fs::path& file, int w, int h, float dy) {
+  cv::Mat mx(h, w, CV_32FC1), my(h, w, CV_32FC1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      mx.at<float>(y, x) = float(x);
+      my.at<float>(y, x) = float(y) - dy;
+    }
+  cv::FileStorage fsw(file.string(), cv::FileStorage::WRITE);
+  fsw << "map_x" << mx << "map_y" << my;
+}
+
+TEST(Cli, RectifyWithIdentityMapsChangesNothing) {
+  const fs::path d = temp_dir("rectify");
+  write_maps(d / "id.yaml", 640, 360, 0.0f);
+  std::ofstream(d / "design.yaml") << "name: r\ncost: census\ndisparities: 60\nparallel_units: 6\np1: 8\np2: 32\n"
+                                      "rectify: bilinear\nrectify_rows: 4\nrectify_maps_left: id.yaml\n"
+                                      "rectify_maps_right: id.yaml\n";
+  const std::string pair = " --left " + kData + "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png";
+  const CliRun a = run_cli("run --config " + (d / "design.yaml").string() + pair + " --out " + (d / "a.png").string() + " --json");
+  ASSERT_EQ(a.status, 0) << a.output;
+  EXPECT_NE(a.output.find("\"rectify_window_misses\": 0"), std::string::npos) << a.output;
+  const CliRun b = run_cli("run --config " + (d / "design.yaml").string() + " --set rectify=none" + pair + " --out " +
+                           (d / "b.png").string());
+  ASSERT_EQ(b.status, 0) << b.output;
+  const cv::Mat da = cv::imread((d / "a.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat db = cv::imread((d / "b.png").string(), cv::IMREAD_UNCHANGED);
+  EXPECT_EQ(cv::countNonZero(da != db), 0);
+}
+
+TEST(Cli, RectifyReportsALineBufferTooSmallForTheMap) {
+  const fs::path d = temp_dir("rectify_small");
+  write_maps(d / "down.yaml", 640, 360, 6.0f);  // reads 6 rows above: needs more than 2 buffered rows
+  std::ofstream(d / "design.yaml") << "rectify: nearest\nrectify_rows: 2\nrectify_maps_left: down.yaml\n"
+                                      "rectify_maps_right: down.yaml\n";
+  const CliRun r = run_cli("run --config " + (d / "design.yaml").string() + " --left " + kData +
+                           "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png --out " +
+                           (d / "o.png").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("raise rectify_rows"), std::string::npos) << r.output;
+}
+
+TEST(Cli, RectifyNeedsItsMapsAndTheRightSize) {
+  const fs::path d = temp_dir("rectify_bad");
+  std::ofstream(d / "nomaps.yaml") << "rectify: nearest\n";
+  const CliRun a = run_cli("config --config " + (d / "nomaps.yaml").string());
+  EXPECT_EQ(a.status, 2);
+  EXPECT_NE(a.output.find("'rectify_maps_left'"), std::string::npos) << a.output;
+  write_maps(d / "small.yaml", 100, 50, 0.0f);
+  std::ofstream(d / "small_design.yaml") << "rectify: nearest\nrectify_maps_left: small.yaml\nrectify_maps_right: small.yaml\n";
+  const CliRun b = run_cli("run --config " + (d / "small_design.yaml").string() + " --left " + kData +
+                           "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png --out " +
+                           (d / "o.png").string());
+  EXPECT_EQ(b.status, 2);
+  EXPECT_NE(b.output.find("small.yaml"), std::string::npos) << b.output;
 }
 
 }  // namespace

@@ -253,6 +253,13 @@ int main(int argc, char** argv) {
         throw InputError(run_right + ": right image is " + std::to_string(right.cols) + "x" + std::to_string(right.rows) +
                          " but the left image " + run_left + " is " + std::to_string(left.cols) + "x" +
                          std::to_string(left.rows));
+      int64_t window_misses = 0;
+      if (cfg.rectify != "none") {
+        rectify_pair(cfg, load_rectify_maps(cfg), left, right, &window_misses);
+        if (window_misses > 0)
+          notes.push_back("rectification: " + std::to_string(window_misses) +
+                          " map taps fell outside the line buffer's rows (read as 0); raise rectify_rows");
+      }
       const Roi roi = resolve_roi(roi_for(cfg), left.cols, left.rows);
       const cv::Mat l = crop_to_roi(left, roi), r = crop_to_roi(right, roi);
       sim::FuncPipeline pipe;
@@ -270,6 +277,7 @@ int main(int argc, char** argv) {
       j["roi"] = {{"x0", roi.x0}, {"y0", roi.y0}, {"width_px", roi.width_px}, {"height_px", roi.height_px}};
       j["out"] = run_out;
       j["colour"] = colour;
+      if (cfg.rectify != "none") j["rectify_window_misses"] = window_misses;
       const int valid = cv::countNonZero(d.valid_mask);
       j["density_pct"] = 100.0 * valid / double(roi.width_px * roi.height_px);
       if (!run_gt.empty()) {

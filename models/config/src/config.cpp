@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -57,7 +58,8 @@ void parse_size(const std::string& key, const std::string& v, int& w, int& h) {
 const std::vector<std::string>& field_names() {
   static const std::vector<std::string> names = {
       "name", "roi", "cost", "window", "disparities", "parallel_units", "paths", "p1", "p2",
-      "lr_check", "lr_tolerance", "median", "clock_mhz", "rectify", "rectify_rows", "rectify_frac_bits"};
+      "lr_check", "lr_tolerance", "median", "clock_mhz", "rectify", "rectify_rows", "rectify_frac_bits",
+      "rectify_maps_left", "rectify_maps_right"};
   return names;
 }
 
@@ -133,6 +135,8 @@ void set_field(PipelineConfig& c, const std::string& key, const std::string& raw
     c.rectify = v;
   } else if (key == "rectify_rows") c.rectify_rows = parse_int(key, v);
   else if (key == "rectify_frac_bits") c.rectify_frac_bits = parse_int(key, v);
+  else if (key == "rectify_maps_left") c.rectify_maps_left = v;
+  else if (key == "rectify_maps_right") c.rectify_maps_right = v;
   else {
     std::string known;
     for (const auto& n : field_names()) known += (known.empty() ? "" : ", ") + n;
@@ -167,6 +171,11 @@ std::vector<FieldError> validate(const PipelineConfig& c) {
   need(c.clock_mhz >= 1 && c.clock_mhz <= 1000, "clock_mhz", "must be in [1, 1000]");
   need(c.rectify_rows >= 1 && c.rectify_rows <= 256, "rectify_rows", "must be in [1, 256]");
   need(c.rectify_frac_bits >= 0 && c.rectify_frac_bits <= 10, "rectify_frac_bits", "must be in [0, 10]");
+  need(c.rectify != "bilinear" || c.rectify_frac_bits >= 1, "rectify_frac_bits", "bilinear needs at least 1 fraction bit");
+  need(c.rectify == "none" || !c.rectify_maps_left.empty(), "rectify_maps_left",
+       "rectify: " + c.rectify + " needs the left camera's remap table");
+  need(c.rectify == "none" || !c.rectify_maps_right.empty(), "rectify_maps_right",
+       "rectify: " + c.rectify + " needs the right camera's remap table");
   if (e.empty()) {
     const auto p = c.stereo_params(c.roi_full ? 640 : c.roi_width_px, c.roi_full ? 360 : c.roi_height_px);
     need(kern::aggregate_bits(p) <= 31, "p2", "aggregate would need more than 31 bits");
@@ -233,7 +242,11 @@ PipelineConfig load_config(const std::string& path) {
   if (!in) throw ConfigError(path + ": cannot open configuration file");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_config(ss.str(), path);
+  PipelineConfig c = parse_config(ss.str(), path);
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  for (std::string* maps : {&c.rectify_maps_left, &c.rectify_maps_right})
+    if (!maps->empty() && std::filesystem::path(*maps).is_relative()) *maps = (dir / *maps).string();
+  return c;
 }
 
 std::string to_yaml(const PipelineConfig& c) {
@@ -254,6 +267,8 @@ std::string to_yaml(const PipelineConfig& c) {
   o << "rectify: " << c.rectify << "\n";
   o << "rectify_rows: " << c.rectify_rows << "\n";
   o << "rectify_frac_bits: " << c.rectify_frac_bits << "\n";
+  if (!c.rectify_maps_left.empty()) o << "rectify_maps_left: " << c.rectify_maps_left << "\n";
+  if (!c.rectify_maps_right.empty()) o << "rectify_maps_right: " << c.rectify_maps_right << "\n";
   return o.str();
 }
 

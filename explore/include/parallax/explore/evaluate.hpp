@@ -17,6 +17,21 @@
 
 namespace parallax::explore {
 
+// Remap tables of both cameras in the kernel's fixed point (docs/algorithm.md §1).
+struct RectifyMaps {
+  int width_px = 0;
+  int height_px = 0;
+  std::vector<kern::MapEntry> left, right;
+};
+// Loads the config's map files; InputError naming the file on any problem. Nearest rounds the
+// float maps to integers, bilinear to rectify_frac_bits fraction bits.
+RectifyMaps load_rectify_maps(const config::PipelineConfig& cfg);
+
+// Rectifies a full-size grey pair with the rectify kernel; window misses (map entries outside the
+// line buffer's rows) are added to *window_misses. InputError when sizes differ from the maps.
+void rectify_pair(const config::PipelineConfig& cfg, const RectifyMaps& maps, cv::Mat& left, cv::Mat& right,
+                  int64_t* window_misses);
+
 // Runs the design's kernels (func run) on one grey pair of equal size; returns the disparity in
 // px with its validity mask (invalid codes become mask 0).
 DisparityMap run_design(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
@@ -48,6 +63,8 @@ struct EvalOptions {
   std::filesystem::path save_dir;     // when set: KITTI PNG + colour picture per frame
   double colour_max_disparity_px = 64.0;  // disparity shown as the reddest colour
   std::function<void(int done, int total, const std::string& frame_id)> progress;
+  // Applied to each full-size grey pair before the ROI crop (the design's rectification).
+  std::function<void(cv::Mat& left, cv::Mat& right)> preprocess;
 };
 
 struct EvalResult {

@@ -33,6 +33,11 @@ struct PipelineConfig {
   std::string rectify = "none";  // none | nearest | bilinear
   int rectify_rows = 16;       // line-buffer rows of the rectification stage
   int rectify_frac_bits = 5;   // fixed-point fraction bits of bilinear maps
+  // Remap tables (OpenCV FileStorage with float nodes map_x, map_y: source position of every
+  // rectified pixel, as cv::initUndistortRectifyMap writes them). Relative paths in a file are
+  // resolved against the file's folder.
+  std::string rectify_maps_left;
+  std::string rectify_maps_right;
 
   // The kernel parameters for an image (or ROI) of the given size.
   kern::StereoParams stereo_params(int width_px, int height_px) const;
