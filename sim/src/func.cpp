@@ -6,26 +6,15 @@
 #include <cstdlib>
 #include <memory>
 
-#include "parallax/kernels/caps.hpp"
-#include "parallax/kernels/census.hpp"
-#include "parallax/kernels/median.hpp"
+#include "engine.hpp"
 #include "parallax/kernels/rectify.hpp"
-#include "parallax/kernels/sad.hpp"
-#include "parallax/kernels/sgm.hpp"
-#include "parallax/kernels/wta_lr.hpp"
 #include "parallax/sim/fifo.hpp"
 
 namespace parallax::sim {
 namespace {
 
-using kern::DispCode;
+using detail::internal_error;
 
-[[noreturn]] void internal_error(const char* what) {
-  std::fprintf(stderr, "parallax: internal error: %s\n", what);
-  std::abort();
-}
-
-// Fires a stage until its plan cannot be met; returns whether it fired at all.
 template <class CanFire, class Fire>
 bool pump(CanFire&& can_fire, Fire&& fire) {
   bool fired = false;
@@ -37,178 +26,12 @@ bool pump(CanFire&& can_fire, Fire&& fire) {
 }
 
 constexpr std::size_t kPixelFifoDepth = 2048;
-constexpr std::size_t kTokenFifoDepth = 128;
 constexpr int kMaxRectifyRows = 256;
 
 template <class Caps, class Word>
-class Engine {
- public:
-  using CostTok = kern::Lanes<uint16_t, Caps::lanes>;
-  using SumTok = kern::Lanes<Word, Caps::lanes>;
-
-  DisparityCodes run(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p) {
-    const bool two_pass = (p.path_mask & kern::kBackwardPaths) != 0;
-    DisparityCodes out;
-    out.width_px = p.width_px;
-    out.height_px = p.height_px;
-    out.disparities = p.disparities;
-    out.code.resize(std::size_t(p.width_px) * p.height_px);
-    if (p.cost == kern::kCostCensus)
-      two_pass ? run_two_pass(census_, left, right, p, out) : run_one_pass(census_, left, right, p, out);
-    else
-      two_pass ? run_two_pass(sad_, left, right, p, out) : run_one_pass(sad_, left, right, p, out);
-    return out;
-  }
-
- private:
-  // Source -> cost -> aggregate (forward kinds) -> WTA/LR -> median -> sink.
-  template <class CostStage>
-  void run_one_pass(CostStage& cost, const GreyImage& left, const GreyImage& right,
-                    const kern::StereoParams& p, DisparityCodes& out) {
-    cost.configure(p);
-    agg_.configure(p, kern::stream_kinds(p.path_mask, false), false, false);
-    wta_.configure(p, false);
-    median_.configure(p);
-    Fifo<uint8_t> in_l("left_px", kPixelFifoDepth), in_r("right_px", kPixelFifoDepth);
-    Fifo<CostTok> costs("cost", kTokenFifoDepth);
-    Fifo<SumTok> sums("sum", kTokenFifoDepth);
-    Fifo<DispCode> disp("disp_lr", kPixelFifoDepth), filtered("disp_out", kPixelFifoDepth);
-    kern::NoStream<SumTok> no_sum;
-    kern::NoStream<CostTok> no_cost;
-    const std::size_t total = out.code.size();
-    std::size_t src = 0, dst = 0;
-    while (dst < total) {
-      bool progress = false;
-      while (src < total && !in_l.full()) {
-        in_l.write(left.px[src]);
-        in_r.write(right.px[src]);
-        ++src;
-        progress = true;
-      }
-      progress |= pump_cost(cost, in_l, in_r, costs);
-      progress |= pump([&] { return !agg_.done() && !costs.empty() && !sums.full(); },
-                       [&] { agg_.fire(agg_.plan(), costs, no_sum, sums, no_cost); });
-      progress |= pump_wta(sums, disp);
-      progress |= pump_median(disp, filtered);
-      while (!filtered.empty()) {
-        out.code[dst++] = filtered.read();
-        progress = true;
-      }
-      if (!progress) internal_error("func scheduler made no progress (single pass)");
-    }
-  }
-
-  // Pass 1: source -> cost -> aggregate (forward kinds, tee) -> frame buffer (C and F).
-  // Pass 2: frame buffer in reverse -> aggregate (backward kinds, + F) -> WTA/LR (reverse)
-  //         -> median -> sink, which restores raster order.
-  template <class CostStage>
-  void run_two_pass(CostStage& cost, const GreyImage& left, const GreyImage& right,
-                    const kern::StereoParams& p, DisparityCodes& out) {
-    const std::size_t pixels = out.code.size();
-    const int chunks = p.disparities / p.parallel_units;
-    const std::size_t tokens = pixels * std::size_t(chunks);
-    frame_cost_.resize(tokens);
-    frame_fwd_.resize(tokens);
-    {
-      cost.configure(p);
-      agg_.configure(p, kern::stream_kinds(p.path_mask, false), false, true);
-      Fifo<uint8_t> in_l("left_px", kPixelFifoDepth), in_r("right_px", kPixelFifoDepth);
-      Fifo<CostTok> costs("cost", kTokenFifoDepth), tee("cost_to_ddr", kTokenFifoDepth);
-      Fifo<SumTok> sums("fwd_to_ddr", kTokenFifoDepth);
-      kern::NoStream<SumTok> no_sum;
-      std::size_t src = 0, stored_c = 0, stored_f = 0;
-      while (stored_f < tokens || stored_c < tokens) {
-        bool progress = false;
-        while (src < pixels && !in_l.full()) {
-          in_l.write(left.px[src]);
-          in_r.write(right.px[src]);
-          ++src;
-          progress = true;
-        }
-        progress |= pump_cost(cost, in_l, in_r, costs);
-        progress |= pump([&] { return !agg_.done() && !costs.empty() && !sums.full() && !tee.full(); },
-                         [&] { agg_.fire(agg_.plan(), costs, no_sum, sums, tee); });
-        while (!sums.empty()) { frame_fwd_[stored_f++] = sums.read(); progress = true; }
-        while (!tee.empty()) { frame_cost_[stored_c++] = tee.read(); progress = true; }
-        if (!progress) internal_error("func scheduler made no progress (forward pass)");
-      }
-    }
-    agg_.configure(p, kern::stream_kinds(p.path_mask, true), true, false);
-    wta_.configure(p, true);
-    median_.configure(p);
-    Fifo<CostTok> costs("cost_from_ddr", kTokenFifoDepth);
-    Fifo<SumTok> fwd("fwd_from_ddr", kTokenFifoDepth), sums("sum", kTokenFifoDepth);
-    Fifo<DispCode> disp("disp_lr", kPixelFifoDepth), filtered("disp_out", kPixelFifoDepth);
-    kern::NoStream<CostTok> no_cost;
-    std::size_t read_tok = 0, dst = 0;
-    while (dst < pixels) {
-      bool progress = false;
-      // Reverse pixel order, ascending chunk order inside a pixel.
-      while (read_tok < tokens && !costs.full() && !fwd.full()) {
-        const std::size_t pix = pixels - 1 - read_tok / std::size_t(chunks);
-        const std::size_t idx = pix * std::size_t(chunks) + read_tok % std::size_t(chunks);
-        costs.write(frame_cost_[idx]);
-        fwd.write(frame_fwd_[idx]);
-        ++read_tok;
-        progress = true;
-      }
-      progress |= pump([&] { return !agg_.done() && !costs.empty() && !fwd.empty() && !sums.full(); },
-                       [&] { agg_.fire(agg_.plan(), costs, fwd, sums, no_cost); });
-      progress |= pump_wta(sums, disp);
-      progress |= pump_median(disp, filtered);
-      while (!filtered.empty()) {
-        out.code[pixels - 1 - dst++] = filtered.read();
-        progress = true;
-      }
-      if (!progress) internal_error("func scheduler made no progress (backward pass)");
-    }
-  }
-
-  template <class CostStage>
-  bool pump_cost(CostStage& cost, Fifo<uint8_t>& in_l, Fifo<uint8_t>& in_r, Fifo<CostTok>& out) {
-    bool fired = false;
-    while (!cost.done()) {
-      const kern::CostPlan pl = cost.plan();
-      if ((pl.read && (in_l.empty() || in_r.empty())) || (pl.write && out.full())) break;
-      if (!pl.read && !pl.write) break;
-      cost.fire(pl, in_l, in_r, out);
-      fired = true;
-    }
-    return fired;
-  }
-  bool pump_wta(Fifo<SumTok>& in, Fifo<DispCode>& out) {
-    bool fired = false;
-    while (!wta_.done()) {
-      const kern::WtaPlan pl = wta_.plan();
-      if ((pl.read && in.empty()) || (pl.write && out.full())) break;
-      wta_.fire(pl, in, out);
-      fired = true;
-    }
-    return fired;
-  }
-  bool pump_median(Fifo<DispCode>& in, Fifo<DispCode>& out) {
-    bool fired = false;
-    while (!median_.done()) {
-      const kern::MedianPlan pl = median_.plan();
-      if ((pl.read && in.empty()) || (pl.write && out.full())) break;
-      if (!pl.read && !pl.write) break;
-      median_.fire(pl, in, out);
-      fired = true;
-    }
-    return fired;
-  }
-
-  kern::CensusCostStage<Caps> census_;
-  kern::SadCostStage<Caps> sad_;
-  kern::SgmAggregate<Caps, Word> agg_;
-  kern::WtaLr<Caps, Word> wta_;
-  kern::Median<Caps> median_;
-  std::vector<CostTok> frame_cost_;  // the frame buffer standing for off-chip memory
-  std::vector<SumTok> frame_fwd_;
-};
-
-using Narrow = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 64>;
-using Wide = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 256>;
+using Engine = detail::Engine<Caps, Word, false>;
+using Narrow = detail::NarrowCaps;
+using Wide = detail::WideCaps;
 
 int largest_divisor_at_most(int d, int cap) {
   for (int pu = cap < d ? cap : d; pu > 1; --pu)
@@ -265,20 +88,25 @@ DisparityCodes FuncPipeline::run(const GreyImage& left, const GreyImage& right, 
   const bool wide = p.parallel_units > 64;
   const bool word32 = kern::aggregate_bits(p) > 16;
   auto& i = *impl_;
+  DisparityCodes out;
   if (!wide && !word32) {
     if (!i.n16) i.n16 = std::make_unique<Engine<Narrow, uint16_t>>();
-    return i.n16->run(left, right, p);
+    i.n16->run(left, right, p, {}, out, nullptr);
+    return out;
   }
   if (!wide) {
     if (!i.n32) i.n32 = std::make_unique<Engine<Narrow, uint32_t>>();
-    return i.n32->run(left, right, p);
+    i.n32->run(left, right, p, {}, out, nullptr);
+    return out;
   }
   if (!word32) {
     if (!i.w16) i.w16 = std::make_unique<Engine<Wide, uint16_t>>();
-    return i.w16->run(left, right, p);
+    i.w16->run(left, right, p, {}, out, nullptr);
+    return out;
   }
   if (!i.w32) i.w32 = std::make_unique<Engine<Wide, uint32_t>>();
-  return i.w32->run(left, right, p);
+  i.w32->run(left, right, p, {}, out, nullptr);
+  return out;
 }
 
 RectifyOutput run_rectify_func(const GreyImage& in, const std::vector<kern::MapEntry>& map,

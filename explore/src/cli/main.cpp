@@ -10,6 +10,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <thread>
@@ -21,6 +22,7 @@
 #include "parallax/explore/disparity_io.hpp"
 #include "parallax/explore/evaluate.hpp"
 #include "parallax/explore/metrics.hpp"
+#include "parallax/explore/simulate.hpp"
 #include "parallax/sim/func.hpp"
 
 namespace fs = std::filesystem;
@@ -241,6 +243,26 @@ int main(int argc, char** argv) {
   bench->add_option("--iterations", bench_iterations, "Runs per method (the median is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
   bench->add_flag("--json", bench_json, "Print JSON");
 
+  // sim
+  ConfigArgs sim_cfg;
+  std::string sim_left, sim_right, sim_out, sim_vcd, sim_vcd_cycles, sim_write_config;
+  int sim_clock_mhz = 0;
+  bool sim_json = false, sim_no_sizing = false;
+  double sim_cal_latency = 0, sim_cal_fps = 0;
+  auto* simc = app.add_subcommand("sim", "Cycle-level simulation of one frame: latency, frame rate, stalls, FIFO depths");
+  add_config_options(simc, sim_cfg, true);
+  simc->add_option("--left", sim_left, "Left image (default: a generated test pattern of the ROI size)");
+  simc->add_option("--right", sim_right, "Right image");
+  simc->add_option("--out", sim_out, "Write the disparity (KITTI 16-bit PNG) of the cycle run");
+  simc->add_option("--clock-mhz", sim_clock_mhz, "Processing clock in MHz (default: the config's clock_mhz)")->check(CLI::Range(1, 2000));
+  simc->add_flag("--json", sim_json, "Print JSON");
+  simc->add_flag("--no-sizing", sim_no_sizing, "Skip the second run that finds stall-free FIFO depths");
+  simc->add_option("--vcd", sim_vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)");
+  simc->add_option("--vcd-cycles", sim_vcd_cycles, "Cycle window A:B of the VCD (default 0:20000)");
+  simc->add_option("--calibrate-latency-ms", sim_cal_latency, "Measured latency at this clock: set host_latency_ms to match");
+  simc->add_option("--calibrate-fps", sim_cal_fps, "Measured frame rate at this clock: set host_frame_ms to match");
+  simc->add_option("--write-config", sim_write_config, "Write the (calibrated) configuration here");
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -406,6 +428,130 @@ int main(int argc, char** argv) {
         for (const auto& row : rows)
           std::printf("%-36s %10.1f %10.1f %10.1f %12.1f %9.2f %9.2f\n", row.method.c_str(), row.median_ms, row.min_ms,
                       row.peak_rss_mib, row.peak_extra_rss_mib, row.ratio_to_peer, row.min_ratio_to_peer);
+      }
+      return 0;
+    }
+    if (*simc) {
+      config::PipelineConfig cfg = load_config_args(sim_cfg);
+      const int clock = sim_clock_mhz > 0 ? sim_clock_mhz : cfg.clock_mhz;
+      cv::Mat l, r;
+      std::vector<std::string> notes;
+      if (sim_left.empty() != sim_right.empty()) throw InputError("--left and --right go together");
+      if (!sim_left.empty()) {
+        const cv::Mat left = load_grey_file(sim_left, "left", notes), right = load_grey_file(sim_right, "right", notes);
+        if (left.size() != right.size()) throw InputError(sim_right + ": size differs from the left image " + sim_left);
+        const Roi roi = resolve_roi(roi_for(cfg), left.cols, left.rows);
+        l = crop_to_roi(left, roi).clone();
+        r = crop_to_roi(right, roi).clone();
+      } else {
+        if (cfg.roi_full) throw InputError("--left/--right are needed when the config's roi is 'full'");
+        test_pattern(cfg.roi_width_px, cfg.roi_height_px, cfg.disparities, 1, l, r);
+        notes.push_back("no pair given: simulated a generated " + std::to_string(l.cols) + "x" + std::to_string(l.rows) +
+                        " test pattern");
+      }
+      int64_t vcd_from = 0, vcd_to = 20000;
+      if (!sim_vcd_cycles.empty()) {
+        const auto colon = sim_vcd_cycles.find(':');
+        try {
+          if (colon == std::string::npos) throw std::invalid_argument("no colon");
+          vcd_from = std::stoll(sim_vcd_cycles.substr(0, colon));
+          vcd_to = std::stoll(sim_vcd_cycles.substr(colon + 1));
+        } catch (const std::exception&) {
+          throw InputError("--vcd-cycles '" + sim_vcd_cycles + "': expected A:B, two cycle numbers");
+        }
+        if (vcd_from < 0 || vcd_to <= vcd_from) throw InputError("--vcd-cycles: need 0 <= A < B");
+      }
+      SimulationResult res = simulate(cfg, l, r, clock, !sim_no_sizing, sim_vcd, vcd_from, vcd_to);
+      if (res.cycle.deadlock) {
+        std::fprintf(stderr, "parallax: error: %s\n", res.cycle.deadlock_message.c_str());
+        return 3;
+      }
+      if (!res.cycle.input_overrun.empty()) notes.push_back(res.cycle.input_overrun);
+      std::string calibration;
+      if (sim_cal_latency > 0 || sim_cal_fps > 0) {
+        if (sim_cal_latency <= 0) throw InputError("--calibrate-fps needs --calibrate-latency-ms too");
+        calibration = calibrate(cfg, res, sim_cal_latency, sim_cal_fps);
+        res = simulate(cfg, l, r, clock, !sim_no_sizing);
+        notes.push_back("calibrated at " + std::to_string(clock) + " MHz: " + calibration);
+      }
+      if (!sim_write_config.empty()) {
+        cfg.clock_mhz = clock;
+        std::ofstream(sim_write_config) << "# written by parallax sim" << (calibration.empty() ? "" : " (calibrated: " + calibration + ")") << "\n"
+                                        << config::to_yaml(cfg);
+      }
+      if (!sim_out.empty()) {
+        DisparityMap d;
+        d.disparity_px = cv::Mat(l.rows, l.cols, CV_32FC1);
+        d.valid_mask = cv::Mat(l.rows, l.cols, CV_8UC1);
+        for (int i = 0; i < l.rows * l.cols; ++i) {
+          const uint16_t c = res.cycle.codes.code[std::size_t(i)];
+          const bool ok = c != uint16_t(cfg.disparities);
+          d.disparity_px.at<float>(i / l.cols, i % l.cols) = ok ? float(c) : 0.0f;
+          d.valid_mask.at<uint8_t>(i / l.cols, i % l.cols) = ok ? 255 : 0;
+        }
+        write_kitti_disparity(sim_out, d.disparity_px, d.valid_mask);
+      }
+      print_notes(notes);
+      const auto& c = res.cycle;
+      if (sim_json) {
+        json j;
+        j["config"] = cfg.name;
+        j["clock_mhz"] = clock;
+        j["width_px"] = l.cols;
+        j["height_px"] = l.rows;
+        j["cycles_per_frame"] = c.cycles_per_frame;
+        j["first_pixel_cycle"] = c.first_pixel_cycle;
+        j["last_pixel_cycle"] = c.last_pixel_cycle;
+        j["first_pixel_latency_ms"] = res.fpga_first_pixel_ms;
+        j["last_pixel_latency_ms"] = res.fpga_last_pixel_ms;
+        j["host_copy_in_ms"] = res.copy_in_ms;
+        j["host_copy_out_ms"] = res.copy_out_ms;
+        j["host_latency_ms"] = cfg.host_latency_ms;
+        j["latency_ms"] = res.latency_ms;
+        j["frame_interval_ms"] = res.frame_interval_ms;
+        j["fps"] = res.fps;
+        j["interval_limit"] = res.interval_limit;
+        j["bottleneck"] = c.bottleneck;
+        j["input_period_cycles"] = c.input_period_cycles;
+        j["stages"] = json::array();
+        for (const auto& s : c.stages)
+          j["stages"].push_back({{"name", s.name}, {"ii_cycles", s.ii_cycles}, {"latency_cycles", s.latency_cycles},
+                                 {"fires", s.fires}, {"busy_cycles", s.busy_cycles},
+                                 {"input_stall_cycles", s.input_stall_cycles}, {"output_stall_cycles", s.output_stall_cycles},
+                                 {"port_conflict_cycles", s.port_conflict_cycles},
+                                 {"first_fire_cycle", s.first_fire_cycle}, {"last_fire_cycle", s.last_fire_cycle}});
+        j["fifos"] = json::array();
+        for (const auto& f : c.fifos) {
+          json fj = {{"name", f.name}, {"producer", f.producer}, {"consumer", f.consumer}, {"depth", f.depth},
+                     {"tokens", f.tokens}, {"high_water", f.high_water}};
+          if (res.stall_free_depths.count(f.name)) fj["stall_free_depth"] = res.stall_free_depths.at(f.name);
+          j["fifos"].push_back(fj);
+        }
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::printf("%s at %d MHz, %dx%d, D=%d, PU=%d\n", cfg.name.c_str(), clock, l.cols, l.rows, cfg.disparities,
+                    cfg.parallel_units);
+        std::printf("cycles per frame   %lld (bottleneck: %s)\n", (long long)c.cycles_per_frame, c.bottleneck.c_str());
+        std::printf("first pixel        cycle %lld (%.3f ms)\n", (long long)c.first_pixel_cycle, res.fpga_first_pixel_ms);
+        std::printf("last pixel         cycle %lld (%.3f ms)\n", (long long)c.last_pixel_cycle, res.fpga_last_pixel_ms);
+        std::printf("latency_ms         %.3f (host copies %.3f + %.3f, host %.3f)\n", res.latency_ms, res.copy_in_ms,
+                    res.copy_out_ms, cfg.host_latency_ms);
+        std::printf("frame_interval_ms  %.3f (%s)\nfps                %.2f\n\n", res.frame_interval_ms,
+                    res.interval_limit.c_str(), res.fps);
+        std::printf("%-15s %4s %4s %10s %12s %12s %12s %12s %12s\n", "stage", "II", "lat", "fires", "busy", "in_stall",
+                    "out_stall", "first_fire", "last_fire");
+        for (const auto& s : c.stages)
+          std::printf("%-15s %4d %4d %10lld %12lld %12lld %12lld %12lld %12lld\n", s.name.c_str(), s.ii_cycles,
+                      s.latency_cycles, (long long)s.fires, (long long)s.busy_cycles, (long long)s.input_stall_cycles,
+                      (long long)s.output_stall_cycles, (long long)s.first_fire_cycle, (long long)s.last_fire_cycle);
+        std::printf("\n%-15s %-15s %-15s %7s %10s %10s %12s\n", "fifo", "producer", "consumer", "depth", "tokens",
+                    "high_water", "stall_free");
+        for (const auto& f : c.fifos) {
+          const auto it = res.stall_free_depths.find(f.name);
+          std::printf("%-15s %-15s %-15s %7lld %10lld %10lld %12s\n", f.name.c_str(), f.producer.c_str(),
+                      f.consumer.c_str(), (long long)f.depth, (long long)f.tokens, (long long)f.high_water,
+                      it == res.stall_free_depths.end() ? "-" : std::to_string(it->second).c_str());
+        }
       }
       return 0;
     }

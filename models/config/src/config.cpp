@@ -34,6 +34,19 @@ int parse_int(const std::string& key, const std::string& v) {
   return int(x);
 }
 
+double parse_double(const std::string& key, const std::string& v) {
+  std::size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(v, &used);
+  } catch (const std::exception&) {
+    throw ConfigError("field '" + key + "': expected a number, got '" + v + "'");
+  }
+  if (used != v.size() || !(x > -1e12 && x < 1e12))
+    throw ConfigError("field '" + key + "': expected a number, got '" + v + "'");
+  return x;
+}
+
 bool parse_bool(const std::string& key, const std::string& v) {
   std::string l = v;
   std::transform(l.begin(), l.end(), l.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
@@ -59,7 +72,9 @@ const std::vector<std::string>& field_names() {
   static const std::vector<std::string> names = {
       "name", "roi", "cost", "window", "disparities", "parallel_units", "paths", "p1", "p2",
       "lr_check", "lr_tolerance", "median", "clock_mhz", "rectify", "rectify_rows", "rectify_frac_bits",
-      "rectify_maps_left", "rectify_maps_right"};
+      "rectify_maps_left", "rectify_maps_right", "input", "input_gbps", "camera_pixel_mhz", "camera_h_blank_px",
+      "camera_v_blank_rows", "ddr_gbps", "ddr_latency_ns", "fifo_depth", "fifo_depth_<fifo>", "ii_<stage>",
+      "latency_<stage>", "setup_<stage>", "host_copy_gbps", "host_latency_ms", "host_frame_ms"};
   return names;
 }
 
@@ -137,6 +152,23 @@ void set_field(PipelineConfig& c, const std::string& key, const std::string& raw
   else if (key == "rectify_frac_bits") c.rectify_frac_bits = parse_int(key, v);
   else if (key == "rectify_maps_left") c.rectify_maps_left = v;
   else if (key == "rectify_maps_right") c.rectify_maps_right = v;
+  else if (key == "input") {
+    if (v != "memory" && v != "camera") throw ConfigError("field 'input': expected memory or camera, got '" + v + "'");
+    c.input = v;
+  } else if (key == "input_gbps") c.input_gbps = parse_double(key, v);
+  else if (key == "camera_pixel_mhz") c.camera_pixel_mhz = parse_double(key, v);
+  else if (key == "camera_h_blank_px") c.camera_h_blank_px = parse_int(key, v);
+  else if (key == "camera_v_blank_rows") c.camera_v_blank_rows = parse_int(key, v);
+  else if (key == "ddr_gbps") c.ddr_gbps = parse_double(key, v);
+  else if (key == "ddr_latency_ns") c.ddr_latency_ns = parse_int(key, v);
+  else if (key == "fifo_depth") c.fifo_depth = parse_int(key, v);
+  else if (key == "host_copy_gbps") c.host_copy_gbps = parse_double(key, v);
+  else if (key == "host_latency_ms") c.host_latency_ms = parse_double(key, v);
+  else if (key == "host_frame_ms") c.host_frame_ms = parse_double(key, v);
+  else if (key.rfind("fifo_depth_", 0) == 0) c.fifo_depths[key.substr(11)] = parse_int(key, v);
+  else if (key.rfind("ii_", 0) == 0) c.stage_ii[key.substr(3)] = parse_int(key, v);
+  else if (key.rfind("latency_", 0) == 0) c.stage_latency[key.substr(8)] = parse_int(key, v);
+  else if (key.rfind("setup_", 0) == 0) c.stage_setup[key.substr(6)] = parse_int(key, v);
   else {
     std::string known;
     for (const auto& n : field_names()) known += (known.empty() ? "" : ", ") + n;
@@ -176,6 +208,37 @@ std::vector<FieldError> validate(const PipelineConfig& c) {
        "rectify: " + c.rectify + " needs the left camera's remap table");
   need(c.rectify == "none" || !c.rectify_maps_right.empty(), "rectify_maps_right",
        "rectify: " + c.rectify + " needs the right camera's remap table");
+  need(c.input_gbps > 0, "input_gbps", "must be > 0");
+  need(c.camera_pixel_mhz > 0, "camera_pixel_mhz", "must be > 0");
+  need(c.camera_h_blank_px >= 0, "camera_h_blank_px", "must be >= 0");
+  need(c.camera_v_blank_rows >= 0, "camera_v_blank_rows", "must be >= 0");
+  need(c.ddr_gbps > 0, "ddr_gbps", "must be > 0");
+  need(c.ddr_latency_ns >= 0, "ddr_latency_ns", "must be >= 0");
+  need(c.fifo_depth >= 1, "fifo_depth", "must be >= 1");
+  for (const auto& kv : c.fifo_depths)
+    need(kv.second >= 1, "fifo_depth_", "fifo_depth_" + kv.first + " must be >= 1");
+  static const char* kStages[] = {"source", "cost", "aggregate", "aggregate_back", "wta_lr", "median", "sink",
+                                  "ddr_write", "ddr_read"};
+  auto known_stage = [](const std::string& n) {
+    for (const char* k : kStages)
+      if (n == k) return true;
+    return false;
+  };
+  for (const auto& kv : c.stage_ii) {
+    need(known_stage(kv.first), "ii_", "ii_" + kv.first + ": unknown stage (source, cost, aggregate, aggregate_back, wta_lr, median, sink, ddr_write, ddr_read)");
+    need(kv.second >= 1, "ii_", "ii_" + kv.first + " must be >= 1");
+  }
+  for (const auto& kv : c.stage_latency) {
+    need(known_stage(kv.first), "latency_", "latency_" + kv.first + ": unknown stage");
+    need(kv.second >= 0, "latency_", "latency_" + kv.first + " must be >= 0");
+  }
+  for (const auto& kv : c.stage_setup) {
+    need(known_stage(kv.first), "setup_", "setup_" + kv.first + ": unknown stage");
+    need(kv.second >= 0, "setup_", "setup_" + kv.first + " must be >= 0");
+  }
+  need(c.host_copy_gbps >= 0, "host_copy_gbps", "must be >= 0 (0 = no copies)");
+  need(c.host_latency_ms >= 0, "host_latency_ms", "must be >= 0");
+  need(c.host_frame_ms >= 0, "host_frame_ms", "must be >= 0");
   if (e.empty()) {
     const auto p = c.stereo_params(c.roi_full ? 640 : c.roi_width_px, c.roi_full ? 360 : c.roi_height_px);
     need(kern::aggregate_bits(p) <= 31, "p2", "aggregate would need more than 31 bits");
@@ -251,6 +314,7 @@ PipelineConfig load_config(const std::string& path) {
 
 std::string to_yaml(const PipelineConfig& c) {
   std::ostringstream o;
+  o.precision(12);
   o << "name: " << c.name << "\n";
   o << "roi: " << (c.roi_full ? std::string("full") : std::to_string(c.roi_width_px) + "x" + std::to_string(c.roi_height_px)) << "\n";
   o << "cost: " << c.cost << "\n";
@@ -269,6 +333,21 @@ std::string to_yaml(const PipelineConfig& c) {
   o << "rectify_frac_bits: " << c.rectify_frac_bits << "\n";
   if (!c.rectify_maps_left.empty()) o << "rectify_maps_left: " << c.rectify_maps_left << "\n";
   if (!c.rectify_maps_right.empty()) o << "rectify_maps_right: " << c.rectify_maps_right << "\n";
+  o << "input: " << c.input << "\n";
+  o << "input_gbps: " << c.input_gbps << "\n";
+  o << "camera_pixel_mhz: " << c.camera_pixel_mhz << "\n";
+  o << "camera_h_blank_px: " << c.camera_h_blank_px << "\n";
+  o << "camera_v_blank_rows: " << c.camera_v_blank_rows << "\n";
+  o << "ddr_gbps: " << c.ddr_gbps << "\n";
+  o << "ddr_latency_ns: " << c.ddr_latency_ns << "\n";
+  o << "fifo_depth: " << c.fifo_depth << "\n";
+  for (const auto& kv : c.fifo_depths) o << "fifo_depth_" << kv.first << ": " << kv.second << "\n";
+  for (const auto& kv : c.stage_ii) o << "ii_" << kv.first << ": " << kv.second << "\n";
+  for (const auto& kv : c.stage_latency) o << "latency_" << kv.first << ": " << kv.second << "\n";
+  for (const auto& kv : c.stage_setup) o << "setup_" << kv.first << ": " << kv.second << "\n";
+  o << "host_copy_gbps: " << c.host_copy_gbps << "\n";
+  o << "host_latency_ms: " << c.host_latency_ms << "\n";
+  o << "host_frame_ms: " << c.host_frame_ms << "\n";
   return o.str();
 }
 

@@ -3,6 +3,7 @@
 // the CLI, the explorer and the HLS export all use it. Nothing is silently adjusted.
 #pragma once
 
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,6 +39,27 @@ struct PipelineConfig {
   // resolved against the file's folder.
   std::string rectify_maps_left;
   std::string rectify_maps_right;
+
+  // --- the system around the pipeline (cycle model, docs/simulator.md) ---
+  std::string input = "memory";  // memory: pairs stream from DDR; camera: pixel clock + blanking
+  double input_gbps = 4.0;        // memory input bandwidth, GB/s (left + right bytes)
+  double camera_pixel_mhz = 25.0;
+  int camera_h_blank_px = 0;
+  int camera_v_blank_rows = 0;
+  double ddr_gbps = 4.0;          // frame buffer of the 8-path variant
+  int ddr_latency_ns = 150;
+  int fifo_depth = 2;             // default depth of every FIFO
+  std::map<std::string, int> fifo_depths;        // fifo_depth_<name>: per FIFO
+  std::map<std::string, int> stage_ii;           // ii_<stage>: II override (calibration)
+  std::map<std::string, int> stage_latency;      // latency_<stage>: latency override
+  std::map<std::string, int> stage_setup;        // setup_<stage>: cycles of per-frame set-up before its first firing
+  // Clock-independent share, modelled explicitly: the processor copies each input pair into and
+  // each disparity map out of the PL's buffers at host_copy_gbps (0 = frames stream, no copies),
+  // plus a fixed host_latency_ms; host_frame_ms bounds the frame interval from below (the
+  // processor's own loop). Calibration sets the last two (parallax sim --calibrate-...).
+  double host_copy_gbps = 0.0;
+  double host_latency_ms = 0.0;
+  double host_frame_ms = 0.0;
 
   // The kernel parameters for an image (or ROI) of the given size.
   kern::StereoParams stereo_params(int width_px, int height_px) const;

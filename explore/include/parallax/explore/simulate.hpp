@@ -1,0 +1,48 @@
+// `parallax sim`: one frame through the cycle model, and the system around it (input, host
+// copies, calibration) turned into latency, frame interval and frame rate.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "parallax/config/config.hpp"
+#include "parallax/sim/cycle.hpp"
+
+namespace parallax::explore {
+
+// The cycle model's options for a design at a clock (MHz), from its configuration.
+sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz);
+
+struct SimulationResult {
+  sim::CycleReport cycle;
+  std::map<std::string, int64_t> stall_free_depths;  // empty unless sized
+  int clock_mhz = 0;
+  double fpga_first_pixel_ms = 0.0;  // first output pixel after the first input pixel
+  double fpga_last_pixel_ms = 0.0;   // last output pixel after the first input pixel
+  double copy_in_ms = 0.0;           // host copies (store and forward), see config host_copy_gbps
+  double copy_out_ms = 0.0;
+  double latency_ms = 0.0;           // copy in + FPGA (last pixel) + copy out + host_latency_ms
+  double frame_interval_ms = 0.0;    // max(FPGA cycles per frame, host copies, host_frame_ms)
+  double fps = 0.0;
+  std::string interval_limit;        // what sets the frame interval
+};
+
+// Runs the cycle model on a grey pair of the ROI size. size_fifos: also run with unbounded FIFOs
+// to find the smallest stall-free depths.
+SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
+                          int clock_mhz, bool size_fifos, const std::string& vcd_path = "", int64_t vcd_from = 0,
+                          int64_t vcd_to = 0);
+
+// Sets host_latency_ms (and host_frame_ms, when the measured frame interval exceeds the model's)
+// so that the simulated result reproduces a measured latency and frame rate at this clock.
+// Returns a one-line account of what was set.
+std::string calibrate(config::PipelineConfig& cfg, const SimulationResult& at_clock, double measured_latency_ms,
+                      double measured_fps);
+
+// A seeded synthetic stereo pair (textured planes at several disparities, an occluding box), used
+// when no pair is given.
+void test_pattern(int width_px, int height_px, int disparities, uint32_t seed, cv::Mat& left, cv::Mat& right);
+
+}  // namespace parallax::explore

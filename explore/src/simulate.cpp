@@ -1,0 +1,140 @@
+#include "parallax/explore/simulate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
+namespace parallax::explore {
+
+namespace {
+sim::GreyImage grey(const cv::Mat& m) {
+  sim::GreyImage g;
+  g.width_px = m.cols;
+  g.height_px = m.rows;
+  g.px.resize(std::size_t(m.cols) * m.rows);
+  for (int y = 0; y < m.rows; ++y) std::copy_n(m.ptr<uint8_t>(y), m.cols, g.px.data() + std::size_t(y) * m.cols);
+  return g;
+}
+}  // namespace
+
+sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz) {
+  sim::CycleOptions o;
+  o.clock_hz = double(clock_mhz) * 1e6;
+  o.input = cfg.input == "camera" ? sim::InputKind::camera : sim::InputKind::memory;
+  o.input_bytes_per_s = cfg.input_gbps * 1e9;
+  o.camera_pixel_hz = cfg.camera_pixel_mhz * 1e6;
+  o.camera_h_blank_px = cfg.camera_h_blank_px;
+  o.camera_v_blank_rows = cfg.camera_v_blank_rows;
+  o.ddr_bytes_per_s = cfg.ddr_gbps * 1e9;
+  o.ddr_latency_s = cfg.ddr_latency_ns * 1e-9;
+  o.fifo_depth = std::size_t(cfg.fifo_depth);
+  for (const auto& kv : cfg.fifo_depths) o.fifo_depths[kv.first] = std::size_t(kv.second);
+  const kern::StereoParams p = cfg.stereo_params(cfg.roi_width_px, cfg.roi_height_px);
+  const sim::TimingModel defaults = sim::default_timing(p);
+  for (const auto& kv : cfg.stage_ii) {
+    sim::StageTiming t = defaults.count(kv.first) ? defaults.at(kv.first) : sim::StageTiming{};
+    if (o.timing.count(kv.first)) t = o.timing[kv.first];
+    t.ii_cycles = kv.second;
+    o.timing[kv.first] = t;
+  }
+  for (const auto& kv : cfg.stage_latency) {
+    sim::StageTiming t = o.timing.count(kv.first) ? o.timing[kv.first]
+                         : defaults.count(kv.first) ? defaults.at(kv.first)
+                                                    : sim::StageTiming{};
+    t.latency_cycles = kv.second;
+    o.timing[kv.first] = t;
+  }
+  for (const auto& kv : cfg.stage_setup) {
+    sim::StageTiming t = o.timing.count(kv.first) ? o.timing[kv.first]
+                         : defaults.count(kv.first) ? defaults.at(kv.first)
+                                                    : sim::StageTiming{};
+    t.setup_cycles = kv.second;
+    o.timing[kv.first] = t;
+  }
+  return o;
+}
+
+SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left, const cv::Mat& right, int clock_mhz,
+                          bool size_fifos, const std::string& vcd_path, int64_t vcd_from, int64_t vcd_to) {
+  sim::CycleOptions opt = cycle_options(cfg, clock_mhz);
+  opt.vcd_path = vcd_path;
+  opt.vcd_from = vcd_from;
+  opt.vcd_to = vcd_to;
+  const kern::StereoParams p = cfg.stereo_params(left.cols, left.rows);
+  const sim::GreyImage l = grey(left), r = grey(right);
+  SimulationResult res;
+  res.clock_mhz = clock_mhz;
+  res.cycle = sim::run_cycle(l, r, p, opt);
+  if (size_fifos && !res.cycle.deadlock) res.stall_free_depths = sim::stall_free_depths(l, r, p, opt);
+  const double cycle_ms = 1e3 / opt.clock_hz;
+  res.fpga_first_pixel_ms = double(res.cycle.first_pixel_cycle + 1) * cycle_ms;
+  res.fpga_last_pixel_ms = double(res.cycle.last_pixel_cycle + 1) * cycle_ms;
+  if (cfg.host_copy_gbps > 0) {
+    const double pixels = double(left.cols) * left.rows;
+    const double out_bytes = pixels * ((kern::disparity_bits(p) + 7) / 8);
+    res.copy_in_ms = 2.0 * pixels / (cfg.host_copy_gbps * 1e9) * 1e3;
+    res.copy_out_ms = out_bytes / (cfg.host_copy_gbps * 1e9) * 1e3;
+  }
+  res.latency_ms = res.copy_in_ms + res.fpga_last_pixel_ms + res.copy_out_ms + cfg.host_latency_ms;
+  const double fpga_interval = double(res.cycle.cycles_per_frame) * cycle_ms;
+  const double host_copies = res.copy_in_ms + res.copy_out_ms;
+  res.frame_interval_ms = fpga_interval;
+  res.interval_limit = "fpga stage '" + res.cycle.bottleneck + "'";
+  if (host_copies > res.frame_interval_ms) {
+    res.frame_interval_ms = host_copies;
+    res.interval_limit = "host copies";
+  }
+  if (cfg.host_frame_ms > res.frame_interval_ms) {
+    res.frame_interval_ms = cfg.host_frame_ms;
+    res.interval_limit = "host frame loop (host_frame_ms)";
+  }
+  res.fps = res.frame_interval_ms > 0 ? 1e3 / res.frame_interval_ms : 0.0;
+  return res;
+}
+
+std::string calibrate(config::PipelineConfig& cfg, const SimulationResult& r, double latency_ms, double fps) {
+  std::string what;
+  const double model_without_host = r.latency_ms - cfg.host_latency_ms;
+  cfg.host_latency_ms = std::max(0.0, latency_ms - model_without_host);
+  what = "host_latency_ms = " + std::to_string(cfg.host_latency_ms) + " (measured " + std::to_string(latency_ms) +
+         " ms - modelled " + std::to_string(model_without_host) + " ms)";
+  if (fps > 0) {
+    const double interval = 1e3 / fps;
+    double model_interval = double(r.cycle.cycles_per_frame) * 1e3 / (double(r.clock_mhz) * 1e6);
+    model_interval = std::max(model_interval, r.copy_in_ms + r.copy_out_ms);
+    if (interval > model_interval) {
+      cfg.host_frame_ms = interval;
+      what += "; host_frame_ms = " + std::to_string(interval) + " (measured " + std::to_string(fps) + " fps)";
+    } else {
+      cfg.host_frame_ms = 0;
+      what += "; host_frame_ms = 0 (the model's interval already exceeds the measured one)";
+    }
+  }
+  return what;
+}
+
+void test_pattern(int w, int h, int disparities, uint32_t seed, cv::Mat& left, cv::Mat& right) {
+  std::mt19937 rng(seed);
+  // A textured background at a small disparity, a nearer slanted ground band and a box in front.
+  const int pad = disparities + 8;
+  cv::Mat tex(h, w + pad, CV_8UC1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w + pad; ++x) tex.at<uint8_t>(y, x) = uint8_t(40 + rng() % 170);
+  cv::GaussianBlur(tex, tex, cv::Size(3, 3), 0.8);
+  left.create(h, w, CV_8UC1);
+  right.create(h, w, CV_8UC1);
+  for (int y = 0; y < h; ++y) {
+    const int d_row = y > h / 2 ? std::min(disparities - 1, 4 + (y - h / 2) * (disparities / 2) / std::max(1, h / 2)) : 4;
+    for (int x = 0; x < w; ++x) {
+      const bool box = x > w / 3 && x < w / 2 && y > h / 4 && y < 3 * h / 4;
+      const int d = box ? std::min(disparities - 1, disparities * 3 / 4) : d_row;
+      // L(x) = R(x - d): the left view sees the texture d pixels further along.
+      left.at<uint8_t>(y, x) = tex.at<uint8_t>(y, x + pad - d);
+      right.at<uint8_t>(y, x) = tex.at<uint8_t>(y, x + pad);
+    }
+  }
+}
+
+}  // namespace parallax::explore

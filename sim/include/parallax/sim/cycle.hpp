@@ -1,0 +1,109 @@
+// The cycle model: the kernels of kernels/ fired under a cycle-level scheduler. A stage fires at
+// most once every II cycles, only when every token its plan reads is visible and every FIFO its
+// plan writes has space; a written token becomes visible after the stage's pipeline latency.
+// Every stage fires as early as these rules allow, so the firing times are the unique solution
+// of a max-plus system; the scheduler computes them event by event (no per-cycle loop), which is
+// exact for this firing rule and costs a few operations per firing.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "parallax/kernels/params.hpp"
+#include "parallax/sim/func.hpp"
+
+namespace parallax::sim {
+
+struct StageTiming {
+  int ii_cycles = 1;       // initiation interval of the stage's pipelined loop
+  int latency_cycles = 1;  // cycles from a firing to its outputs being visible
+  int setup_cycles = 0;    // per-frame set-up (e.g. memory initialisation loops) before the first firing
+};
+
+// Per-stage timing. Defaults come from the kernel structure (default_timing); calibration data
+// (e.g. read back from a synthesis report) overrides them per stage name.
+using TimingModel = std::map<std::string, StageTiming>;
+
+// Stage names used in reports, FIFO names and timing overrides.
+//   source, cost, aggregate, wta_lr, median, sink; two-pass designs add ddr_write,
+//   ddr_read and aggregate_back.
+TimingModel default_timing(const kern::StereoParams& p);
+
+enum class InputKind { memory, camera };
+
+struct CycleOptions {
+  double clock_hz = 200e6;  // processing clock
+  InputKind input = InputKind::memory;
+  // Memory-mapped input: the left+right pixel pairs stream from DDR at this rate.
+  double input_bytes_per_s = 4.0e9;
+  // Camera input: pixels at the pixel clock, with blanking after each line and frame.
+  double camera_pixel_hz = 25e6;
+  int camera_h_blank_px = 0;
+  int camera_v_blank_rows = 0;
+  // Off-chip frame buffer of the 8-path variant.
+  double ddr_bytes_per_s = 4.0e9;
+  double ddr_latency_s = 150e-9;
+  // FIFO depths: default for all, then per FIFO name. 0 = unbounded.
+  std::size_t fifo_depth = 2;
+  std::map<std::string, std::size_t> fifo_depths;
+  TimingModel timing;  // overrides on top of default_timing()
+  // Test hook: the source stops after this many pixels (a frame that never completes).
+  int64_t truncate_input_px = -1;
+  // VCD trace of FIFO occupancies and stage valid/stall signals for cycles [vcd_from, vcd_to).
+  std::string vcd_path;
+  int64_t vcd_from = 0, vcd_to = 0;
+};
+
+struct StageReport {
+  std::string name;
+  int ii_cycles = 0;
+  int latency_cycles = 0;
+  int64_t fires = 0;
+  int64_t busy_cycles = 0;          // fires x II
+  int64_t input_stall_cycles = 0;   // waiting for an input token to become visible
+  int64_t output_stall_cycles = 0;  // waiting for space in an output FIFO
+  int64_t port_conflict_cycles = 0; // extra cycles forced by memory ports (see docs/simulator.md)
+  int64_t first_fire_cycle = -1;
+  int64_t last_fire_cycle = -1;
+};
+
+struct FifoReport {
+  std::string name;
+  std::string producer, consumer;
+  int64_t depth = 0;            // 0 = unbounded
+  int64_t tokens = 0;           // written during the frame
+  int64_t high_water = 0;       // most tokens held at once (over time)
+};
+
+struct CycleReport {
+  DisparityCodes codes;
+  bool deadlock = false;
+  std::string deadlock_message;  // names the stage(s) and FIFO(s) and the cycle
+  int64_t deadlock_cycle = -1;
+  int64_t first_input_cycle = 0;
+  int64_t first_pixel_cycle = -1;  // first output pixel leaves the pipeline
+  int64_t last_pixel_cycle = -1;   // last output pixel leaves the pipeline
+  // Cycles between frames in steady state: the busiest stage's occupancy per frame (stages
+  // overlap consecutive frames), or the input's frame period if that is longer.
+  int64_t cycles_per_frame = 0;
+  std::string bottleneck;
+  std::vector<StageReport> stages;
+  std::vector<FifoReport> fifos;
+  int64_t input_period_cycles = 0;  // cycles the input needs to deliver one frame
+  // Camera input only: the first pixel that found no room (a camera cannot wait).
+  std::string input_overrun;
+};
+
+// Runs one frame through the cycle model with the design's PU. The codes are bit-identical to the
+// func run (tested).
+CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                      const CycleOptions& opt);
+
+// The same frame with every FIFO unbounded: the high-water marks are the smallest depths with
+// which no stage ever waits for FIFO space (tested: sizing FIFOs so removes all output stalls).
+std::map<std::string, int64_t> stall_free_depths(const GreyImage& left, const GreyImage& right,
+                                                 const kern::StereoParams& p, const CycleOptions& opt);
+
+}  // namespace parallax::sim

@@ -1,0 +1,138 @@
+// The cycle model: the engine of engine.hpp in timed mode, default timing derived from the kernel
+// structure, FIFO sizing and the VCD writer.
+#include "parallax/sim/cycle.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <memory>
+
+#include "engine.hpp"
+
+namespace parallax::sim {
+
+TimingModel default_timing(const kern::StereoParams& p) {
+  // Latencies are pipeline depths of the kernels' per-firing work: a read, the lane arithmetic as
+  // balanced trees, a register. II is 1 where a firing depends on nothing computed by the
+  // previous one; the aggregation carries the previous pixel's path minimum from its last
+  // firing to the next pixel's first, which Vitis' SemiGlobalBM schedules at II = 2 (as here).
+  const int taps = p.window_w * p.window_h;
+  const int cost_latency = p.cost == kern::kCostCensus ? 2 + kern::bits_for(uint64_t(taps - 1))
+                                                        : 2 + kern::bits_for(uint64_t(taps));
+  const int agg_latency = 3 + 1 + kern::bits_for(uint64_t(std::max(1, kern::path_count(p))));
+  const int wta_latency = 2 + kern::bits_for(uint64_t(p.parallel_units));
+  const int median_latency = p.median >= 3 ? 2 + kern::bits_for(uint64_t(p.median * p.median)) : 1;
+  TimingModel t;
+  t["source"] = {1, 1};
+  t["cost"] = {1, cost_latency};
+  t["aggregate"] = {2, agg_latency};
+  t["aggregate_back"] = {2, agg_latency};
+  t["wta_lr"] = {1, wta_latency};
+  t["median"] = {1, median_latency};
+  t["sink"] = {1, 0};
+  t["ddr_write"] = {1, 1};
+  t["ddr_read"] = {1, 1};
+  return t;
+}
+
+namespace {
+
+template <class Caps, class Word>
+void run_timed(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+               const detail::RunSetup& setup, CycleReport& rep) {
+  auto engine = std::make_unique<detail::Engine<Caps, Word, true>>();
+  engine->run(left, right, p, setup, rep.codes, &rep);
+}
+
+void dispatch(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+              const detail::RunSetup& setup, CycleReport& rep) {
+  const auto errors = func_param_errors(p);
+  if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
+  const bool wide = p.parallel_units > 64;
+  const bool word32 = kern::aggregate_bits(p) > 16;
+  if (!wide && !word32) run_timed<detail::NarrowCaps, uint16_t>(left, right, p, setup, rep);
+  else if (!wide) run_timed<detail::NarrowCaps, uint32_t>(left, right, p, setup, rep);
+  else if (!word32) run_timed<detail::WideCaps, uint16_t>(left, right, p, setup, rep);
+  else run_timed<detail::WideCaps, uint32_t>(left, right, p, setup, rep);
+}
+
+}  // namespace
+
+CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                      const CycleOptions& opt) {
+  CycleReport rep;
+  detail::RunSetup setup;
+  setup.opt = &opt;
+  dispatch(left, right, p, setup, rep);
+  return rep;
+}
+
+std::map<std::string, int64_t> stall_free_depths(const GreyImage& left, const GreyImage& right,
+                                                 const kern::StereoParams& p, const CycleOptions& opt) {
+  CycleOptions o = opt;
+  o.vcd_path.clear();
+  CycleReport rep;
+  detail::RunSetup setup;
+  setup.opt = &o;
+  setup.unbounded = true;
+  dispatch(left, right, p, setup, rep);
+  std::map<std::string, int64_t> depths;
+  for (const auto& f : rep.fifos) depths[f.name] = std::max<int64_t>(1, f.high_water);
+  return depths;
+}
+
+namespace detail {
+
+namespace {
+std::string vcd_id(int index) {
+  std::string id;
+  do {
+    id += char(33 + index % 94);
+    index /= 94;
+  } while (index > 0);
+  return id;
+}
+std::string vcd_value(int64_t v, int width, const std::string& id) {
+  if (width == 1) return std::string(v ? "1" : "0") + id;
+  std::string bits;
+  for (int b = width - 1; b >= 0; --b) bits += ((v >> b) & 1) ? '1' : '0';
+  const auto first = bits.find('1');
+  return "b" + (first == std::string::npos ? std::string("0") : bits.substr(first)) + " " + id;
+}
+}  // namespace
+
+void Trace::write(const std::string& path, const std::string& scope) const {
+  std::ofstream out(path);
+  if (!out) internal_error("cannot write VCD file " + path);
+  std::vector<Event> ev = events_;
+  std::stable_sort(ev.begin(), ev.end(), [](const Event& a, const Event& b) { return a.cycle < b.cycle; });
+  std::vector<int64_t> level(names_.size(), 0);
+  out << "$comment parallax cycle model: one time unit = one processing-clock cycle $end\n";
+  out << "$timescale 1ns $end\n$scope module " << scope << " $end\n";
+  for (std::size_t i = 0; i < names_.size(); ++i)
+    out << "$var wire " << widths_[i] << " " << vcd_id(int(i)) << " " << names_[i] << " $end\n";
+  out << "$upscope $end\n$enddefinitions $end\n";
+  std::size_t k = 0;
+  for (; k < ev.size() && ev[k].cycle < from_; ++k) level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
+  out << "#" << from_ << "\n$dumpvars\n";
+  for (std::size_t i = 0; i < names_.size(); ++i) out << vcd_value(level[i], widths_[i], vcd_id(int(i))) << "\n";
+  out << "$end\n";
+  while (k < ev.size() && ev[k].cycle < to_) {
+    const int64_t c = ev[k].cycle;
+    std::vector<int64_t> before = level;
+    for (; k < ev.size() && ev[k].cycle == c; ++k) level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
+    bool header = false;
+    for (std::size_t i = 0; i < names_.size(); ++i) {
+      if (level[i] == before[i]) continue;
+      if (!header) {
+        out << "#" << c << "\n";
+        header = true;
+      }
+      out << vcd_value(level[i], widths_[i], vcd_id(int(i))) << "\n";
+    }
+  }
+  out << "#" << to_ << "\n";
+}
+
+}  // namespace detail
+}  // namespace parallax::sim

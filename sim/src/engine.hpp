@@ -1,0 +1,681 @@
+// Internal: the pipeline graph both runs share. Engine<Caps, Word, kTimed> builds the dataflow
+// graph of one design (source -> cost -> aggregate -> WTA/LR -> median -> sink, or the two passes
+// of the 8-path variant through a frame buffer) over sim::Fifo and fires the kernels of
+// kernels/. kTimed = false is the func run (fire whenever the plan can be met); kTimed = true is
+// the cycle model (fire at the earliest cycle the plan, II, token visibility and FIFO space
+// allow).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "parallax/kernels/caps.hpp"
+#include "parallax/kernels/census.hpp"
+#include "parallax/kernels/median.hpp"
+#include "parallax/kernels/sad.hpp"
+#include "parallax/kernels/sgm.hpp"
+#include "parallax/kernels/wta_lr.hpp"
+#include "parallax/sim/cycle.hpp"
+#include "parallax/sim/fifo.hpp"
+#include "parallax/sim/func.hpp"
+
+namespace parallax::sim::detail {
+
+[[noreturn]] inline void internal_error(const std::string& what) {
+  std::fprintf(stderr, "parallax: internal error: %s\n", what.c_str());
+  std::abort();
+}
+
+struct Port {
+  FifoBase* fifo;
+  bool used;
+};
+
+// VCD events inside a window of cycles.
+class Trace {
+ public:
+  Trace(int64_t from, int64_t to) : from_(from), to_(to) {}
+  bool active() const { return to_ > from_; }
+  int signal(const std::string& name, int width) {
+    names_.push_back(name);
+    widths_.push_back(width);
+    return int(names_.size()) - 1;
+  }
+  // The occupancy signal of a FIFO (registered on first use).
+  int fifo_signal(const FifoBase* f) {
+    for (std::size_t i = 0; i < fifo_keys_.size(); ++i)
+      if (fifo_keys_[i] == f) return fifo_sigs_[i];
+    int width = 1;
+    while (width < 31 && (int64_t(1) << width) <= int64_t(f->depth() == 0 ? 1 << 20 : f->depth())) ++width;
+    const int sig = signal("fifo_" + f->name(), width);
+    fifo_keys_.push_back(f);
+    fifo_sigs_.push_back(sig);
+    return sig;
+  }
+  void change(int64_t cycle, int sig, int64_t delta_or_value, bool is_delta) {
+    if (!active()) return;
+    events_.push_back({cycle, sig, delta_or_value, is_delta});
+  }
+  // Writes the window as VCD (one timestep = one cycle), levels reconstructed from the events.
+  void write(const std::string& path, const std::string& scope) const;
+
+ private:
+  struct Event {
+    int64_t cycle;
+    int sig;
+    int64_t v;
+    bool delta;
+  };
+  int64_t from_, to_;
+  std::vector<std::string> names_;
+  std::vector<int> widths_;
+  std::vector<Event> events_;
+  std::vector<const FifoBase*> fifo_keys_;
+  std::vector<int> fifo_sigs_;
+};
+
+// One stage of the graph: timing, statistics and the firing rule.
+template <bool kTimed>
+class Node {
+ public:
+  Node(std::string name, StageTiming t, Trace* trace) : timing_(t), trace_(trace), t_next_(t.setup_cycles) {
+    report_.name = std::move(name);
+    report_.ii_cycles = t.ii_cycles;
+    report_.latency_cycles = t.latency_cycles;
+    if (trace_ && trace_->active()) {
+      valid_sig_ = trace_->signal(report_.name + "_valid", 1);
+      stall_sig_ = trace_->signal(report_.name + "_stall", 1);
+    }
+  }
+
+  // Fires once if the plan's ports allow it (and, timed, no earlier than `earliest`): inputs
+  // non-empty, outputs not full; timed: at max(t_next, visible inputs, free output slots).
+  template <class Fire>
+  bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire, int64_t earliest = 0) {
+    for (const Port& p : in)
+      if (p.used && p.fifo->empty()) return block(p.fifo, true);
+    for (const Port& p : out)
+      if (p.used && p.fifo->full()) return block(p.fifo, false);
+    blocked_ = nullptr;
+    if constexpr (kTimed) {
+      const int64_t ready = std::max(t_next_, earliest);
+      int64_t t_in = ready, t_out = ready;
+      for (const Port& p : in)
+        if (p.used) t_in = std::max(t_in, p.fifo->head_visible());
+      // Results enter the output FIFO at the end of the pipeline, L cycles after the firing.
+      for (const Port& p : out)
+        if (p.used) t_out = std::max(t_out, p.fifo->next_write_free() - timing_.latency_cycles);
+      const int64_t t = std::max(t_in, t_out);
+      {
+        // Waiting before the first firing counts as input stall (the pipeline fills).
+        if (t_out > t_in)
+          report_.output_stall_cycles += t - t_next_;
+        else
+          report_.input_stall_cycles += t - t_next_;
+      }
+      for (const Port& p : in)
+        if (p.used) p.fifo->stamp(t, 0);
+      for (const Port& p : out)
+        if (p.used) p.fifo->stamp(0, t + timing_.latency_cycles);
+      if (trace_ && trace_->active()) {
+        if (t > t_next_) {
+          trace_->change(t_next_, stall_sig_, 1, false);
+          trace_->change(t, stall_sig_, 0, false);
+        }
+        trace_->change(t, valid_sig_, 1, false);
+        trace_->change(t + 1, valid_sig_, 0, false);
+        for (const Port& p : out)
+          if (p.used) trace_->change(t + timing_.latency_cycles, trace_->fifo_signal(p.fifo), +1, true);
+        for (const Port& p : in)
+          if (p.used) trace_->change(t + 1, trace_->fifo_signal(p.fifo), -1, true);
+      }
+      fire();
+      if (report_.first_fire_cycle < 0) report_.first_fire_cycle = t;
+      report_.last_fire_cycle = t;
+      t_next_ = t + timing_.ii_cycles;
+      report_.busy_cycles += timing_.ii_cycles;
+    } else {
+      fire();
+    }
+    ++report_.fires;
+    return true;
+  }
+
+  bool block(const FifoBase* f, bool on_input) {
+    blocked_ = f;
+    blocked_on_input_ = on_input;
+    return false;
+  }
+
+  const StageReport& report() const { return report_; }
+  const FifoBase* blocked_fifo() const { return blocked_; }
+  bool blocked_on_input() const { return blocked_on_input_; }
+  int64_t t_next() const { return t_next_; }
+  void set_t_next(int64_t t) { t_next_ = t; }
+  const std::string& name() const { return report_.name; }
+
+ private:
+  StageTiming timing_;
+  Trace* trace_;
+  StageReport report_;
+  int64_t t_next_;
+  const FifoBase* blocked_ = nullptr;
+  bool blocked_on_input_ = false;
+  int valid_sig_ = -1, stall_sig_ = -1;
+};
+
+// The stages and FIFOs of one run, their scheduling and deadlock diagnosis. Stages are pumps:
+// each fires its kernel while it can and says whether it fired; a round in which no pump fires
+// while the run is unfinished is a deadlock (timed) or an internal error (func).
+template <bool kTimed>
+class Graph {
+ public:
+  using NodeT = Node<kTimed>;
+  explicit Graph(Trace* trace) : trace_(trace) {}
+
+  NodeT& add_node(const std::string& name, StageTiming t) {
+    nodes_.push_back(std::make_unique<NodeT>(name, t, trace_));
+    return *nodes_.back();
+  }
+  void add_fifo(FifoBase* f, const std::string& producer, const std::string& consumer) {
+    fifos_.push_back({f, producer, consumer});
+  }
+  void mark_done(const std::string& name) {
+    if (!is_done(name)) done_.push_back(name);
+  }
+  bool is_done(const std::string& name) const { return std::find(done_.begin(), done_.end(), name) != done_.end(); }
+
+  // Runs the pumps round-robin until `finished`. Returns false on deadlock (timed), with the
+  // diagnosis in deadlock_message() / deadlock_cycle().
+  bool schedule(const std::vector<std::function<bool()>>& pumps, const std::function<bool()>& finished) {
+    while (!finished()) {
+      bool progress = false;
+      for (const auto& pump : pumps) progress |= pump();
+      if (!progress) {
+        if (!kTimed) internal_error("func scheduler made no progress");
+        diagnose();
+        return false;
+      }
+    }
+    return true;
+  }
+
+  const std::string& deadlock_message() const { return message_; }
+  int64_t deadlock_cycle() const { return cycle_; }
+  const std::vector<std::unique_ptr<NodeT>>& nodes() const { return nodes_; }
+  std::string producer_of(const FifoBase* f) const {
+    for (const auto& fi : fifos_)
+      if (fi.fifo == f) return fi.producer;
+    return "";
+  }
+  std::string consumer_of(const FifoBase* f) const {
+    for (const auto& fi : fifos_)
+      if (fi.fifo == f) return fi.consumer;
+    return "";
+  }
+  void clear_fifos() { fifos_.clear(); }
+
+ private:
+  struct FifoInfo {
+    FifoBase* fifo;
+    std::string producer, consumer;
+  };
+
+  // Names every blocked stage with the FIFO it waits on; a full FIFO whose consumer waits
+  // elsewhere is the undersized one.
+  void diagnose() {
+    int64_t cycle = 0;
+    std::string msg;
+    for (const auto& n : nodes_) {
+      const FifoBase* f = n->blocked_fifo();
+      if (!f) continue;
+      cycle = std::max(cycle, n->t_next());
+      if (!msg.empty()) msg += "; ";
+      if (n->blocked_on_input()) {
+        const std::string prod = producer_of(f);
+        msg += "stage '" + n->name() + "' waits for a token on FIFO '" + f->name() + "' (empty, producer '" + prod +
+               "'" + (is_done(prod) ? " has finished" : "") + ")";
+      } else {
+        msg += "stage '" + n->name() + "' waits for space in FIFO '" + f->name() + "' (full at depth " +
+               std::to_string(f->depth()) + ", consumer '" + consumer_of(f) + "'): FIFO '" + f->name() +
+               "' is too shallow";
+      }
+    }
+    cycle_ = cycle;
+    message_ = "deadlock at cycle " + std::to_string(cycle) + ": " + msg;
+  }
+
+  Trace* trace_;
+  std::vector<std::unique_ptr<NodeT>> nodes_;
+  std::vector<FifoInfo> fifos_;
+  std::vector<std::string> done_;
+  std::string message_;
+  int64_t cycle_ = -1;
+};
+
+// Rate of a source that delivers `bytes_per_token` at `bytes_per_s`: token i is available at
+// cycle floor(i * cycles_per_token) after `start`.
+struct Rate {
+  double cycles_per_token = 0.0;
+  int64_t start = 0;
+  int64_t at(int64_t i) const { return start + int64_t(std::floor(double(i) * cycles_per_token)); }
+};
+
+// Everything one run of the graph needs besides the kernels.
+struct RunSetup {
+  const CycleOptions* opt = nullptr;  // null: func run
+  bool unbounded = false;             // timed: every FIFO unbounded (sizing run)
+};
+
+template <class Caps, class Word, bool kTimed>
+class Engine {
+ public:
+  using CostTok = kern::Lanes<uint16_t, Caps::lanes>;
+  using SumTok = kern::Lanes<Word, Caps::lanes>;
+  using NodeT = Node<kTimed>;
+
+  void run(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p, const RunSetup& setup,
+           DisparityCodes& out, CycleReport* rep) {
+    p_ = p;
+    setup_ = setup;
+    rep_ = rep;
+    out.width_px = p.width_px;
+    out.height_px = p.height_px;
+    out.disparities = p.disparities;
+    out.code.assign(std::size_t(p.width_px) * p.height_px, 0);
+    timing_ = default_timing(p);
+    if (setup.opt)
+      for (const auto& kv : setup.opt->timing) timing_[kv.first] = kv.second;
+    trace_.reset();
+    if (kTimed && setup.opt && !setup.opt->vcd_path.empty())
+      trace_ = std::make_unique<Trace>(setup.opt->vcd_from, setup.opt->vcd_to);
+    graph_ = std::make_unique<Graph<kTimed>>(trace_.get());
+    const bool two_pass = (p.path_mask & kern::kBackwardPaths) != 0;
+    if (p.cost == kern::kCostCensus)
+      two_pass ? run_two_pass(census_, left, right, out) : run_one_pass(census_, left, right, out);
+    else
+      two_pass ? run_two_pass(sad_, left, right, out) : run_one_pass(sad_, left, right, out);
+    if (rep_) finish_report();
+  }
+
+ private:
+  std::size_t depth_of(const std::string& name, std::size_t func_depth) const {
+    if (!kTimed || !setup_.opt) return func_depth;
+    if (setup_.unbounded) return 0;
+    const auto it = setup_.opt->fifo_depths.find(name);
+    return it != setup_.opt->fifo_depths.end() ? it->second : setup_.opt->fifo_depth;
+  }
+  template <class T>
+  std::unique_ptr<Fifo<T>> make_fifo(const std::string& name, std::size_t func_depth, const std::string& producer,
+                                     const std::string& consumer) {
+    auto f = std::make_unique<Fifo<T>>(name, depth_of(name, func_depth), kTimed);
+    graph_->add_fifo(f.get(), producer, consumer);
+    return f;
+  }
+  NodeT& node(const std::string& name) {
+    const auto it = timing_.find(name);
+    return graph_->add_node(name, it != timing_.end() ? it->second : StageTiming{});
+  }
+
+  Rate input_rate() const {
+    Rate r;
+    if (!kTimed || !setup_.opt) return r;
+    const CycleOptions& o = *setup_.opt;
+    if (o.input == InputKind::memory)
+      r.cycles_per_token = 2.0 * o.clock_hz / o.input_bytes_per_s;  // one left + one right byte
+    else
+      r.cycles_per_token = o.clock_hz / o.camera_pixel_hz;
+    return r;
+  }
+  // Cycle at which input pixel i (raster order) arrives.
+  int64_t input_arrival(int64_t i) const {
+    const Rate r = input_rate();
+    if (!kTimed || !setup_.opt) return 0;
+    if (setup_.opt->input == InputKind::camera) {
+      const int64_t row = i / p_.width_px, col = i % p_.width_px;
+      return r.at(row * (p_.width_px + setup_.opt->camera_h_blank_px) + col);
+    }
+    return r.at(i);
+  }
+  int64_t input_period() const {
+    if (!kTimed || !setup_.opt) return 0;
+    if (setup_.opt->input == InputKind::camera)
+      return input_rate().at(int64_t(p_.width_px + setup_.opt->camera_h_blank_px) *
+                             (p_.height_px + setup_.opt->camera_v_blank_rows));
+    return input_rate().at(int64_t(p_.width_px) * p_.height_px);
+  }
+
+  bool schedule(const std::vector<std::function<bool()>>& pumps, const std::function<bool()>& finished) {
+    if (graph_->schedule(pumps, finished)) return true;
+    if (rep_) {
+      rep_->deadlock = true;
+      rep_->deadlock_cycle = graph_->deadlock_cycle();
+      rep_->deadlock_message = graph_->deadlock_message();
+    }
+    return false;
+  }
+
+  // --- pumps: fire a stage while it can ---------------------------------------------------
+
+  // The source streams the left and right images in raster order (or, with `reverse`, ...).
+  std::function<bool()> source_pump(NodeT& n, const GreyImage& left, const GreyImage& right, Fifo<uint8_t>& l,
+                                    Fifo<uint8_t>& r, int64_t& next) {
+    int64_t total = int64_t(left.px.size());
+    if (kTimed && setup_.opt && setup_.opt->truncate_input_px >= 0)
+      total = std::min(total, setup_.opt->truncate_input_px);
+    return [this, &n, &left, &right, &l, &r, &next, total] {
+      bool fired = false;
+      while (next < total) {
+        const int64_t i = next;
+        if (!n.attempt({}, {Port{&l, true}, Port{&r, true}},
+                       [&] {
+                         l.write(left.px[std::size_t(i)]);
+                         r.write(right.px[std::size_t(i)]);
+                       },
+                       input_arrival(i)))
+          break;
+        if (kTimed && rep_ && setup_.opt->input == InputKind::camera && rep_->input_overrun.empty() &&
+            n.report().last_fire_cycle > input_arrival(i))
+          rep_->input_overrun = "camera overrun: pixel " + std::to_string(i) + " arrived at cycle " +
+                                std::to_string(input_arrival(i)) + " but FIFO '" + l.name() + "' had room only at cycle " +
+                                std::to_string(n.report().last_fire_cycle);
+        ++next;
+        fired = true;
+      }
+      if (next >= total) mark_done("source");
+      return fired;
+    };
+  }
+
+  template <class CostStage>
+  std::function<bool()> cost_pump(NodeT& n, CostStage& cost, Fifo<uint8_t>& l, Fifo<uint8_t>& r, Fifo<CostTok>& out) {
+    return [&n, &cost, &l, &r, &out] {
+      bool fired = false;
+      while (!cost.done()) {
+        const kern::CostPlan pl = cost.plan();
+        if (!pl.read && !pl.write) break;
+        if (!n.attempt({Port{&l, pl.read}, Port{&r, pl.read}}, {Port{&out, pl.write}},
+                       [&] { cost.fire(pl, l, r, out); }))
+          break;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  template <class CostIn, class FwdIn, class SumOut, class TeeOut>
+  std::function<bool()> agg_pump(NodeT& n, CostIn& c, FwdIn* f, SumOut& s, TeeOut* t) {
+    return [this, &n, &c, f, &s, t] {
+      bool fired = false;
+      kern::NoStream<SumTok> no_sum;
+      kern::NoStream<CostTok> no_cost;
+      while (!agg_.done()) {
+        const kern::AggPlan pl = agg_.plan();
+        const bool ok = n.attempt({Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}}, [&] {
+          if (f && t)
+            agg_.fire(pl, c, *f, s, *t);
+          else if (f)
+            agg_.fire(pl, c, *f, s, no_cost);
+          else if (t)
+            agg_.fire(pl, c, no_sum, s, *t);
+          else
+            agg_.fire(pl, c, no_sum, s, no_cost);
+        });
+        if (!ok) break;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  std::function<bool()> wta_pump(NodeT& n, Fifo<SumTok>& in, Fifo<kern::DispCode>& out) {
+    return [this, &n, &in, &out] {
+      bool fired = false;
+      while (!wta_.done()) {
+        const kern::WtaPlan pl = wta_.plan();
+        if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] { wta_.fire(pl, in, out); })) break;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  std::function<bool()> median_pump(NodeT& n, Fifo<kern::DispCode>& in, Fifo<kern::DispCode>& out) {
+    return [this, &n, &in, &out] {
+      bool fired = false;
+      while (!median_.done()) {
+        const kern::MedianPlan pl = median_.plan();
+        if (!pl.read && !pl.write) break;
+        if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] { median_.fire(pl, in, out); })) break;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  // The sink takes one code per cycle; `reverse` restores raster order after the backward pass.
+  std::function<bool()> sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got, bool reverse) {
+    const int64_t total = int64_t(out.code.size());
+    return [this, &n, &in, &out, &got, total, reverse] {
+      bool fired = false;
+      while (got < total) {
+        const int64_t i = got;
+        if (!n.attempt({Port{&in, true}}, {}, [&] {
+              out.code[std::size_t(reverse ? total - 1 - i : i)] = in.read();
+            }))
+          break;
+        if (rep_) {
+          if (i == 0) rep_->first_pixel_cycle = in.last_read_cycle();
+          rep_->last_pixel_cycle = in.last_read_cycle();
+        }
+        ++got;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  void mark_done(const std::string& name) { graph_->mark_done(name); }
+
+  // --- graphs ------------------------------------------------------------------------------
+
+  static constexpr std::size_t kPixelDepth = 2048;
+  static constexpr std::size_t kTokenDepth = 128;
+
+  template <class CostStage>
+  void run_one_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
+    cost.configure(p_);
+    agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, false);
+    wta_.configure(p_, false);
+    median_.configure(p_);
+    auto in_l = make_fifo<uint8_t>("left_px", kPixelDepth, "source", "cost");
+    auto in_r = make_fifo<uint8_t>("right_px", kPixelDepth, "source", "cost");
+    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "aggregate");
+    auto sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate", "wta_lr");
+    auto disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
+    auto filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
+    NodeT& n_src = node("source");
+    NodeT& n_cost = node("cost");
+    NodeT& n_agg = node("aggregate");
+    NodeT& n_wta = node("wta_lr");
+    NodeT& n_med = node("median");
+    NodeT& n_sink = node("sink");
+    int64_t next_src = 0, got = 0;
+    const int64_t total = int64_t(out.code.size());
+    schedule({source_pump(n_src, left, right, *in_l, *in_r, next_src), cost_pump(n_cost, cost, *in_l, *in_r, *costs),
+              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *sums, nullptr),
+              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
+              sink_pump(n_sink, *filtered, out, got, false)},
+             [&] { return got >= total; });
+    collect(std::move(in_l), std::move(in_r), std::move(costs), std::move(sums), std::move(disp), std::move(filtered));
+  }
+
+  // Pass 1 writes C and F to the frame buffer through `ddr_write`; pass 2 starts when the last
+  // token is written and reads them back in reverse pixel order through `ddr_read`.
+  template <class CostStage>
+  void run_two_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
+    const std::size_t pixels = out.code.size();
+    const int chunks = p_.disparities / p_.parallel_units;
+    const int64_t tokens = int64_t(pixels) * chunks;
+    frame_cost_.resize(std::size_t(tokens));
+    frame_fwd_.resize(std::size_t(tokens));
+    const Rate ddr = ddr_rate();
+    cost.configure(p_);
+    agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
+    auto in_l = make_fifo<uint8_t>("left_px", kPixelDepth, "source", "cost");
+    auto in_r = make_fifo<uint8_t>("right_px", kPixelDepth, "source", "cost");
+    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "aggregate");
+    auto tee = make_fifo<CostTok>("cost_to_ddr", kTokenDepth, "aggregate", "ddr_write");
+    auto fwd = make_fifo<SumTok>("fwd_to_ddr", kTokenDepth, "aggregate", "ddr_write");
+    NodeT& n_src = node("source");
+    NodeT& n_cost = node("cost");
+    NodeT& n_agg = node("aggregate");
+    NodeT& n_wr = node("ddr_write");
+    int64_t next_src = 0, stored = 0;
+    auto write_pump = [&]() -> bool {
+      bool fired = false;
+      while (stored < tokens) {
+        const int64_t i = stored;
+        if (!n_wr.attempt({Port{tee.get(), true}, Port{fwd.get(), true}}, {},
+                          [&] {
+                            frame_cost_[std::size_t(i)] = tee->read();
+                            frame_fwd_[std::size_t(i)] = fwd->read();
+                          },
+                          ddr.at(i)))
+          break;
+        ++stored;
+        fired = true;
+      }
+      return fired;
+    };
+    if (!schedule({source_pump(n_src, left, right, *in_l, *in_r, next_src), cost_pump(n_cost, cost, *in_l, *in_r, *costs),
+                   agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *fwd, tee.get()),
+                   write_pump},
+                  [&] { return stored >= tokens; })) {
+      collect(std::move(in_l), std::move(in_r), std::move(costs), std::move(tee), std::move(fwd));
+      return;
+    }
+    const int64_t pass2_start = n_wr.t_next() + ddr_latency_cycles();
+    agg_.configure(p_, kern::stream_kinds(p_.path_mask, true), true, false);
+    wta_.configure(p_, true);
+    median_.configure(p_);
+    auto back_c = make_fifo<CostTok>("cost_from_ddr", kTokenDepth, "ddr_read", "aggregate_back");
+    auto back_f = make_fifo<SumTok>("fwd_from_ddr", kTokenDepth, "ddr_read", "aggregate_back");
+    auto sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate_back", "wta_lr");
+    auto disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
+    auto filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
+    NodeT& n_rd = node("ddr_read");
+    NodeT& n_back = node("aggregate_back");
+    NodeT& n_wta = node("wta_lr");
+    NodeT& n_med = node("median");
+    NodeT& n_sink = node("sink");
+    Rate rd = ddr;
+    rd.start = pass2_start;
+    int64_t read_tok = 0, got = 0;
+    auto read_pump = [&]() -> bool {
+      bool fired = false;
+      while (read_tok < tokens) {
+        const int64_t i = read_tok;
+        // Reverse pixel order, ascending chunk order inside a pixel.
+        const std::size_t pix = pixels - 1 - std::size_t(i) / std::size_t(chunks);
+        const std::size_t idx = pix * std::size_t(chunks) + std::size_t(i) % std::size_t(chunks);
+        if (!n_rd.attempt({}, {Port{back_c.get(), true}, Port{back_f.get(), true}},
+                          [&] {
+                            back_c->write(frame_cost_[idx]);
+                            back_f->write(frame_fwd_[idx]);
+                          },
+                          rd.at(i)))
+          break;
+        ++read_tok;
+        fired = true;
+      }
+      return fired;
+    };
+    const int64_t total = int64_t(pixels);
+    schedule({read_pump,
+              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums, nullptr),
+              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
+              sink_pump(n_sink, *filtered, out, got, true)},
+             [&] { return got >= total; });
+    collect(std::move(in_l), std::move(in_r), std::move(costs), std::move(tee), std::move(fwd), std::move(back_c),
+            std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
+  }
+
+  Rate ddr_rate() const {
+    Rate r;
+    if (!kTimed || !setup_.opt) return r;
+    const int bytes_c = (p_.parallel_units * kern::cost_bits(p_) + 7) / 8;
+    const int bytes_f = (p_.parallel_units * kern::aggregate_bits(p_) + 7) / 8;
+    r.cycles_per_token = double(bytes_c + bytes_f) * setup_.opt->clock_hz / setup_.opt->ddr_bytes_per_s;
+    return r;
+  }
+  int64_t ddr_latency_cycles() const {
+    if (!kTimed || !setup_.opt) return 0;
+    return int64_t(std::ceil(setup_.opt->ddr_latency_s * setup_.opt->clock_hz));
+  }
+
+  // Moves the frame's FIFO statistics into the report (the FIFOs die with the run).
+  template <class... F>
+  void collect(F&&... fifos) {
+    if (!rep_) return;
+    auto one = [&](const FifoBase& f) {
+      FifoReport r;
+      r.name = f.name();
+      r.producer = graph_->producer_of(&f);
+      r.consumer = graph_->consumer_of(&f);
+      r.depth = int64_t(f.depth());
+      r.tokens = f.writes();
+      r.high_water = int64_t(f.high_water());
+      rep_->fifos.push_back(r);
+    };
+    (one(*fifos), ...);
+    if (trace_ && setup_.opt) trace_->write(setup_.opt->vcd_path, "parallax");
+    graph_->clear_fifos();
+  }
+
+  void finish_report() {
+    rep_->stages.clear();
+    int64_t busiest = 0;
+    for (const auto& n : graph_->nodes()) {
+      rep_->stages.push_back(n->report());
+      if (n->name() == "source") continue;  // its occupancy is the input's, counted below
+      if (n->report().busy_cycles > busiest) {
+        busiest = n->report().busy_cycles;
+        rep_->bottleneck = n->name();
+      }
+    }
+    rep_->input_period_cycles = input_period();
+    rep_->cycles_per_frame = busiest;
+    if (rep_->input_period_cycles > busiest) {
+      rep_->cycles_per_frame = rep_->input_period_cycles;
+      rep_->bottleneck = "input";
+    }
+  }
+
+  kern::StereoParams p_{};
+  RunSetup setup_;
+  CycleReport* rep_ = nullptr;
+  TimingModel timing_;
+  std::unique_ptr<Trace> trace_;
+  std::unique_ptr<Graph<kTimed>> graph_;
+  kern::CensusCostStage<Caps> census_;
+  kern::SadCostStage<Caps> sad_;
+  kern::SgmAggregate<Caps, Word> agg_;
+  kern::WtaLr<Caps, Word> wta_;
+  kern::Median<Caps> median_;
+  std::vector<CostTok> frame_cost_;  // the frame buffer standing for off-chip memory
+  std::vector<SumTok> frame_fwd_;
+};
+
+using NarrowCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 64>;
+using WideCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 256>;
+
+}  // namespace parallax::sim::detail
