@@ -107,13 +107,14 @@ void Trace::write(const std::string& path, const std::string& scope) const {
   std::vector<Event> ev = events_;
   std::stable_sort(ev.begin(), ev.end(), [](const Event& a, const Event& b) { return a.cycle < b.cycle; });
   std::vector<int64_t> level(names_.size(), 0);
+  for (std::size_t i = 0; i < pre_level_.size() && i < level.size(); ++i) level[i] = pre_level_[i];
   out << "$comment parallax cycle model: one time unit = one processing-clock cycle $end\n";
   out << "$timescale 1ns $end\n$scope module " << scope << " $end\n";
   for (std::size_t i = 0; i < names_.size(); ++i)
     out << "$var wire " << widths_[i] << " " << vcd_id(int(i)) << " " << names_[i] << " $end\n";
   out << "$upscope $end\n$enddefinitions $end\n";
   std::size_t k = 0;
-  for (; k < ev.size() && ev[k].cycle < from_; ++k) level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
+  for (; k < ev.size() && ev[k].cycle <= from_; ++k) level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
   out << "#" << from_ << "\n$dumpvars\n";
   for (std::size_t i = 0; i < names_.size(); ++i) out << vcd_value(level[i], widths_[i], vcd_id(int(i))) << "\n";
   out << "$end\n";

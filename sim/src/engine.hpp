@@ -60,8 +60,23 @@ class Trace {
     fifo_sigs_.push_back(sig);
     return sig;
   }
+  // Events after the window are dropped; events up to its start are folded into the levels at
+  // the start, so memory stays proportional to the window.
   void change(int64_t cycle, int sig, int64_t delta_or_value, bool is_delta) {
-    if (!active()) return;
+    if (!active() || cycle >= to_) return;
+    if (cycle <= from_) {
+      if (pre_level_.size() < names_.size()) {
+        pre_level_.resize(names_.size(), 0);
+        pre_cycle_.resize(names_.size(), -1);
+      }
+      if (is_delta) {
+        pre_level_[std::size_t(sig)] += delta_or_value;
+      } else if (cycle >= pre_cycle_[std::size_t(sig)]) {
+        pre_level_[std::size_t(sig)] = delta_or_value;
+        pre_cycle_[std::size_t(sig)] = cycle;
+      }
+      return;
+    }
     events_.push_back({cycle, sig, delta_or_value, is_delta});
   }
   // Writes the window as VCD (one timestep = one cycle), levels reconstructed from the events.
@@ -80,6 +95,8 @@ class Trace {
   std::vector<Event> events_;
   std::vector<const FifoBase*> fifo_keys_;
   std::vector<int> fifo_sigs_;
+  std::vector<int64_t> pre_level_;  // levels at the window's start
+  std::vector<int64_t> pre_cycle_;  // cycle of the last absolute value folded in, per signal
 };
 
 // One stage of the graph: timing, statistics and the firing rule.

@@ -1,0 +1,374 @@
+// equiv + timing + reject: the cycle model runs the kernels bit-identically to the func run and
+// the golden model, matches closed forms where they are exact, sizes FIFOs, writes VCD, and
+// reports deadlocks naming the FIFO or stage and the cycle.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "../kernels/equiv_util.hpp"
+#include "engine.hpp"
+#include "parallax/reference/stereo.hpp"
+#include "parallax/sim/cycle.hpp"
+#include "parallax/sim/func.hpp"
+
+namespace parallax::test {
+namespace {
+
+using kern::StereoParams;
+
+StereoParams params(int w, int h, int d, int pu, unsigned paths) {
+  StereoParams p{};
+  p.width_px = w;
+  p.height_px = h;
+  p.cost = kern::kCostCensus;
+  p.window_w = 5;
+  p.window_h = 5;
+  p.disparities = d;
+  p.parallel_units = pu;
+  p.path_mask = paths;
+  p.p1 = 8;
+  p.p2 = 32;
+  p.lr_check = true;
+  p.lr_tolerance = 1;
+  p.median = 5;
+  return p;
+}
+
+sim::CycleOptions one_pair_per_cycle() {
+  sim::CycleOptions o;
+  o.clock_hz = 200e6;
+  o.input_bytes_per_s = 2.0 * o.clock_hz;  // exactly one left+right pixel pair per cycle
+  return o;
+}
+
+const sim::StageReport& stage(const sim::CycleReport& r, const std::string& name) {
+  for (const auto& s : r.stages)
+    if (s.name == name) return s;
+  ADD_FAILURE() << "no stage " << name;
+  static sim::StageReport none;
+  return none;
+}
+
+// --- equiv ---------------------------------------------------------------------------------
+
+void expect_cycle_equivalent(const StereoParams& p, const sim::CycleOptions& o, uint32_t seed) {
+  const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, seed, 3 + int(seed % 7));
+  const sim::CycleReport c = sim::run_cycle(sp.left, sp.right, p, o);
+  ASSERT_FALSE(c.deadlock) << describe(p) << ": " << c.deadlock_message;
+  sim::FuncOptions design;
+  design.use_design_pu = true;
+  const sim::DisparityCodes f = sim::run_func(sp.left, sp.right, p, design);
+  const std::vector<uint16_t> r = ref::compute_disparity(to_ref(sp.left), to_ref(sp.right), p);
+  const Comparison cf = compare_maps(c.codes.code, f.code, p.width_px);
+  const Comparison cr = compare_maps(c.codes.code, r, p.width_px);
+  EXPECT_TRUE(cf.sizes_equal && cf.mismatches == 0) << describe(p) << " seed " << seed << " vs func: "
+                                                    << cf.mismatches << " mismatches, first at " << cf.first;
+  EXPECT_TRUE(cr.sizes_equal && cr.mismatches == 0) << describe(p) << " seed " << seed << " vs golden: "
+                                                    << cr.mismatches << " mismatches, first at " << cr.first;
+}
+
+TEST(CycleEquiv, TableOfConfigurations) {
+  const struct {
+    int d, pu;
+  } rows[] = {{16, 1}, {16, 16}, {60, 6}, {60, 60}, {64, 8}, {128, 16}};
+  const unsigned path_sets[] = {kern::kPath0, kern::kPath0 | kern::kPath90, kern::kPath0 | kern::kPath45 | kern::kPath90,
+                                kern::kForwardPaths, kern::kAllPaths};
+  uint32_t seed = 7000;
+  for (const auto& row : rows)
+    for (unsigned paths : path_sets)
+      for (int cost : {int(kern::kCostCensus), int(kern::kCostSad)}) {
+        StereoParams p = params(row.d < 100 ? 45 : 133, 11, row.d, row.pu, paths);
+        p.cost = cost;
+        if (cost == kern::kCostSad) {
+          p.p1 = 200;
+          p.p2 = 800;
+        }
+        p.median = int(seed % 4) * 2 + 1 == 1 ? 0 : int(seed % 4) * 2 + 1;
+        p.lr_check = seed % 3 != 0;
+        expect_cycle_equivalent(p, one_pair_per_cycle(), ++seed);
+      }
+}
+
+TEST(CycleEquiv, AwkwardSizesFifoDepthsAndCameraInput) {
+  uint32_t seed = 8000;
+  const int sizes[][2] = {{1, 1}, {3, 2}, {17, 5}, {33, 3}};
+  for (const auto& sz : sizes)
+    for (std::size_t depth : {std::size_t(1), std::size_t(2), std::size_t(7)}) {
+      sim::CycleOptions o = one_pair_per_cycle();
+      o.fifo_depth = depth;
+      if (seed % 2) {
+        o.input = sim::InputKind::camera;
+        o.camera_pixel_hz = 50e6;
+        o.camera_h_blank_px = 3;
+        o.fifo_depths["left_px"] = o.fifo_depths["right_px"] = 4096;
+      }
+      const StereoParams p = params(sz[0], sz[1], 16, 8, seed % 3 ? kern::kForwardPaths : kern::kAllPaths);
+      expect_cycle_equivalent(p, o, ++seed);
+    }
+}
+
+// --- timing: closed forms ------------------------------------------------------------------
+
+// With the aggregation as the only bottleneck it fires every II cycles without a gap:
+// busy = pixels x D/PU x II, and the frame takes exactly that many cycles per frame. (The LR
+// check's end-of-row flush would back-pressure it through a shallow FIFO, so it is off here.)
+TEST(Timing, AggregationClosedForm) {
+  for (const auto& c : {std::make_pair(16, 4), std::make_pair(60, 6), std::make_pair(64, 32)}) {
+    StereoParams p = params(80, 20, c.first, c.second, kern::kForwardPaths);
+    p.lr_check = false;
+    p.median = 0;
+    const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 1);
+    const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, one_pair_per_cycle());
+    const int64_t fires = int64_t(p.width_px) * p.height_px * (c.first / c.second);
+    const auto& agg = stage(r, "aggregate");
+    EXPECT_EQ(agg.fires, fires);
+    EXPECT_EQ(agg.busy_cycles, fires * 2);
+    if (c.first / c.second >= 1 && fires * 2 > int64_t(p.width_px) * p.height_px) {
+      EXPECT_EQ(r.bottleneck, "aggregate");
+      EXPECT_EQ(r.cycles_per_frame, fires * 2);
+      EXPECT_EQ(agg.last_fire_cycle - agg.first_fire_cycle, (fires - 1) * 2) << "the aggregation starved";
+    }
+  }
+}
+
+// The cost stage's line buffer must hold rh rows and rw pixels of the next row before its first
+// token: with one pair per cycle the aggregation fires first at (rh * W + rw) + 2 + L_cost
+// (pixel i arrives at cycle i, is visible one cycle later, is read by the cost stage at that
+// cycle, whose next firing writes the token, visible L_cost cycles later).
+TEST(Timing, LineBufferFillLatency) {
+  for (const auto& win : {std::make_pair(3, 3), std::make_pair(5, 5), std::make_pair(7, 5), std::make_pair(9, 7)})
+    for (int w : {40, 97}) {
+      StereoParams p = params(w, 12, 16, 16, kern::kPath0);
+      p.window_w = win.first;
+      p.window_h = win.second;
+      const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 2);
+      const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, one_pair_per_cycle());
+      const int rh = win.second / 2, rw = win.first / 2;
+      const int cost_latency = sim::default_timing(p).at("cost").latency_cycles;
+      EXPECT_EQ(stage(r, "aggregate").first_fire_cycle, int64_t(rh) * w + rw + 2 + cost_latency)
+          << win.first << "x" << win.second << " W=" << w;
+    }
+}
+
+// Camera input: pixels at the pixel clock with blanking; a fast pipeline is input-bound and its
+// frame period is (W + h_blank)(H + v_blank) pixel clocks.
+TEST(Timing, CameraBoundFramePeriod) {
+  StereoParams p = params(64, 16, 16, 16, kern::kForwardPaths);
+  const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 3);
+  sim::CycleOptions o = one_pair_per_cycle();
+  o.input = sim::InputKind::camera;
+  o.camera_pixel_hz = 25e6;  // 8 processing cycles per pixel
+  o.camera_h_blank_px = 16;
+  o.camera_v_blank_rows = 4;
+  const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, o);
+  EXPECT_EQ(r.input_period_cycles, int64_t(64 + 16) * (16 + 4) * 8);
+  EXPECT_EQ(r.cycles_per_frame, r.input_period_cycles);
+  EXPECT_EQ(r.bottleneck, "input");
+  EXPECT_TRUE(r.input_overrun.empty()) << r.input_overrun;
+}
+
+TEST(Timing, CameraOverrunIsReported) {
+  StereoParams p = params(64, 16, 64, 1, kern::kForwardPaths);  // 128 cycles per pixel
+  const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 4);
+  sim::CycleOptions o = one_pair_per_cycle();
+  o.input = sim::InputKind::camera;
+  o.camera_pixel_hz = 100e6;  // 2 cycles per pixel: far faster than the pipeline
+  const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, o);
+  EXPECT_NE(r.input_overrun.find("camera overrun"), std::string::npos);
+  EXPECT_NE(r.input_overrun.find("left_px"), std::string::npos) << r.input_overrun;
+}
+
+// FIFOs sized from the unbounded run remove every wait for FIFO space.
+TEST(Timing, StallFreeDepthsRemoveOutputStalls) {
+  StereoParams p = params(48, 10, 16, 4, kern::kForwardPaths);
+  const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, 5);
+  sim::CycleOptions o = one_pair_per_cycle();
+  o.fifo_depth = 1;
+  const sim::CycleReport tight = sim::run_cycle(sp.left, sp.right, p, o);
+  int64_t stalls = 0;
+  for (const auto& s : tight.stages) stalls += s.output_stall_cycles;
+  EXPECT_GT(stalls, 0);
+  const auto depths = sim::stall_free_depths(sp.left, sp.right, p, o);
+  for (const auto& kv : depths) o.fifo_depths[kv.first] = std::size_t(kv.second);
+  const sim::CycleReport sized = sim::run_cycle(sp.left, sp.right, p, o);
+  for (const auto& s : sized.stages) EXPECT_EQ(s.output_stall_cycles, 0) << s.name;
+  for (const auto& f : sized.fifos) EXPECT_LE(f.high_water, f.depth) << f.name;
+  EXPECT_LE(sized.last_pixel_cycle, tight.last_pixel_cycle);
+}
+
+TEST(Timing, HighWaterNeverExceedsDepth) {
+  StereoParams p = params(40, 9, 32, 8, kern::kAllPaths);
+  const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 6);
+  for (std::size_t depth : {std::size_t(1), std::size_t(3), std::size_t(16)}) {
+    sim::CycleOptions o = one_pair_per_cycle();
+    o.fifo_depth = depth;
+    const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, o);
+    for (const auto& f : r.fifos) {
+      EXPECT_LE(f.high_water, int64_t(depth)) << f.name;
+      EXPECT_GE(f.high_water, 1) << f.name;
+    }
+  }
+}
+
+// --- deadlock --------------------------------------------------------------------------------
+
+// A frame whose input ends early can never complete: the cost stage's plan waits for a pixel
+// that will not come. Reported, naming the FIFO, the finished producer and the cycle.
+TEST(Deadlock, StageWhosePlanCanNeverBeMet) {
+  StereoParams p = params(32, 8, 16, 4, kern::kForwardPaths);
+  const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 7);
+  sim::CycleOptions o = one_pair_per_cycle();
+  o.truncate_input_px = 100;
+  const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, o);
+  ASSERT_TRUE(r.deadlock);
+  EXPECT_NE(r.deadlock_message.find("stage 'cost' waits for a token on FIFO 'left_px'"), std::string::npos)
+      << r.deadlock_message;
+  EXPECT_NE(r.deadlock_message.find("producer 'source' has finished"), std::string::npos) << r.deadlock_message;
+  EXPECT_GT(r.deadlock_cycle, 99);
+  EXPECT_NE(r.deadlock_message.find("at cycle " + std::to_string(r.deadlock_cycle)), std::string::npos);
+}
+
+// A split that reconverges: branch B holds 8 tokens before it emits, so branch A must buffer 8.
+// With A 4 deep the graph deadlocks, and the diagnosis names A as too shallow.
+struct SplitJoin {
+  int64_t run(std::size_t depth_a, std::string* message) {
+    using namespace sim;
+    using namespace sim::detail;
+    Graph<true> g(nullptr);
+    Fifo<int> a("A", depth_a, true), b("B", 64, true), b2("B2", 64, true);
+    g.add_fifo(&a, "split", "join");
+    g.add_fifo(&b, "split", "delay");
+    g.add_fifo(&b2, "delay", "join");
+    auto& split = g.add_node("split", {1, 1, 0});
+    auto& delay = g.add_node("delay", {1, 1, 0});
+    auto& join = g.add_node("join", {1, 1, 0});
+    const int n = 40;
+    int sent = 0, held = 0, passed = 0, joined = 0;
+    std::vector<std::function<bool()>> pumps = {
+        [&] {
+          bool f = false;
+          while (sent < n && split.attempt({}, {Port{&a, true}, Port{&b, true}}, [&] {
+            a.write(sent);
+            b.write(sent);
+          })) {
+            ++sent;
+            f = true;
+          }
+          return f;
+        },
+        [&] {
+          bool f = false;
+          while (passed < n) {
+            const bool rd = held < 8 && sent > passed + held, wr = held == 8 || (sent == n && held > 0);
+            const bool reading = held < 8 && passed + held < n;
+            if (!delay.attempt({Port{&b, reading}}, {Port{&b2, !reading || held == 8}}, [&] {
+                  if (reading) {
+                    b.read();
+                    ++held;
+                  } else {
+                    b2.write(passed++);
+                    --held;
+                  }
+                }))
+              break;
+            (void)rd;
+            (void)wr;
+            f = true;
+          }
+          return f;
+        },
+        [&] {
+          bool f = false;
+          while (joined < n && join.attempt({Port{&a, true}, Port{&b2, true}}, {}, [&] {
+            a.read();
+            b2.read();
+          })) {
+            ++joined;
+            f = true;
+          }
+          return f;
+        }};
+    if (!g.schedule(pumps, [&] { return joined >= n; })) {
+      *message = g.deadlock_message();
+      return -1;
+    }
+    return join.report().last_fire_cycle;
+  }
+};
+
+TEST(Deadlock, UndersizedFifoIsNamed) {
+  SplitJoin sj;
+  std::string msg;
+  EXPECT_EQ(sj.run(4, &msg), -1);
+  EXPECT_NE(msg.find("FIFO 'A' is too shallow"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("deadlock at cycle"), std::string::npos) << msg;
+  EXPECT_GT(sj.run(16, &msg), 0) << msg;
+}
+
+// --- VCD -------------------------------------------------------------------------------------
+
+TEST(Vcd, WindowOfFifoOccupanciesAndStageSignals) {
+  StereoParams p = params(32, 8, 16, 4, kern::kForwardPaths);
+  const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 8);
+  sim::CycleOptions o = one_pair_per_cycle();
+  o.fifo_depth = 3;
+  o.vcd_path = ::testing::TempDir() + "parallax_cycle_test.vcd";
+  o.vcd_from = 100;
+  o.vcd_to = 900;
+  const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, o);
+  std::ifstream in(o.vcd_path);
+  ASSERT_TRUE(in.good());
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string vcd = ss.str();
+  for (const char* sig : {"$enddefinitions", "aggregate_valid", "aggregate_stall", "cost_valid", "fifo_cost", "fifo_sum",
+                          "$dumpvars"})
+    EXPECT_NE(vcd.find(sig), std::string::npos) << sig;
+  // Timestamps stay inside the window and are increasing.
+  std::istringstream lines(vcd);
+  std::string line;
+  int64_t last = -1, stamps = 0;
+  while (std::getline(lines, line))
+    if (!line.empty() && line[0] == '#') {
+      const int64_t t = std::stoll(line.substr(1));
+      EXPECT_GE(t, 100);
+      EXPECT_LE(t, 900);
+      EXPECT_GT(t, last);
+      last = t;
+      ++stamps;
+    }
+  EXPECT_GT(stamps, 50);
+  EXPECT_FALSE(r.deadlock);
+}
+
+}  // namespace
+}  // namespace parallax::test
+
+namespace parallax::test {
+namespace {
+
+// The kernels' plans depend on counters only, never on pixel values: timing is a property of the
+// design, so a sweep needs one cycle run per design, not one per frame.
+TEST(Timing, IndependentOfImageContent) {
+  for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths)}) {
+    StereoParams p = params(50, 12, 24, 6, paths);
+    const StereoPair a = make_pair(Pattern::kRandom, p.width_px, p.height_px, 11);
+    const StereoPair b = make_pair(Pattern::kFlat, p.width_px, p.height_px, 12);
+    const sim::CycleReport ra = sim::run_cycle(a.left, a.right, p, one_pair_per_cycle());
+    const sim::CycleReport rb = sim::run_cycle(b.left, b.right, p, one_pair_per_cycle());
+    EXPECT_EQ(ra.last_pixel_cycle, rb.last_pixel_cycle);
+    ASSERT_EQ(ra.stages.size(), rb.stages.size());
+    for (std::size_t i = 0; i < ra.stages.size(); ++i) {
+      EXPECT_EQ(ra.stages[i].input_stall_cycles, rb.stages[i].input_stall_cycles) << ra.stages[i].name;
+      EXPECT_EQ(ra.stages[i].output_stall_cycles, rb.stages[i].output_stall_cycles) << ra.stages[i].name;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace parallax::test
