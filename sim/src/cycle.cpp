@@ -35,6 +35,25 @@ TimingModel default_timing(const kern::StereoParams& p) {
   return t;
 }
 
+int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int row_banks, int chunk, int ii_cycles) {
+  const int packing = std::max(1, row_packing);
+  const int words = (p.disparities + packing - 1) / packing;
+  const int banks = row_banks <= 0 ? words : std::min(row_banks, words);
+  std::vector<int> access(std::size_t(banks), 0);
+  const int lo = chunk * p.parallel_units, hi = lo + p.parallel_units - 1;
+  auto touch = [&](int d_first, int d_last) {
+    d_first = std::max(d_first, 0);
+    d_last = std::min(d_last, p.disparities - 1);
+    if (d_first > d_last) return;
+    for (int w = d_first / packing; w <= d_last / packing; ++w) ++access[std::size_t(w % banks)];
+  };
+  touch(lo - 1, hi + 1);  // reads of the previous row's lanes (and the two neighbours)
+  touch(lo, hi);          // writes of this row's lanes
+  int worst = 0;
+  for (int a : access) worst = std::max(worst, (a + 1) / 2);
+  return std::max(0, worst - ii_cycles);
+}
+
 namespace {
 
 template <class Caps, class Word>

@@ -116,7 +116,10 @@ class Node {
   // Fires once if the plan's ports allow it (and, timed, no earlier than `earliest`): inputs
   // non-empty, outputs not full; timed: at max(t_next, visible inputs, free output slots).
   template <class Fire>
-  bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire, int64_t earliest = 0) {
+  // conflict_cycles: extra cycles this firing holds the stage because its memory accesses exceed
+  // the memories' ports within one II (see memory_conflict_cycles()).
+  bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire, int64_t earliest = 0,
+               int conflict_cycles = 0) {
     for (const Port& p : in)
       if (p.used && p.fifo->empty()) return block(p.fifo, true);
     for (const Port& p : out)
@@ -157,8 +160,9 @@ class Node {
       fire();
       if (report_.first_fire_cycle < 0) report_.first_fire_cycle = t;
       report_.last_fire_cycle = t;
-      t_next_ = t + timing_.ii_cycles;
-      report_.busy_cycles += timing_.ii_cycles;
+      t_next_ = t + timing_.ii_cycles + conflict_cycles;
+      report_.busy_cycles += timing_.ii_cycles + conflict_cycles;
+      report_.port_conflict_cycles += conflict_cycles;
     } else {
       fire();
     }
@@ -430,12 +434,19 @@ class Engine {
 
   template <class CostIn, class FwdIn, class SumOut, class TeeOut>
   std::function<bool()> agg_pump(NodeT& n, CostIn& c, FwdIn* f, SumOut& s, TeeOut* t) {
-    return [this, &n, &c, f, &s, t] {
+    // Extra cycles of each chunk's firing from the path-cost row memories' ports.
+    std::vector<int> conflicts(std::size_t(p_.disparities / p_.parallel_units), 0);
+    if (kTimed && setup_.opt)
+      for (std::size_t k = 0; k < conflicts.size(); ++k)
+        conflicts[k] = row_memory_conflict_cycles(p_, setup_.opt->row_packing, setup_.opt->row_banks, int(k),
+                                                  timing_.count(n.name()) ? timing_.at(n.name()).ii_cycles : 1);
+    return [this, &n, &c, f, &s, t, conflicts] {
       bool fired = false;
       kern::NoStream<SumTok> no_sum;
       kern::NoStream<CostTok> no_cost;
       while (!agg_.done()) {
         const kern::AggPlan pl = agg_.plan();
+        const int extra = conflicts[std::size_t(n.report().fires) % conflicts.size()];
         const bool ok = n.attempt({Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}}, [&] {
           if (f && t)
             agg_.fire(pl, c, *f, s, *t);
@@ -445,7 +456,7 @@ class Engine {
             agg_.fire(pl, c, no_sum, s, *t);
           else
             agg_.fire(pl, c, no_sum, s, no_cost);
-        });
+        }, 0, extra);
         if (!ok) break;
         fired = true;
       }

@@ -216,3 +216,37 @@ TEST(Cli, RectifyNeedsItsMapsAndTheRightSize) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(CliSim, JsonCarriesTheTimingKeys) {
+  const fs::path d = temp_dir("sim");
+  const CliRun r = run_cli("sim --config " + kCensus + " --set roi=96x24 --json --out " + (d / "s.png").string() +
+                           " --vcd " + (d / "t.vcd").string() + " --vcd-cycles 0:5000 2>/dev/null");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* k : {"cycles_per_frame", "first_pixel_cycle", "last_pixel_cycle", "latency_ms", "frame_interval_ms",
+                        "fps", "bottleneck", "busy_cycles", "input_stall_cycles", "output_stall_cycles", "high_water",
+                        "stall_free_depth", "port_conflict_cycles"})
+    EXPECT_NE(r.output.find(std::string("\"") + k + "\""), std::string::npos) << k;
+  EXPECT_TRUE(fs::exists(d / "s.png"));
+  EXPECT_TRUE(fs::exists(d / "t.vcd"));
+}
+
+TEST(CliSim, SimOfAPairMatchesRun) {
+  const fs::path d = temp_dir("sim_pair");
+  const std::string pair = " --left " + kData + "/image_2/000005_10.png --right " + kData + "/image_3/000005_10.png";
+  ASSERT_EQ(run_cli("sim --config " + kCensus + " --no-sizing" + pair + " --out " + (d / "c.png").string()).status, 0);
+  ASSERT_EQ(run_cli("run --config " + kCensus + pair + " --out " + (d / "f.png").string()).status, 0);
+  const cv::Mat c = cv::imread((d / "c.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat f = cv::imread((d / "f.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(c.empty());
+  EXPECT_EQ(cv::countNonZero(c != f), 0);
+}
+
+TEST(CliSim, BadVcdWindowIsRejected) {
+  const CliRun r = run_cli("sim --config " + kCensus + " --set roi=32x8 --vcd /tmp/x.vcd --vcd-cycles 9:3");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--vcd-cycles"), std::string::npos) << r.output;
+}
+
+}  // namespace

@@ -73,7 +73,7 @@ const std::vector<std::string>& field_names() {
       "name", "roi", "cost", "window", "disparities", "parallel_units", "paths", "p1", "p2",
       "lr_check", "lr_tolerance", "median", "clock_mhz", "rectify", "rectify_rows", "rectify_frac_bits",
       "rectify_maps_left", "rectify_maps_right", "input", "input_gbps", "camera_pixel_mhz", "camera_h_blank_px",
-      "camera_v_blank_rows", "ddr_gbps", "ddr_latency_ns", "fifo_depth", "fifo_depth_<fifo>", "ii_<stage>",
+      "camera_v_blank_rows", "ddr_gbps", "ddr_latency_ns", "fifo_depth", "row_packing", "row_banks", "fifo_depth_<fifo>", "ii_<stage>",
       "latency_<stage>", "setup_<stage>", "host_copy_gbps", "host_latency_ms", "host_frame_ms"};
   return names;
 }
@@ -162,6 +162,8 @@ void set_field(PipelineConfig& c, const std::string& key, const std::string& raw
   else if (key == "ddr_gbps") c.ddr_gbps = parse_double(key, v);
   else if (key == "ddr_latency_ns") c.ddr_latency_ns = parse_int(key, v);
   else if (key == "fifo_depth") c.fifo_depth = parse_int(key, v);
+  else if (key == "row_packing") c.row_packing = parse_int(key, v);
+  else if (key == "row_banks") c.row_banks = parse_int(key, v);
   else if (key == "host_copy_gbps") c.host_copy_gbps = parse_double(key, v);
   else if (key == "host_latency_ms") c.host_latency_ms = parse_double(key, v);
   else if (key == "host_frame_ms") c.host_frame_ms = parse_double(key, v);
@@ -215,6 +217,8 @@ std::vector<FieldError> validate(const PipelineConfig& c) {
   need(c.ddr_gbps > 0, "ddr_gbps", "must be > 0");
   need(c.ddr_latency_ns >= 0, "ddr_latency_ns", "must be >= 0");
   need(c.fifo_depth >= 1, "fifo_depth", "must be >= 1");
+  need(c.row_packing >= 1 && c.row_packing <= 256, "row_packing", "must be in [1, 256]");
+  need(c.row_banks >= 0, "row_banks", "must be >= 0 (0 = one memory per word)");
   for (const auto& kv : c.fifo_depths)
     need(kv.second >= 1, "fifo_depth_", "fifo_depth_" + kv.first + " must be >= 1");
   static const char* kStages[] = {"source", "cost", "aggregate", "aggregate_back", "wta_lr", "median", "sink",
@@ -341,6 +345,8 @@ std::string to_yaml(const PipelineConfig& c) {
   o << "ddr_gbps: " << c.ddr_gbps << "\n";
   o << "ddr_latency_ns: " << c.ddr_latency_ns << "\n";
   o << "fifo_depth: " << c.fifo_depth << "\n";
+  o << "row_packing: " << c.row_packing << "\n";
+  o << "row_banks: " << c.row_banks << "\n";
   for (const auto& kv : c.fifo_depths) o << "fifo_depth_" << kv.first << ": " << kv.second << "\n";
   for (const auto& kv : c.stage_ii) o << "ii_" << kv.first << ": " << kv.second << "\n";
   for (const auto& kv : c.stage_latency) o << "latency_" << kv.first << ": " << kv.second << "\n";

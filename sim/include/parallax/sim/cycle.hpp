@@ -49,6 +49,11 @@ struct CycleOptions {
   std::size_t fifo_depth = 2;
   std::map<std::string, std::size_t> fifo_depths;
   TimingModel timing;  // overrides on top of default_timing()
+  // Memory of the aggregation's path-cost rows: row_packing disparities per memory word, the
+  // words of a column spread cyclically over row_banks memories per path (0 = one memory per
+  // word, i.e. complete partitioning, as Vitis does). Each memory has two ports (true dual port).
+  int row_packing = 1;
+  int row_banks = 0;
   // Test hook: the source stops after this many pixels (a frame that never completes).
   int64_t truncate_input_px = -1;
   // VCD trace of FIFO occupancies and stage valid/stall signals for cycles [vcd_from, vcd_to).
@@ -95,6 +100,11 @@ struct CycleReport {
   // Camera input only: the first pixel that found no room (a camera cannot wait).
   std::string input_overrun;
 };
+
+// Extra cycles a firing of chunk `chunk` needs beyond II because the path-cost row memories'
+// accesses (per row path: read lanes [lo-1, lo+PU], write lanes [lo, lo+PU-1]) exceed two ports
+// per memory within II cycles: max over memories of ceil(accesses / 2) - II, at least 0.
+int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int row_banks, int chunk, int ii_cycles);
 
 // Runs one frame through the cycle model with the design's PU. The codes are bit-identical to the
 // func run (tested).

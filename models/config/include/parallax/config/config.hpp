@@ -49,6 +49,10 @@ struct PipelineConfig {
   double ddr_gbps = 4.0;          // frame buffer of the 8-path variant
   int ddr_latency_ns = 150;
   int fifo_depth = 2;             // default depth of every FIFO
+  // Path-cost row memories of the aggregation: disparities per memory word, and memories per
+  // path (0 = one per word: complete partitioning). Timing counts their port conflicts.
+  int row_packing = 1;
+  int row_banks = 0;
   std::map<std::string, int> fifo_depths;        // fifo_depth_<name>: per FIFO
   std::map<std::string, int> stage_ii;           // ii_<stage>: II override (calibration)
   std::map<std::string, int> stage_latency;      // latency_<stage>: latency override
