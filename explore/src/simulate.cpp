@@ -69,7 +69,11 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
   SimulationResult res;
   res.clock_mhz = clock_mhz;
   res.cycle = sim::run_cycle(l, r, p, opt);
-  if (size_fifos && !res.cycle.deadlock) res.stall_free_depths = sim::stall_free_depths(l, r, p, opt);
+  if (size_fifos && !res.cycle.deadlock) {
+    const sim::FifoSizing sizing = sim::stall_free_depths(l, r, p, opt);
+    res.stall_free_depths = sizing.depths;
+    res.unbounded_last_pixel_cycle = sizing.last_pixel_cycle;
+  }
   const double cycle_ms = 1e3 / opt.clock_hz;
   res.fpga_first_pixel_ms = double(res.cycle.first_pixel_cycle + 1) * cycle_ms;
   res.fpga_last_pixel_ms = double(res.cycle.last_pixel_cycle + 1) * cycle_ms;

@@ -86,8 +86,8 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
   return rep;
 }
 
-std::map<std::string, int64_t> stall_free_depths(const GreyImage& left, const GreyImage& right,
-                                                 const kern::StereoParams& p, const CycleOptions& opt) {
+FifoSizing stall_free_depths(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                             const CycleOptions& opt) {
   CycleOptions o = opt;
   o.vcd_path.clear();
   CycleReport rep;
@@ -95,9 +95,10 @@ std::map<std::string, int64_t> stall_free_depths(const GreyImage& left, const Gr
   setup.opt = &o;
   setup.unbounded = true;
   dispatch(left, right, p, setup, rep);
-  std::map<std::string, int64_t> depths;
-  for (const auto& f : rep.fifos) depths[f.name] = std::max<int64_t>(1, f.high_water);
-  return depths;
+  FifoSizing sizing;
+  for (const auto& f : rep.fifos) sizing.depths[f.name] = std::max<int64_t>(1, f.high_water);
+  sizing.last_pixel_cycle = rep.last_pixel_cycle;
+  return sizing;
 }
 
 namespace detail {

@@ -194,11 +194,12 @@ TEST(Timing, StallFreeDepthsRemoveOutputStalls) {
   for (const auto& s : tight.stages) stalls += s.output_stall_cycles;
   EXPECT_GT(stalls, 0);
   const auto depths = sim::stall_free_depths(sp.left, sp.right, p, o);
-  for (const auto& kv : depths) o.fifo_depths[kv.first] = std::size_t(kv.second);
+  for (const auto& kv : depths.depths) o.fifo_depths[kv.first] = std::size_t(kv.second);
   const sim::CycleReport sized = sim::run_cycle(sp.left, sp.right, p, o);
   for (const auto& s : sized.stages) EXPECT_EQ(s.output_stall_cycles, 0) << s.name;
   for (const auto& f : sized.fifos) EXPECT_LE(f.high_water, f.depth) << f.name;
   EXPECT_LE(sized.last_pixel_cycle, tight.last_pixel_cycle);
+  EXPECT_EQ(sized.last_pixel_cycle, depths.last_pixel_cycle);
 }
 
 TEST(Timing, HighWaterNeverExceedsDepth) {

@@ -513,6 +513,7 @@ int main(int argc, char** argv) {
         j["interval_limit"] = res.interval_limit;
         j["bottleneck"] = c.bottleneck;
         j["input_period_cycles"] = c.input_period_cycles;
+        if (res.unbounded_last_pixel_cycle >= 0) j["unbounded_fifos_last_pixel_cycle"] = res.unbounded_last_pixel_cycle;
         j["stages"] = json::array();
         for (const auto& s : c.stages)
           j["stages"].push_back({{"name", s.name}, {"ii_cycles", s.ii_cycles}, {"latency_cycles", s.latency_cycles},
@@ -544,6 +545,11 @@ int main(int argc, char** argv) {
           std::printf("%-15s %4d %4d %10lld %12lld %12lld %12lld %12lld %12lld\n", s.name.c_str(), s.ii_cycles,
                       s.latency_cycles, (long long)s.fires, (long long)s.busy_cycles, (long long)s.input_stall_cycles,
                       (long long)s.output_stall_cycles, (long long)s.first_fire_cycle, (long long)s.last_fire_cycle);
+        if (res.unbounded_last_pixel_cycle >= 0)
+          std::printf("\nwith unbounded FIFOs the last pixel leaves at cycle %lld (%+lld cycles); stall_free = depth at which\n"
+                      "no producer ever waits (behind a faster producer: its whole backlog, harmless back-pressure)\n",
+                      (long long)res.unbounded_last_pixel_cycle,
+                      (long long)(res.unbounded_last_pixel_cycle - c.last_pixel_cycle));
         std::printf("\n%-15s %-15s %-15s %7s %10s %10s %12s\n", "fifo", "producer", "consumer", "depth", "tokens",
                     "high_water", "stall_free");
         for (const auto& f : c.fifos) {

@@ -18,6 +18,7 @@ sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz
 struct SimulationResult {
   sim::CycleReport cycle;
   std::map<std::string, int64_t> stall_free_depths;  // empty unless sized
+  int64_t unbounded_last_pixel_cycle = -1;           // last pixel with unbounded FIFOs (sized runs)
   int clock_mhz = 0;
   double fpga_first_pixel_ms = 0.0;  // first output pixel after the first input pixel
   double fpga_last_pixel_ms = 0.0;   // last output pixel after the first input pixel

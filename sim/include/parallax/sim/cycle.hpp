@@ -113,7 +113,13 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
 
 // The same frame with every FIFO unbounded: the high-water marks are the smallest depths with
 // which no stage ever waits for FIFO space (tested: sizing FIFOs so removes all output stalls).
-std::map<std::string, int64_t> stall_free_depths(const GreyImage& left, const GreyImage& right,
-                                                 const kern::StereoParams& p, const CycleOptions& opt);
+// Behind a producer faster than its consumer that depth is the whole backlog; compare
+// last_pixel_cycle with the bounded run's to see whether the back-pressure costs anything.
+struct FifoSizing {
+  std::map<std::string, int64_t> depths;
+  int64_t last_pixel_cycle = -1;
+};
+FifoSizing stall_free_depths(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                             const CycleOptions& opt);
 
 }  // namespace parallax::sim
