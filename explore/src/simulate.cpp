@@ -35,26 +35,14 @@ sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz
   for (const auto& kv : cfg.fifo_depths) o.fifo_depths[kv.first] = std::size_t(kv.second);
   const kern::StereoParams p = cfg.stereo_params(cfg.roi_width_px, cfg.roi_height_px);
   const sim::TimingModel defaults = sim::default_timing(p);
-  for (const auto& kv : cfg.stage_ii) {
-    sim::StageTiming t = defaults.count(kv.first) ? defaults.at(kv.first) : sim::StageTiming{};
-    if (o.timing.count(kv.first)) t = o.timing[kv.first];
-    t.ii_cycles = kv.second;
-    o.timing[kv.first] = t;
-  }
-  for (const auto& kv : cfg.stage_latency) {
-    sim::StageTiming t = o.timing.count(kv.first) ? o.timing[kv.first]
-                         : defaults.count(kv.first) ? defaults.at(kv.first)
-                                                    : sim::StageTiming{};
-    t.latency_cycles = kv.second;
-    o.timing[kv.first] = t;
-  }
-  for (const auto& kv : cfg.stage_setup) {
-    sim::StageTiming t = o.timing.count(kv.first) ? o.timing[kv.first]
-                         : defaults.count(kv.first) ? defaults.at(kv.first)
-                                                    : sim::StageTiming{};
-    t.setup_cycles = kv.second;
-    o.timing[kv.first] = t;
-  }
+  // The stage's timing so far: an earlier override, else the default derived from the kernels.
+  auto timing_of = [&](const std::string& stage) -> sim::StageTiming& {
+    if (!o.timing.count(stage)) o.timing[stage] = defaults.count(stage) ? defaults.at(stage) : sim::StageTiming{};
+    return o.timing[stage];
+  };
+  for (const auto& kv : cfg.stage_ii) timing_of(kv.first).ii_cycles = kv.second;
+  for (const auto& kv : cfg.stage_latency) timing_of(kv.first).latency_cycles = kv.second;
+  for (const auto& kv : cfg.stage_setup) timing_of(kv.first).setup_cycles = kv.second;
   return o;
 }
 
