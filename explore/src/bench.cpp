@@ -86,6 +86,12 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
     static sim::FuncPipeline pipe;  // one per child process; reused across iterations
     (void)run_design(cfg, left, right, pipe);
   });
+  add("parallax func, design PU", [&] {
+    static sim::FuncPipeline pipe;
+    sim::FuncOptions design;
+    design.use_design_pu = true;
+    (void)run_design(cfg, left, right, pipe, design);
+  });
   add("parallax cycle " + cfg.name, [&] {
     const sim::CycleOptions opt = cycle_options(cfg, cfg.clock_mhz);
     const kern::StereoParams p = cfg.stereo_params(left.cols, left.rows);
@@ -98,7 +104,7 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
   bp.block_size = cfg.window_w;
   add("opencv StereoSGBM MODE_HH4", [&] { (void)run_baseline(Baseline::opencv_hh4, bp, left, right); });
   add("opencv StereoSGBM MODE_SGBM", [&] { (void)run_baseline(Baseline::opencv_sgbm, bp, left, right); });
-  const double peer = rows[2].median_ms, peer_min = rows[2].min_ms;
+  const double peer = rows[3].median_ms, peer_min = rows[3].min_ms;
   for (auto& r : rows) {
     r.ratio_to_peer = peer > 0 ? r.median_ms / peer : 0.0;
     r.min_ratio_to_peer = peer_min > 0 ? r.min_ms / peer_min : 0.0;

@@ -37,10 +37,10 @@ RoiSize roi_for(const config::PipelineConfig& cfg) {
 }
 
 DisparityMap run_design(const config::PipelineConfig& cfg, const cv::Mat& left, const cv::Mat& right,
-                        sim::FuncPipeline& pipeline) {
+                        sim::FuncPipeline& pipeline, const sim::FuncOptions& options) {
   CV_Assert(left.type() == CV_8UC1 && right.type() == CV_8UC1 && left.size() == right.size());
   const kern::StereoParams p = cfg.stereo_params(left.cols, left.rows);
-  const sim::DisparityCodes codes = pipeline.run(to_grey_image(left), to_grey_image(right), p);
+  const sim::DisparityCodes codes = pipeline.run(to_grey_image(left), to_grey_image(right), p, options);
   DisparityMap out;
   out.disparity_px = cv::Mat(left.rows, left.cols, CV_32FC1);
   out.valid_mask = cv::Mat(left.rows, left.cols, CV_8UC1);

@@ -22,8 +22,9 @@ struct BenchRow {
 };
 
 // Runs each method `iterations` times in its own forked process (so that peak memory is its
-// own), one thread each. Rows: the design's func run, its cycle run (cycle model at the config's
-// clock), OpenCV MODE_HH4, OpenCV MODE_SGBM. Ratios are to MODE_HH4.
+// own), one thread each. Rows: the design's func run, the func run at the design's PU (the
+// cycle model's granularity), its cycle run (at the config's clock), OpenCV MODE_HH4, OpenCV
+// MODE_SGBM. Ratios are to MODE_HH4.
 std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Mat& left_grey,
                                  const cv::Mat& right_grey, int iterations);
 

@@ -35,7 +35,7 @@ void rectify_pair(const config::PipelineConfig& cfg, const RectifyMaps& maps, cv
 // Runs the design's kernels (func run) on one grey pair of equal size; returns the disparity in
 // px with its validity mask (invalid codes become mask 0).
 DisparityMap run_design(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
-                        sim::FuncPipeline& pipeline);
+                        sim::FuncPipeline& pipeline, const sim::FuncOptions& options = {});
 
 // The peers every design is compared with: OpenCV's StereoSGBM in two modes.
 enum class Baseline { opencv_hh4, opencv_sgbm };
