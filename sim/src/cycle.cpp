@@ -69,7 +69,10 @@ void dispatch(const GreyImage& left, const GreyImage& right, const kern::StereoP
   if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
   const bool wide = p.parallel_units > 64;
   const bool word32 = kern::aggregate_bits(p) > 16;
-  if (!wide && !word32) run_timed<detail::NarrowCaps, uint16_t>(left, right, p, setup, rep);
+  // Tokens no longer than the design's PU needs: every firing copies one through a FIFO.
+  if (p.parallel_units <= 8 && !word32) run_timed<detail::TinyCaps, uint16_t>(left, right, p, setup, rep);
+  else if (p.parallel_units <= 8) run_timed<detail::TinyCaps, uint32_t>(left, right, p, setup, rep);
+  else if (!wide && !word32) run_timed<detail::NarrowCaps, uint16_t>(left, right, p, setup, rep);
   else if (!wide) run_timed<detail::NarrowCaps, uint32_t>(left, right, p, setup, rep);
   else if (!word32) run_timed<detail::WideCaps, uint16_t>(left, right, p, setup, rep);
   else run_timed<detail::WideCaps, uint32_t>(left, right, p, setup, rep);

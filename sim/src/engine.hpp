@@ -440,13 +440,13 @@ class Engine {
       for (std::size_t k = 0; k < conflicts.size(); ++k)
         conflicts[k] = row_memory_conflict_cycles(p_, setup_.opt->row_packing, setup_.opt->row_banks, int(k),
                                                   timing_.count(n.name()) ? timing_.at(n.name()).ii_cycles : 1);
-    return [this, &n, &c, f, &s, t, conflicts] {
+    return [this, &n, &c, f, &s, t, conflicts, chunk = std::size_t(0)]() mutable {
       bool fired = false;
       kern::NoStream<SumTok> no_sum;
       kern::NoStream<CostTok> no_cost;
       while (!agg_.done()) {
         const kern::AggPlan pl = agg_.plan();
-        const int extra = conflicts[std::size_t(n.report().fires) % conflicts.size()];
+        const int extra = conflicts[chunk];
         const bool ok = n.attempt({Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}}, [&] {
           if (f && t)
             agg_.fire(pl, c, *f, s, *t);
@@ -458,6 +458,7 @@ class Engine {
             agg_.fire(pl, c, no_sum, s, no_cost);
         }, 0, extra);
         if (!ok) break;
+        if (++chunk == conflicts.size()) chunk = 0;
         fired = true;
       }
       return fired;
@@ -703,6 +704,7 @@ class Engine {
   std::vector<SumTok> frame_fwd_;
 };
 
+using TinyCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 8>;  // PU <= 8: 16-byte tokens
 using NarrowCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 64>;
 using WideCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 256>;
 

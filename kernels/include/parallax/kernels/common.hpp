@@ -18,6 +18,13 @@
 #define PX_PRAGMA(x)
 #endif
 
+// Inlining hint for small per-firing helpers (software builds; HLS inlines small functions itself).
+#if defined(__GNUC__) && !defined(__SYNTHESIS__)
+#define PX_INLINE inline __attribute__((always_inline))
+#else
+#define PX_INLINE inline
+#endif
+
 // Promise of non-overlapping pointers (lets software builds vectorise lane copies).
 #if defined(__GNUC__) && !defined(__SYNTHESIS__)
 #define PX_RESTRICT __restrict__

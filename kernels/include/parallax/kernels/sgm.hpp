@@ -137,7 +137,7 @@ class SgmAggregate {
   // new Lr lanes go. Returns false at the start of the path (predecessor outside the image).
   // Memory contract: row_[s][x] holds the previous row's Lr until this pixel overwrites it;
   // hold_[s][parity] receives the old row values of this pixel (read before the write).
-  bool predecessor(int slot, int lo, Word* local, const Word** pred, uint32_t* m_prev, Word** dest) {
+  PX_INLINE bool predecessor(int slot, int lo, Word* local, const Word** pred, uint32_t* m_prev, Word** dest) {
     const int d_count = p_.disparities;
     const int kind = kind_[slot];
     const int par = parity_;
@@ -177,6 +177,12 @@ class SgmAggregate {
     return true;
   }
 
+  // GCC 12 cannot see that a token read from a FIFO is initialised in every lane it uses when
+  // the token type is narrow (8 lanes) and n is a runtime value; the lanes read are < n <= LANES.
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__SYNTHESIS__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
   // Lr(p, d) = C(p, d) + min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M for n lanes, added into
   // sum; returns the running minimum. pred[i] is Lr(q, lo - 1 + i), with kNone outside [0, D).
   // In Word arithmetic: sums that could exceed Word saturate, which cannot change a minimum
@@ -203,6 +209,10 @@ class SgmAggregate {
     }
     return uint32_t(lane_min) < run_min ? uint32_t(lane_min) : run_min;
   }
+
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__SYNTHESIS__)
+#pragma GCC diagnostic pop
+#endif
 
   // a + b, saturating at kNone (the largest value Lr arithmetic needs).
   static Word sat_add(Word a, Word b) {
