@@ -1,5 +1,7 @@
 #include "parallax/explore/simulate.hpp"
 
+#include "parallax/explore/evaluate.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -54,6 +56,20 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
   opt.vcd_to = vcd_to;
   const kern::StereoParams p = cfg.stereo_params(left.cols, left.rows);
   const sim::GreyImage l = grey(left), r = grey(right);
+  RectifyMaps maps;
+  if (cfg.rectify != "none") {
+    maps = load_rectify_maps(cfg);
+    if (maps.width_px != left.cols || maps.height_px != left.rows)
+      throw InputError(cfg.rectify_maps_left + ": the cycle model rectifies the frames it processes, so the remap "
+                       "tables must be of the processed size " + std::to_string(left.cols) + "x" +
+                       std::to_string(left.rows) + " (they are " + std::to_string(maps.width_px) + "x" +
+                       std::to_string(maps.height_px) + "); give roi: full with full-size maps");
+    opt.rectify = kern::RectifyParams{left.cols, left.rows,
+                                      cfg.rectify == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest,
+                                      cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0, cfg.rectify_rows};
+    opt.rectify_map_left = &maps.left;
+    opt.rectify_map_right = &maps.right;
+  }
   SimulationResult res;
   res.clock_mhz = clock_mhz;
   res.cycle = sim::run_cycle(l, r, p, opt);

@@ -32,6 +32,9 @@ TimingModel default_timing(const kern::StereoParams& p) {
   t["sink"] = {1, 0};
   t["ddr_write"] = {1, 1};
   t["ddr_read"] = {1, 1};
+  // Remap: nearest is a read; bilinear adds two multiply levels and the rounding shift.
+  t["map_left"] = t["map_right"] = {1, 1};
+  t["rectify_left"] = t["rectify_right"] = {1, 5};
   return t;
 }
 

@@ -20,6 +20,7 @@
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/median.hpp"
+#include "parallax/kernels/rectify.hpp"
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
@@ -514,6 +515,90 @@ class Engine {
 
   void mark_done(const std::string& name) { graph_->mark_done(name); }
 
+  // The input of the graph: the source, and with rectification a map source and a rectify stage
+  // per camera. Returns the pumps; out_l / out_r feed the cost stage.
+  struct FrontEnd {
+    std::unique_ptr<Fifo<uint8_t>> raw_l, raw_r, out_l, out_r;
+    std::unique_ptr<Fifo<kern::MapEntry>> map_l, map_r;
+    int64_t next_src = 0, next_map_l = 0, next_map_r = 0;
+    std::vector<std::function<bool()>> pumps;
+  };
+  static constexpr int kRectifyRows = 256;
+  using RectifyStage = kern::Rectify<kern::kMaxWidthPx, kRectifyRows>;
+
+  bool rectifying() const {
+    return kTimed && setup_.opt && setup_.opt->rectify.mode != kern::kRectifyNone && setup_.opt->rectify_map_left &&
+           setup_.opt->rectify_map_right;
+  }
+
+  std::unique_ptr<FrontEnd> front_end(const GreyImage& left, const GreyImage& right) {
+    auto fe = std::make_unique<FrontEnd>();
+    FrontEnd& f = *fe;
+    NodeT& n_src = node("source");
+    if (!rectifying()) {
+      f.out_l = make_fifo<uint8_t>("left_px", kPixelDepth, "source", "cost");
+      f.out_r = make_fifo<uint8_t>("right_px", kPixelDepth, "source", "cost");
+      f.pumps.push_back(source_pump(n_src, left, right, *f.out_l, *f.out_r, f.next_src));
+      return fe;
+    }
+    const kern::RectifyParams& rp = setup_.opt->rectify;
+    f.raw_l = make_fifo<uint8_t>("raw_left_px", kPixelDepth, "source", "rectify_left");
+    f.raw_r = make_fifo<uint8_t>("raw_right_px", kPixelDepth, "source", "rectify_right");
+    f.map_l = make_fifo<kern::MapEntry>("map_left", kPixelDepth, "map_left", "rectify_left");
+    f.map_r = make_fifo<kern::MapEntry>("map_right", kPixelDepth, "map_right", "rectify_right");
+    f.out_l = make_fifo<uint8_t>("left_px", kPixelDepth, "rectify_left", "cost");
+    f.out_r = make_fifo<uint8_t>("right_px", kPixelDepth, "rectify_right", "cost");
+    f.pumps.push_back(source_pump(n_src, left, right, *f.raw_l, *f.raw_r, f.next_src));
+    if (!rect_l_) rect_l_ = std::make_unique<RectifyStage>();
+    if (!rect_r_) rect_r_ = std::make_unique<RectifyStage>();
+    rect_l_->configure(rp);
+    rect_r_->configure(rp);
+    Rate maps;
+    maps.cycles_per_token = 8.0 * setup_.opt->clock_hz / setup_.opt->input_bytes_per_s;
+    auto map_pump = [this, maps](NodeT& n, const std::vector<kern::MapEntry>& table, Fifo<kern::MapEntry>& out,
+                                 int64_t& next) -> std::function<bool()> {
+      return [&n, &table, &out, &next, maps] {
+        bool fired = false;
+        while (next < int64_t(table.size())) {
+          const int64_t i = next;
+          if (!n.attempt({}, {Port{&out, true}}, [&] { out.write(table[std::size_t(i)]); }, maps.at(i))) break;
+          ++next;
+          fired = true;
+        }
+        return fired;
+      };
+    };
+    auto rect_pump = [](NodeT& n, RectifyStage& st, Fifo<uint8_t>& raw, Fifo<kern::MapEntry>& map,
+                        Fifo<uint8_t>& out) -> std::function<bool()> {
+      return [&n, &st, &raw, &map, &out] {
+        bool fired = false;
+        while (!st.done()) {
+          const kern::RectifyPlan pl = st.plan();
+          if (!pl.read_pixel && !pl.write) break;
+          if (!n.attempt({Port{&raw, pl.read_pixel}, Port{&map, pl.write}}, {Port{&out, pl.write}},
+                         [&] { st.fire(pl, raw, map, out); }))
+            break;
+          fired = true;
+        }
+        return fired;
+      };
+    };
+    NodeT& n_ml = node("map_left");
+    NodeT& n_mr = node("map_right");
+    NodeT& n_rl = node("rectify_left");
+    NodeT& n_rr = node("rectify_right");
+    f.pumps.push_back(map_pump(n_ml, *setup_.opt->rectify_map_left, *f.map_l, f.next_map_l));
+    f.pumps.push_back(map_pump(n_mr, *setup_.opt->rectify_map_right, *f.map_r, f.next_map_r));
+    f.pumps.push_back(rect_pump(n_rl, *rect_l_, *f.raw_l, *f.map_l, *f.out_l));
+    f.pumps.push_back(rect_pump(n_rr, *rect_r_, *f.raw_r, *f.map_r, *f.out_r));
+    return fe;
+  }
+
+  void collect_front_end(FrontEnd& f) {
+    if (f.raw_l) collect(std::move(f.raw_l), std::move(f.raw_r), std::move(f.map_l), std::move(f.map_r));
+    if (rep_ && rectifying()) rep_->rectify_window_misses = rect_l_->window_misses() + rect_r_->window_misses();
+  }
+
   // --- graphs ------------------------------------------------------------------------------
 
   static constexpr std::size_t kPixelDepth = 2048;
@@ -525,26 +610,31 @@ class Engine {
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, false);
     wta_.configure(p_, false);
     median_.configure(p_);
-    auto in_l = make_fifo<uint8_t>("left_px", kPixelDepth, "source", "cost");
-    auto in_r = make_fifo<uint8_t>("right_px", kPixelDepth, "source", "cost");
+    std::unique_ptr<FrontEnd> fe = front_end(left, right);
+    Fifo<uint8_t>& in_l = *fe->out_l;
+    Fifo<uint8_t>& in_r = *fe->out_r;
     auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "aggregate");
     auto sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate", "wta_lr");
     auto disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
     auto filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
-    NodeT& n_src = node("source");
     NodeT& n_cost = node("cost");
     NodeT& n_agg = node("aggregate");
     NodeT& n_wta = node("wta_lr");
     NodeT& n_med = node("median");
     NodeT& n_sink = node("sink");
-    int64_t next_src = 0, got = 0;
+    int64_t got = 0;
     const int64_t total = int64_t(out.code.size());
-    schedule({source_pump(n_src, left, right, *in_l, *in_r, next_src), cost_pump(n_cost, cost, *in_l, *in_r, *costs),
-              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *sums, nullptr),
-              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
-              sink_pump(n_sink, *filtered, out, got, false)},
-             [&] { return got >= total; });
-    collect(std::move(in_l), std::move(in_r), std::move(costs), std::move(sums), std::move(disp), std::move(filtered));
+    std::vector<std::function<bool()>> pumps = fe->pumps;
+    pumps.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
+    pumps.push_back(
+        agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *sums, nullptr));
+    pumps.push_back(wta_pump(n_wta, *sums, *disp));
+    pumps.push_back(median_pump(n_med, *disp, *filtered));
+    pumps.push_back(sink_pump(n_sink, *filtered, out, got, false));
+    schedule(pumps, [&] { return got >= total; });
+    collect_front_end(*fe);
+    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(sums), std::move(disp),
+            std::move(filtered));
   }
 
   // Pass 1 writes C and F to the frame buffer through `ddr_write`; pass 2 starts when the last
@@ -559,16 +649,16 @@ class Engine {
     const Rate ddr = ddr_rate();
     cost.configure(p_);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
-    auto in_l = make_fifo<uint8_t>("left_px", kPixelDepth, "source", "cost");
-    auto in_r = make_fifo<uint8_t>("right_px", kPixelDepth, "source", "cost");
+    std::unique_ptr<FrontEnd> fe = front_end(left, right);
+    Fifo<uint8_t>& in_l = *fe->out_l;
+    Fifo<uint8_t>& in_r = *fe->out_r;
     auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "aggregate");
     auto tee = make_fifo<CostTok>("cost_to_ddr", kTokenDepth, "aggregate", "ddr_write");
     auto fwd = make_fifo<SumTok>("fwd_to_ddr", kTokenDepth, "aggregate", "ddr_write");
-    NodeT& n_src = node("source");
     NodeT& n_cost = node("cost");
     NodeT& n_agg = node("aggregate");
     NodeT& n_wr = node("ddr_write");
-    int64_t next_src = 0, stored = 0;
+    int64_t stored = 0;
     auto write_pump = [&]() -> bool {
       bool fired = false;
       while (stored < tokens) {
@@ -585,11 +675,14 @@ class Engine {
       }
       return fired;
     };
-    if (!schedule({source_pump(n_src, left, right, *in_l, *in_r, next_src), cost_pump(n_cost, cost, *in_l, *in_r, *costs),
-                   agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *fwd, tee.get()),
-                   write_pump},
-                  [&] { return stored >= tokens; })) {
-      collect(std::move(in_l), std::move(in_r), std::move(costs), std::move(tee), std::move(fwd));
+    std::vector<std::function<bool()>> pass1 = fe->pumps;
+    pass1.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
+    pass1.push_back(
+        agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *fwd, tee.get()));
+    pass1.push_back(write_pump);
+    if (!schedule(pass1, [&] { return stored >= tokens; })) {
+      collect_front_end(*fe);
+      collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd));
       return;
     }
     const int64_t pass2_start = n_wr.t_next() + ddr_latency_cycles();
@@ -634,7 +727,8 @@ class Engine {
               wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
               sink_pump(n_sink, *filtered, out, got, true)},
              [&] { return got >= total; });
-    collect(std::move(in_l), std::move(in_r), std::move(costs), std::move(tee), std::move(fwd), std::move(back_c),
+    collect_front_end(*fe);
+    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd), std::move(back_c),
             std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
   }
 
@@ -666,11 +760,10 @@ class Engine {
       rep_->fifos.push_back(r);
     };
     (one(*fifos), ...);
-    if (trace_ && setup_.opt) trace_->write(setup_.opt->vcd_path, "parallax");
-    graph_->clear_fifos();
   }
 
   void finish_report() {
+    if (trace_ && setup_.opt) trace_->write(setup_.opt->vcd_path, "parallax");
     rep_->stages.clear();
     int64_t busiest = 0;
     for (const auto& n : graph_->nodes()) {
@@ -700,6 +793,7 @@ class Engine {
   kern::SgmAggregate<Caps, Word> agg_;
   kern::WtaLr<Caps, Word> wta_;
   kern::Median<Caps> median_;
+  std::unique_ptr<RectifyStage> rect_l_, rect_r_;
   std::vector<CostTok> frame_cost_;  // the frame buffer standing for off-chip memory
   std::vector<SumTok> frame_fwd_;
 };

@@ -250,3 +250,24 @@ TEST(CliSim, BadVcdWindowIsRejected) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(CliSim, RectifyingDesignSimulatesItsRectifyStages) {
+  const fs::path d = temp_dir("sim_rect");
+  write_maps(d / "id.yaml", 640, 360, 2.0f);
+  std::ofstream(d / "design.yaml") << "cost: census\ndisparities: 60\nparallel_units: 6\nrectify: nearest\n"
+                                      "rectify_rows: 8\nrectify_maps_left: id.yaml\nrectify_maps_right: id.yaml\n";
+  const CliRun r = run_cli("sim --config " + (d / "design.yaml").string() + " --no-sizing --json --left " + kData +
+                           "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png 2>/dev/null");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("\"rectify_left\""), std::string::npos);
+  EXPECT_NE(r.output.find("\"rectify_window_misses\": 0"), std::string::npos) << r.output.substr(0, 400);
+  write_maps(d / "small.yaml", 320, 180, 0.0f);
+  std::ofstream(d / "small_design.yaml") << "rectify: nearest\nrectify_maps_left: small.yaml\nrectify_maps_right: small.yaml\n";
+  const CliRun bad = run_cli("sim --config " + (d / "small_design.yaml").string() + " --no-sizing");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("small.yaml"), std::string::npos) << bad.output;
+}
+
+}  // namespace

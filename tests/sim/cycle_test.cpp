@@ -3,6 +3,7 @@
 // reports deadlocks naming the FIFO or stage and the cycle.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -402,6 +403,46 @@ TEST(Timing, RowMemoryPortConflicts) {
   EXPECT_EQ(agg.busy_cycles, stage(base, "aggregate").busy_cycles + agg.port_conflict_cycles);
   EXPECT_GT(one_bank.last_pixel_cycle, base.last_pixel_cycle);
   EXPECT_EQ(compare_maps(one_bank.codes.code, base.codes.code, p.width_px).mismatches, 0);
+}
+
+}  // namespace
+}  // namespace parallax::test
+
+namespace parallax::test {
+namespace {
+
+// Rectification in the cycle graph: the same bits as rectifying with the func run's rectify
+// stage and then matching, the same window misses, and the rectify stages appear in the report.
+TEST(CycleEquiv, RectifyInFrontOfTheCostStage) {
+  for (int mode : {int(kern::kRectifyNearest), int(kern::kRectifyBilinear)})
+    for (int rows : {2, 8}) {
+      const int w = 48, h = 14, frac = mode == kern::kRectifyBilinear ? 5 : 0;
+      StereoParams p = params(w, h, 16, 4, kern::kForwardPaths);
+      const StereoPair sp = make_pair(Pattern::kShiftedTexture, w, h, 21, 4);
+      std::vector<kern::MapEntry> map_l, map_r;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const double sx = x + 0.03 * (y - h / 2.0) + 0.4, sy = y - 0.02 * (x - w / 2.0) + 0.6;
+          map_l.push_back({int32_t(std::lround(sx * (1 << frac))), int32_t(std::lround(sy * (1 << frac)))});
+          map_r.push_back({int32_t(std::lround((sx - 0.3) * (1 << frac))), int32_t(std::lround(sy * (1 << frac)))});
+        }
+      sim::CycleOptions o = one_pair_per_cycle();
+      o.rectify = kern::RectifyParams{w, h, mode, frac, rows};
+      o.rectify_map_left = &map_l;
+      o.rectify_map_right = &map_r;
+      const sim::CycleReport c = sim::run_cycle(sp.left, sp.right, p, o);
+      ASSERT_FALSE(c.deadlock) << c.deadlock_message;
+      const sim::RectifyOutput rl = sim::run_rectify_func(sp.left, map_l, o.rectify);
+      const sim::RectifyOutput rr = sim::run_rectify_func(sp.right, map_r, o.rectify);
+      sim::FuncOptions design;
+      design.use_design_pu = true;
+      const sim::DisparityCodes f = sim::run_func(rl.image, rr.image, p, design);
+      const Comparison cf = compare_maps(c.codes.code, f.code, w);
+      EXPECT_EQ(cf.mismatches, 0) << "mode " << mode << " rows " << rows << ": first at " << cf.first;
+      EXPECT_EQ(c.rectify_window_misses, rl.window_misses + rr.window_misses);
+      EXPECT_GT(stage(c, "rectify_left").fires, 0);
+      EXPECT_GT(stage(c, "map_right").fires, 0);
+    }
 }
 
 }  // namespace

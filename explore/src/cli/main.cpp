@@ -467,6 +467,9 @@ int main(int argc, char** argv) {
         return 3;
       }
       if (!res.cycle.input_overrun.empty()) notes.push_back(res.cycle.input_overrun);
+      if (res.cycle.rectify_window_misses > 0)
+        notes.push_back("rectification: " + std::to_string(res.cycle.rectify_window_misses) +
+                        " map taps fell outside the line buffer's rows (read as 0); raise rectify_rows");
       std::string calibration;
       if (sim_cal_latency > 0 || sim_cal_fps > 0) {
         if (sim_cal_latency <= 0) throw InputError("--calibrate-fps needs --calibrate-latency-ms too");
@@ -513,6 +516,7 @@ int main(int argc, char** argv) {
         j["interval_limit"] = res.interval_limit;
         j["bottleneck"] = c.bottleneck;
         j["input_period_cycles"] = c.input_period_cycles;
+        if (cfg.rectify != "none") j["rectify_window_misses"] = c.rectify_window_misses;
         if (res.unbounded_last_pixel_cycle >= 0) j["unbounded_fifos_last_pixel_cycle"] = res.unbounded_last_pixel_cycle;
         j["stages"] = json::array();
         for (const auto& s : c.stages)

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "parallax/kernels/common.hpp"
 #include "parallax/kernels/params.hpp"
 #include "parallax/sim/func.hpp"
 
@@ -28,7 +29,8 @@ using TimingModel = std::map<std::string, StageTiming>;
 
 // Stage names used in reports, FIFO names and timing overrides.
 //   source, cost, aggregate, wta_lr, median, sink; two-pass designs add ddr_write,
-//   ddr_read and aggregate_back.
+//   ddr_read and aggregate_back; rectifying designs add map_left, map_right, rectify_left and
+//   rectify_right.
 TimingModel default_timing(const kern::StereoParams& p);
 
 enum class InputKind { memory, camera };
@@ -54,6 +56,12 @@ struct CycleOptions {
   // word, i.e. complete partitioning, as Vitis does). Each memory has two ports (true dual port).
   int row_packing = 1;
   int row_banks = 0;
+  // Rectification in front of the cost stage (mode kRectifyNone: none). The maps are the
+  // fixed-point source positions of every pixel of the processed size; their entries stream from
+  // memory at input_bytes_per_s (8 bytes each).
+  kern::RectifyParams rectify{0, 0, kern::kRectifyNone, 0, 1};
+  const std::vector<kern::MapEntry>* rectify_map_left = nullptr;
+  const std::vector<kern::MapEntry>* rectify_map_right = nullptr;
   // Test hook: the source stops after this many pixels (a frame that never completes).
   int64_t truncate_input_px = -1;
   // VCD trace of FIFO occupancies and stage valid/stall signals for cycles [vcd_from, vcd_to).
@@ -99,6 +107,7 @@ struct CycleReport {
   int64_t input_period_cycles = 0;  // cycles the input needs to deliver one frame
   // Camera input only: the first pixel that found no room (a camera cannot wait).
   std::string input_overrun;
+  int64_t rectify_window_misses = 0;  // map taps outside the rectify line buffers (both cameras)
 };
 
 // Extra cycles a firing of chunk `chunk` needs beyond II because the path-cost row memories'
