@@ -121,6 +121,14 @@ class Node {
   // the memories' ports within one II (see memory_conflict_cycles()).
   bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire, int64_t earliest = 0,
                int conflict_cycles = 0) {
+    if constexpr (!kTimed) {  // func run: only the plan's ports, no statistics
+      for (const Port& p : in)
+        if (p.used && p.fifo->empty()) return false;
+      for (const Port& p : out)
+        if (p.used && p.fifo->full()) return false;
+      fire();
+      return true;
+    }
     for (const Port& p : in)
       if (p.used && p.fifo->empty()) return block(p.fifo, true);
     for (const Port& p : out)

@@ -132,13 +132,13 @@ class Fifo : public FifoBase {
     set_capacity(buf_.size());
   }
 
-  T read() {
+  [[gnu::always_inline]] T read() {
     if (count_ == 0) fail("read from empty FIFO");
     T v = buf_[head_];
     on_read();
     return v;
   }
-  void write(const T& v) {
+  [[gnu::always_inline]] void write(const T& v) {
     if (full()) fail("write to full FIFO");
     if (count_ == buf_.size()) grow();
     const std::size_t s = tail_slot();
@@ -150,7 +150,7 @@ class Fifo : public FifoBase {
   // Unbounded FIFOs double their ring when full. The live tokens move to [n, 2n) with the head
   // at n; the read times of the tokens just behind the head move to [0, n), where occupancy
   // tracking looks for them (read_at_ is only overwritten by reads, never by writes).
-  void grow() {
+  [[gnu::noinline]] void grow() {
     const std::size_t n = buf_.size();
     std::vector<T> b(2 * n);
     std::vector<int64_t> vis(timed_ ? 2 * n : 0), rd(timed_ ? 2 * n : 0);
