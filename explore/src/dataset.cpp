@@ -346,7 +346,7 @@ Roi centred_roi(int image_w, int image_h, int roi_w, int roi_h) {
   }
   if (roi_w > image_w || roi_h > image_h) {
     throw InputError("ROI " + size_text(roi_w, roi_h) + " is larger than the image (" +
-                     size_text(image_w, image_h) + ")");
+                     size_text(image_w, image_h) + "); use --roi full, or --set roi=WxH with a smaller size");
   }
   return Roi{(image_w - roi_w) / 2, (image_h - roi_h) / 2, roi_w, roi_h};
 }
