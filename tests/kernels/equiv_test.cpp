@@ -16,23 +16,7 @@ namespace {
 
 using kern::StereoParams;
 
-StereoParams base_params(int w, int h) {
-  StereoParams p{};
-  p.width_px = w;
-  p.height_px = h;
-  p.cost = kern::kCostCensus;
-  p.window_w = 5;
-  p.window_h = 5;
-  p.disparities = 16;
-  p.parallel_units = 4;
-  p.path_mask = kern::kForwardPaths;
-  p.p1 = 8;
-  p.p2 = 32;
-  p.lr_check = true;
-  p.lr_tolerance = 1;
-  p.median = 5;
-  return p;
-}
+StereoParams base_params(int w, int h) { return test_params(w, h); }
 
 void expect_equivalent(const StereoParams& p, Pattern pat, uint32_t seed) {
   const StereoPair sp = make_pair(pat, p.width_px, p.height_px, seed, 3 + int(seed % 9));

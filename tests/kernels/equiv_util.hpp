@@ -61,6 +61,25 @@ inline StereoPair make_pair(Pattern pat, int w, int h, uint32_t seed, int shift_
   return sp;
 }
 
+// The Census design the tests start from (5x5, P1/P2 8/32, 4 paths, LR check, 5x5 median).
+inline kern::StereoParams test_params(int w, int h, int d = 16, int pu = 4, unsigned paths = kern::kForwardPaths) {
+  kern::StereoParams p{};
+  p.width_px = w;
+  p.height_px = h;
+  p.cost = kern::kCostCensus;
+  p.window_w = 5;
+  p.window_h = 5;
+  p.disparities = d;
+  p.parallel_units = pu;
+  p.path_mask = paths;
+  p.p1 = 8;
+  p.p2 = 32;
+  p.lr_check = true;
+  p.lr_tolerance = 1;
+  p.median = 5;
+  return p;
+}
+
 inline ref::Image8 to_ref(const sim::GreyImage& g) {
   ref::Image8 r;
   r.width_px = g.width_px;

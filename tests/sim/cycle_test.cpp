@@ -22,23 +22,7 @@ namespace {
 
 using kern::StereoParams;
 
-StereoParams params(int w, int h, int d, int pu, unsigned paths) {
-  StereoParams p{};
-  p.width_px = w;
-  p.height_px = h;
-  p.cost = kern::kCostCensus;
-  p.window_w = 5;
-  p.window_h = 5;
-  p.disparities = d;
-  p.parallel_units = pu;
-  p.path_mask = paths;
-  p.p1 = 8;
-  p.p2 = 32;
-  p.lr_check = true;
-  p.lr_tolerance = 1;
-  p.median = 5;
-  return p;
-}
+StereoParams params(int w, int h, int d, int pu, unsigned paths) { return test_params(w, h, d, pu, paths); }
 
 sim::CycleOptions one_pair_per_cycle() {
   sim::CycleOptions o;

@@ -126,6 +126,19 @@ std::function<void(int, int, const std::string&)> progress_printer(bool quiet) {
   };
 }
 
+// The options eval and baseline share.
+EvalOptions eval_options(const std::string& gt, const std::string& frames, int threads, const std::string& save,
+                         double colour_max_px, bool quiet) {
+  EvalOptions opt;
+  opt.gt_kind = parse_gt_kind(gt);
+  opt.frames = frames;
+  opt.threads = threads;
+  opt.save_dir = save;
+  opt.colour_max_disparity_px = colour_max_px;
+  opt.progress = progress_printer(quiet);
+  return opt;
+}
+
 int default_threads() {
   const unsigned n = std::thread::hardware_concurrency();
   return n == 0 ? 1 : int(n);
@@ -331,14 +344,9 @@ int main(int argc, char** argv) {
     if (*eval) {
       const config::PipelineConfig cfg = load_config_args(eval_cfg);
       const Dataset ds = open_dataset(eval_dataset);
-      EvalOptions opt;
-      opt.gt_kind = parse_gt_kind(eval_gt);
-      opt.frames = eval_frames;
-      opt.threads = eval_threads;
-      opt.save_dir = eval_save;
-      opt.colour_max_disparity_px = cfg.disparities;
+      EvalOptions opt = eval_options(eval_gt, eval_frames, eval_threads, eval_save, cfg.disparities,
+                                     eval_quiet || eval_json);
       opt.match_full_image = eval_context == "full";
-      opt.progress = progress_printer(eval_quiet || eval_json);
       if (!eval_roi.empty()) {
         opt.roi_from_config = false;
         opt.roi = parse_roi_size(eval_roi);
@@ -372,13 +380,8 @@ int main(int argc, char** argv) {
     if (*baseline) {
       const Baseline b = parse_baseline(base_name);
       const Dataset ds = open_dataset(base_dataset);
-      EvalOptions opt;
-      opt.gt_kind = parse_gt_kind(base_gt);
-      opt.frames = base_frames;
-      opt.threads = base_threads;
-      opt.save_dir = base_save;
-      opt.colour_max_disparity_px = base_params.disparities;
-      opt.progress = progress_printer(base_quiet || base_json);
+      const EvalOptions opt = eval_options(base_gt, base_frames, base_threads, base_save, base_params.disparities,
+                                           base_quiet || base_json);
       const RoiSize roi = base_roi.empty() ? default_roi_size(ds.layout) : parse_roi_size(base_roi);
       const EvalResult r = evaluate(
           ds, roi,
