@@ -48,6 +48,34 @@ sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz
   return o;
 }
 
+void system_figures(const config::PipelineConfig& cfg, SimulationResult& res) {
+  const double cycle_ms = 1e3 / (double(res.clock_mhz) * 1e6);
+  res.fpga_first_pixel_ms = double(res.cycle.first_pixel_cycle + 1) * cycle_ms;
+  res.fpga_last_pixel_ms = double(res.cycle.last_pixel_cycle + 1) * cycle_ms;
+  res.copy_in_ms = res.copy_out_ms = 0.0;
+  if (cfg.host_copy_gbps > 0) {
+    const double pixels = double(res.cycle.codes.width_px) * res.cycle.codes.height_px;
+    const kern::StereoParams p = cfg.stereo_params(res.cycle.codes.width_px, res.cycle.codes.height_px);
+    const double out_bytes = pixels * ((kern::disparity_bits(p) + 7) / 8);
+    res.copy_in_ms = 2.0 * pixels / (cfg.host_copy_gbps * 1e9) * 1e3;
+    res.copy_out_ms = out_bytes / (cfg.host_copy_gbps * 1e9) * 1e3;
+  }
+  res.latency_ms = res.copy_in_ms + res.fpga_last_pixel_ms + res.copy_out_ms + cfg.host_latency_ms;
+  const double fpga_interval = double(res.cycle.cycles_per_frame) * cycle_ms;
+  const double host_copies = res.copy_in_ms + res.copy_out_ms;
+  res.frame_interval_ms = fpga_interval;
+  res.interval_limit = "fpga stage '" + res.cycle.bottleneck + "'";
+  if (host_copies > res.frame_interval_ms) {
+    res.frame_interval_ms = host_copies;
+    res.interval_limit = "host copies";
+  }
+  if (cfg.host_frame_ms > res.frame_interval_ms) {
+    res.frame_interval_ms = cfg.host_frame_ms;
+    res.interval_limit = "host frame loop (host_frame_ms)";
+  }
+  res.fps = res.frame_interval_ms > 0 ? 1e3 / res.frame_interval_ms : 0.0;
+}
+
 SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left, const cv::Mat& right, int clock_mhz,
                           bool size_fifos, const std::string& vcd_path, int64_t vcd_from, int64_t vcd_to) {
   sim::CycleOptions opt = cycle_options(cfg, clock_mhz);
@@ -78,29 +106,7 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
     res.stall_free_depths = sizing.depths;
     res.unbounded_last_pixel_cycle = sizing.last_pixel_cycle;
   }
-  const double cycle_ms = 1e3 / opt.clock_hz;
-  res.fpga_first_pixel_ms = double(res.cycle.first_pixel_cycle + 1) * cycle_ms;
-  res.fpga_last_pixel_ms = double(res.cycle.last_pixel_cycle + 1) * cycle_ms;
-  if (cfg.host_copy_gbps > 0) {
-    const double pixels = double(left.cols) * left.rows;
-    const double out_bytes = pixels * ((kern::disparity_bits(p) + 7) / 8);
-    res.copy_in_ms = 2.0 * pixels / (cfg.host_copy_gbps * 1e9) * 1e3;
-    res.copy_out_ms = out_bytes / (cfg.host_copy_gbps * 1e9) * 1e3;
-  }
-  res.latency_ms = res.copy_in_ms + res.fpga_last_pixel_ms + res.copy_out_ms + cfg.host_latency_ms;
-  const double fpga_interval = double(res.cycle.cycles_per_frame) * cycle_ms;
-  const double host_copies = res.copy_in_ms + res.copy_out_ms;
-  res.frame_interval_ms = fpga_interval;
-  res.interval_limit = "fpga stage '" + res.cycle.bottleneck + "'";
-  if (host_copies > res.frame_interval_ms) {
-    res.frame_interval_ms = host_copies;
-    res.interval_limit = "host copies";
-  }
-  if (cfg.host_frame_ms > res.frame_interval_ms) {
-    res.frame_interval_ms = cfg.host_frame_ms;
-    res.interval_limit = "host frame loop (host_frame_ms)";
-  }
-  res.fps = res.frame_interval_ms > 0 ? 1e3 / res.frame_interval_ms : 0.0;
+  system_figures(cfg, res);
   return res;
 }
 

@@ -328,6 +328,7 @@ class Engine {
     if (kTimed && setup.opt && !setup.opt->vcd_path.empty())
       trace_ = std::make_unique<Trace>(setup.opt->vcd_from, setup.opt->vcd_to);
     graph_ = std::make_unique<Graph<kTimed>>(trace_.get());
+    input_rate_ = input_rate();
     const bool two_pass = (p.path_mask & kern::kBackwardPaths) != 0;
     if (p.cost == kern::kCostCensus)
       two_pass ? run_two_pass(census_, left, right, out) : run_one_pass(census_, left, right, out);
@@ -367,8 +368,8 @@ class Engine {
   }
   // Cycle at which input pixel i (raster order) arrives.
   int64_t input_arrival(int64_t i) const {
-    const Rate r = input_rate();
     if (!kTimed || !setup_.opt) return 0;
+    const Rate& r = input_rate_;
     if (setup_.opt->input == InputKind::camera) {
       const int64_t row = i / p_.width_px, col = i % p_.width_px;
       return r.at(row * (p_.width_px + setup_.opt->camera_h_blank_px) + col);
@@ -792,6 +793,7 @@ class Engine {
 
   kern::StereoParams p_{};
   RunSetup setup_;
+  Rate input_rate_;  // of this run's source, computed once
   CycleReport* rep_ = nullptr;
   TimingModel timing_;
   std::unique_ptr<Trace> trace_;

@@ -477,7 +477,7 @@ int main(int argc, char** argv) {
       if (sim_cal_latency > 0 || sim_cal_fps > 0) {
         if (sim_cal_latency <= 0) throw InputError("--calibrate-fps needs --calibrate-latency-ms too");
         calibration = calibrate(cfg, res, sim_cal_latency, sim_cal_fps);
-        res = simulate(cfg, l, r, clock, !sim_no_sizing);
+        system_figures(cfg, res);  // the cycles do not change, only the host model
         notes.push_back("calibrated at " + std::to_string(clock) + " MHz: " + calibration);
       }
       if (!sim_write_config.empty()) {

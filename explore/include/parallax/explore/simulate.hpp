@@ -36,6 +36,10 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
                           int clock_mhz, bool size_fifos, const std::string& vcd_path = "", int64_t vcd_from = 0,
                           int64_t vcd_to = 0);
 
+// Fills the system figures of `res` (latencies, host copies, frame interval, fps) from its cycle
+// report and the configuration's host model; cheap, so calibration recomputes them in place.
+void system_figures(const config::PipelineConfig& cfg, SimulationResult& res);
+
 // Sets host_latency_ms (and host_frame_ms, when the measured frame interval exceeds the model's)
 // so that the simulated result reproduces a measured latency and frame rate at this clock.
 // Returns a one-line account of what was set.
