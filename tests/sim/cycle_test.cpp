@@ -431,3 +431,28 @@ TEST(CycleEquiv, RectifyInFrontOfTheCostStage) {
 
 }  // namespace
 }  // namespace parallax::test
+
+#include "parallax/config/config.hpp"
+
+namespace parallax::test {
+namespace {
+
+// Every stage the cycle model times can be calibrated from a configuration, and nothing else.
+TEST(Timing, ConfigurationKnowsEveryStage) {
+  for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths)}) {
+    for (const auto& kv : sim::default_timing(params(8, 8, 16, 4, paths))) {
+      config::PipelineConfig c;
+      config::set_field(c, "ii_" + kv.first, "2");
+      config::set_field(c, "latency_" + kv.first, "3");
+      EXPECT_TRUE(config::validate(c).empty()) << kv.first;
+    }
+  }
+  config::PipelineConfig c;
+  config::set_field(c, "ii_agg", "2");
+  const auto errors = config::validate(c);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].field, "ii_agg");
+}
+
+}  // namespace
+}  // namespace parallax::test

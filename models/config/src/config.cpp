@@ -220,25 +220,35 @@ std::vector<FieldError> validate(const PipelineConfig& c) {
   need(c.row_packing >= 1 && c.row_packing <= 256, "row_packing", "must be in [1, 256]");
   need(c.row_banks >= 0, "row_banks", "must be >= 0 (0 = one memory per word)");
   for (const auto& kv : c.fifo_depths)
-    need(kv.second >= 1, "fifo_depth_", "fifo_depth_" + kv.first + " must be >= 1");
-  static const char* kStages[] = {"source", "cost", "aggregate", "aggregate_back", "wta_lr", "median", "sink",
-                                  "ddr_write", "ddr_read"};
+    need(kv.second >= 1, ("fifo_depth_" + kv.first).c_str(), "must be >= 1");
+  // The cycle model's stage names (sim::default_timing); tests/sim checks the two lists agree.
+  static const char* kStages[] = {"source",   "cost",     "aggregate", "aggregate_back", "wta_lr",
+                                  "median",   "sink",     "ddr_write", "ddr_read",       "map_left",
+                                  "map_right", "rectify_left", "rectify_right"};
   auto known_stage = [](const std::string& n) {
     for (const char* k : kStages)
       if (n == k) return true;
     return false;
   };
+  auto stage_list = [] {
+    std::string l;
+    for (const char* k : kStages) l += (l.empty() ? "" : ", ") + std::string(k);
+    return l;
+  };
   for (const auto& kv : c.stage_ii) {
-    need(known_stage(kv.first), "ii_", "ii_" + kv.first + ": unknown stage (source, cost, aggregate, aggregate_back, wta_lr, median, sink, ddr_write, ddr_read)");
-    need(kv.second >= 1, "ii_", "ii_" + kv.first + " must be >= 1");
+    const std::string field = "ii_" + kv.first;
+    need(known_stage(kv.first), field.c_str(), "unknown stage '" + kv.first + "' (known: " + stage_list() + ")");
+    need(kv.second >= 1, field.c_str(), "must be >= 1");
   }
   for (const auto& kv : c.stage_latency) {
-    need(known_stage(kv.first), "latency_", "latency_" + kv.first + ": unknown stage");
-    need(kv.second >= 0, "latency_", "latency_" + kv.first + " must be >= 0");
+    const std::string field = "latency_" + kv.first;
+    need(known_stage(kv.first), field.c_str(), "unknown stage '" + kv.first + "' (known: " + stage_list() + ")");
+    need(kv.second >= 0, field.c_str(), "must be >= 0");
   }
   for (const auto& kv : c.stage_setup) {
-    need(known_stage(kv.first), "setup_", "setup_" + kv.first + ": unknown stage");
-    need(kv.second >= 0, "setup_", "setup_" + kv.first + " must be >= 0");
+    const std::string field = "setup_" + kv.first;
+    need(known_stage(kv.first), field.c_str(), "unknown stage '" + kv.first + "' (known: " + stage_list() + ")");
+    need(kv.second >= 0, field.c_str(), "must be >= 0");
   }
   need(c.host_copy_gbps >= 0, "host_copy_gbps", "must be >= 0 (0 = no copies)");
   need(c.host_latency_ms >= 0, "host_latency_ms", "must be >= 0");
