@@ -92,19 +92,31 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
     design.use_design_pu = true;
     (void)run_design(cfg, left, right, pipe, design);
   });
+  const kern::StereoParams params = cfg.stereo_params(left.cols, left.rows);
+  const sim::GreyImage grey_l{left.cols, left.rows, std::vector<uint8_t>(left.datastart, left.dataend)};
+  const sim::GreyImage grey_r{right.cols, right.rows, std::vector<uint8_t>(right.datastart, right.dataend)};
   add("parallax cycle " + cfg.name, [&] {
-    const sim::CycleOptions opt = cycle_options(cfg, cfg.clock_mhz);
-    const kern::StereoParams p = cfg.stereo_params(left.cols, left.rows);
-    sim::GreyImage l{left.cols, left.rows, std::vector<uint8_t>(left.datastart, left.dataend)};
-    sim::GreyImage r{right.cols, right.rows, std::vector<uint8_t>(right.datastart, right.dataend)};
-    (void)sim::run_cycle(l, r, p, opt);
+    (void)sim::run_cycle(grey_l, grey_r, params, cycle_options(cfg, cfg.clock_mhz));
+  });
+  add("  its timing run alone", [&] {
+    (void)sim::run_timing(grey_l, grey_r, params, cycle_options(cfg, cfg.clock_mhz));
+  });
+  add("parallax cycle, coupled", [&] {
+    sim::CycleOptions opt = cycle_options(cfg, cfg.clock_mhz);
+    opt.coupled = true;
+    (void)sim::run_cycle(grey_l, grey_r, params, opt);
   });
   BaselineParams bp;
   bp.disparities = cfg.disparities;
   bp.block_size = cfg.window_w;
   add("opencv StereoSGBM MODE_HH4", [&] { (void)run_baseline(Baseline::opencv_hh4, bp, left, right); });
   add("opencv StereoSGBM MODE_SGBM", [&] { (void)run_baseline(Baseline::opencv_sgbm, bp, left, right); });
-  const double peer = rows[3].median_ms, peer_min = rows[3].min_ms;
+  double peer = 0.0, peer_min = 0.0;
+  for (const auto& r : rows)
+    if (r.method == "opencv StereoSGBM MODE_HH4") {
+      peer = r.median_ms;
+      peer_min = r.min_ms;
+    }
   for (auto& r : rows) {
     r.ratio_to_peer = peer > 0 ? r.median_ms / peer : 0.0;
     r.min_ratio_to_peer = peer_min > 0 ? r.min_ms / peer_min : 0.0;

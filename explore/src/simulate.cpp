@@ -76,12 +76,14 @@ void system_figures(const config::PipelineConfig& cfg, SimulationResult& res) {
   res.fps = res.frame_interval_ms > 0 ? 1e3 / res.frame_interval_ms : 0.0;
 }
 
-SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left, const cv::Mat& right, int clock_mhz,
-                          bool size_fifos, const std::string& vcd_path, int64_t vcd_from, int64_t vcd_to) {
+SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left, const cv::Mat& right,
+                          const SimulateOptions& so) {
+  const int clock_mhz = so.clock_mhz;
   sim::CycleOptions opt = cycle_options(cfg, clock_mhz);
-  opt.vcd_path = vcd_path;
-  opt.vcd_from = vcd_from;
-  opt.vcd_to = vcd_to;
+  opt.coupled = so.coupled;
+  opt.vcd_path = so.vcd_path;
+  opt.vcd_from = so.vcd_from;
+  opt.vcd_to = so.vcd_to;
   const kern::StereoParams p = cfg.stereo_params(left.cols, left.rows);
   const sim::GreyImage l = grey(left), r = grey(right);
   RectifyMaps maps;
@@ -101,7 +103,7 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
   SimulationResult res;
   res.clock_mhz = clock_mhz;
   res.cycle = sim::run_cycle(l, r, p, opt);
-  if (size_fifos && !res.cycle.deadlock) {
+  if (so.size_fifos && !res.cycle.deadlock) {
     const sim::FifoSizing sizing = sim::stall_free_depths(l, r, p, opt);
     res.stall_free_depths = sizing.depths;
     res.unbounded_last_pixel_cycle = sizing.last_pixel_cycle;

@@ -81,6 +81,15 @@ void dispatch(const GreyImage& left, const GreyImage& right, const kern::StereoP
   else run_timed<detail::WideCaps, uint32_t>(left, right, p, setup, rep);
 }
 
+// The schedule of the kernels' control path at the design's PU.
+void run_control(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                 const detail::RunSetup& setup, CycleReport& rep) {
+  const auto errors = func_param_errors(p);
+  if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
+  auto engine = std::make_unique<detail::Engine<detail::ControlCaps, uint16_t, true, false>>();
+  engine->run(left, right, p, setup, rep.codes, &rep);
+}
+
 }  // namespace
 
 CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
@@ -88,7 +97,37 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
   CycleReport rep;
   detail::RunSetup setup;
   setup.opt = &opt;
-  dispatch(left, right, p, setup, rep);
+  if (opt.coupled) {
+    dispatch(left, right, p, setup, rep);
+    return rep;
+  }
+  run_control(left, right, p, setup, rep);
+  rep.codes.width_px = p.width_px;
+  rep.codes.height_px = p.height_px;
+  rep.codes.disparities = p.disparities;
+  if (rep.deadlock) {  // no frame leaves a deadlocked pipeline
+    rep.codes.code.assign(std::size_t(p.width_px) * std::size_t(p.height_px), 0);
+    return rep;
+  }
+  const bool rectify =
+      opt.rectify.mode != kern::kRectifyNone && opt.rectify_map_left != nullptr && opt.rectify_map_right != nullptr;
+  if (rectify) {
+    const RectifyOutput rl = run_rectify_func(left, *opt.rectify_map_left, opt.rectify);
+    const RectifyOutput rr = run_rectify_func(right, *opt.rectify_map_right, opt.rectify);
+    rep.codes = run_func(rl.image, rr.image, p);
+  } else {
+    rep.codes = run_func(left, right, p);
+  }
+  return rep;
+}
+
+CycleReport run_timing(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                       const CycleOptions& opt) {
+  CycleReport rep;
+  detail::RunSetup setup;
+  setup.opt = &opt;
+  run_control(left, right, p, setup, rep);
+  rep.codes = DisparityCodes{p.width_px, p.height_px, p.disparities, {}};
   return rep;
 }
 
@@ -100,7 +139,10 @@ FifoSizing stall_free_depths(const GreyImage& left, const GreyImage& right, cons
   detail::RunSetup setup;
   setup.opt = &o;
   setup.unbounded = true;
-  dispatch(left, right, p, setup, rep);
+  if (o.coupled)
+    dispatch(left, right, p, setup, rep);
+  else
+    run_control(left, right, p, setup, rep);
   FifoSizing sizing;
   for (const auto& f : rep.fifos) sizing.depths[f.name] = std::max<int64_t>(1, f.high_water);
   sizing.last_pixel_cycle = rep.last_pixel_cycle;

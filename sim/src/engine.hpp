@@ -1,9 +1,12 @@
-// Internal: the pipeline graph both runs share. Engine<Caps, Word, kTimed> builds the dataflow
-// graph of one design (source -> cost -> aggregate -> WTA/LR -> median -> sink, or the two passes
-// of the 8-path variant through a frame buffer) over sim::Fifo and fires the kernels of
-// kernels/. kTimed = false is the func run (fire whenever the plan can be met); kTimed = true is
-// the cycle model (fire at the earliest cycle the plan, II, token visibility and FIFO space
-// allow).
+// Internal: the pipeline graph both runs share. Engine<Caps, Word, kTimed, kData> builds the
+// dataflow graph of one design (source -> cost -> aggregate -> WTA/LR -> median -> sink, or the
+// two passes of the 8-path variant through a frame buffer) over sim::Fifo and fires the kernels
+// of kernels/. kTimed = false is the func run (fire whenever the plan can be met); kTimed = true
+// is the cycle model (fire at the earliest cycle the plan, II, token visibility and FIFO space
+// allow). kData = false is the timing run: the disparity stages execute their control path only
+// (plan() and step(), never the datapath) and the FIFOs carry tokens without payload; the
+// front end (source, maps, rectification) still moves pixels. Plans depend on counters only,
+// never on values, so the timing run's schedule equals the full run's (tested).
 #pragma once
 
 #include <algorithm>
@@ -104,11 +107,12 @@ class Trace {
 template <bool kTimed>
 class Node {
  public:
-  Node(std::string name, StageTiming t, Trace* trace) : timing_(t), trace_(trace), t_next_(t.setup_cycles) {
+  Node(std::string name, StageTiming t, Trace* trace)
+      : timing_(t), trace_(trace), tracing_(trace != nullptr && trace->active()), t_next_(t.setup_cycles) {
     report_.name = std::move(name);
     report_.ii_cycles = t.ii_cycles;
     report_.latency_cycles = t.latency_cycles;
-    if (trace_ && trace_->active()) {
+    if (tracing_) {
       valid_sig_ = trace_->signal(report_.name + "_valid", 1);
       stall_sig_ = trace_->signal(report_.name + "_stall", 1);
     }
@@ -119,7 +123,7 @@ class Node {
   template <class Fire>
   // conflict_cycles: extra cycles this firing holds the stage because its memory accesses exceed
   // the memories' ports within one II (see memory_conflict_cycles()).
-  bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire, int64_t earliest = 0,
+  [[gnu::always_inline]] bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire, int64_t earliest = 0,
                int conflict_cycles = 0) {
     if constexpr (!kTimed) {  // func run: only the plan's ports, no statistics
       for (const Port& p : in)
@@ -135,7 +139,8 @@ class Node {
       if (p.used && p.fifo->full()) return block(p.fifo, false);
     blocked_ = nullptr;
     if constexpr (kTimed) {
-      const int64_t ready = std::max(t_next_, earliest);
+      const int64_t t_next = t_next_;
+      const int64_t ready = std::max(t_next, earliest);
       int64_t t_in = ready, t_out = ready;
       for (const Port& p : in)
         if (p.used) t_in = std::max(t_in, p.fifo->head_visible());
@@ -145,18 +150,18 @@ class Node {
       const int64_t t = std::max(t_in, t_out);
       {
         // Waiting before the first firing counts as input stall (the pipeline fills).
-        if (t_out > t_in)
-          report_.output_stall_cycles += t - t_next_;
-        else
-          report_.input_stall_cycles += t - t_next_;
+        const int64_t wait = t - t_next;
+        const bool output_bound = t_out > t_in;
+        report_.output_stall_cycles += output_bound ? wait : 0;
+        report_.input_stall_cycles += output_bound ? 0 : wait;
       }
       for (const Port& p : in)
         if (p.used) p.fifo->stamp(t, 0);
       for (const Port& p : out)
         if (p.used) p.fifo->stamp(0, t + timing_.latency_cycles);
-      if (trace_ && trace_->active()) {
-        if (t > t_next_) {
-          trace_->change(t_next_, stall_sig_, 1, false);
+      if (tracing_) {
+        if (t > t_next) {
+          trace_->change(t_next, stall_sig_, 1, false);
           trace_->change(t, stall_sig_, 0, false);
         }
         trace_->change(t, valid_sig_, 1, false);
@@ -167,10 +172,9 @@ class Node {
           if (p.used) trace_->change(t + 1, trace_->fifo_signal(p.fifo), -1, true);
       }
       fire();
-      if (report_.first_fire_cycle < 0) report_.first_fire_cycle = t;
+      if (report_.fires == 0) report_.first_fire_cycle = t;
       report_.last_fire_cycle = t;
       t_next_ = t + timing_.ii_cycles + conflict_cycles;
-      report_.busy_cycles += timing_.ii_cycles + conflict_cycles;
       report_.port_conflict_cycles += conflict_cycles;
     } else {
       fire();
@@ -182,10 +186,21 @@ class Node {
   bool block(const FifoBase* f, bool on_input) {
     blocked_ = f;
     blocked_on_input_ = on_input;
+    blocked_at_ = on_input ? f->writes() : f->reads();
     return false;
   }
+  // True while the FIFO that blocked the last attempt has not changed since: the plan (a
+  // function of the stage's state) and so the same port would block again. Pumps return at
+  // once then, which spares the scheduler a plan and an attempt per stage and round.
+  [[gnu::always_inline]] bool still_blocked() const {
+    return blocked_ && (blocked_on_input_ ? blocked_->writes() : blocked_->reads()) == blocked_at_;
+  }
 
-  const StageReport& report() const { return report_; }
+  // busy = fires x II + the cycles memory-port conflicts add.
+  const StageReport& report() const {
+    report_.busy_cycles = report_.fires * timing_.ii_cycles + report_.port_conflict_cycles;
+    return report_;
+  }
   const FifoBase* blocked_fifo() const { return blocked_; }
   bool blocked_on_input() const { return blocked_on_input_; }
   int64_t t_next() const { return t_next_; }
@@ -195,10 +210,12 @@ class Node {
  private:
   StageTiming timing_;
   Trace* trace_;
-  StageReport report_;
+  bool tracing_;
+  mutable StageReport report_;  // busy_cycles is derived in report()
   int64_t t_next_;
   const FifoBase* blocked_ = nullptr;
   bool blocked_on_input_ = false;
+  int64_t blocked_at_ = 0;  // the blocking FIFO's writes (input) or reads (output) at the block
   int valid_sig_ = -1, stall_sig_ = -1;
 };
 
@@ -305,7 +322,7 @@ struct RunSetup {
   bool unbounded = false;             // timed: every FIFO unbounded (sizing run)
 };
 
-template <class Caps, class Word, bool kTimed>
+template <class Caps, class Word, bool kTimed, bool kData = true>
 class Engine {
  public:
   using CostTok = kern::Lanes<uint16_t, Caps::lanes>;
@@ -320,7 +337,7 @@ class Engine {
     out.width_px = p.width_px;
     out.height_px = p.height_px;
     out.disparities = p.disparities;
-    out.code.assign(std::size_t(p.width_px) * p.height_px, 0);
+    if (kData) out.code.assign(std::size_t(p.width_px) * p.height_px, 0);
     timing_ = default_timing(p);
     if (setup.opt)
       for (const auto& kv : setup.opt->timing) timing_[kv.first] = kv.second;
@@ -338,6 +355,7 @@ class Engine {
   }
 
  private:
+  int64_t frame_pixels() const { return int64_t(p_.width_px) * p_.height_px; }
   std::size_t depth_of(const std::string& name, std::size_t func_depth) const {
     if (!kTimed || !setup_.opt) return func_depth;
     if (setup_.unbounded) return 0;
@@ -404,6 +422,7 @@ class Engine {
       total = std::min(total, setup_.opt->truncate_input_px);
     return [this, &n, &left, &right, &l, &r, &next, total] {
       bool fired = false;
+      if (n.still_blocked()) return false;
       while (next < total) {
         const int64_t i = next;
         if (!n.attempt({}, {Port{&l, true}, Port{&r, true}},
@@ -430,11 +449,22 @@ class Engine {
   std::function<bool()> cost_pump(NodeT& n, CostStage& cost, Fifo<uint8_t>& l, Fifo<uint8_t>& r, Fifo<CostTok>& out) {
     return [&n, &cost, &l, &r, &out] {
       bool fired = false;
+      if (n.still_blocked()) return false;
       while (!cost.done()) {
         const kern::CostPlan pl = cost.plan();
         if (!pl.read && !pl.write) break;
-        if (!n.attempt({Port{&l, pl.read}, Port{&r, pl.read}}, {Port{&out, pl.write}},
-                       [&] { cost.fire(pl, l, r, out); }))
+        if (!n.attempt({Port{&l, pl.read}, Port{&r, pl.read}}, {Port{&out, pl.write}}, [&] {
+              if constexpr (kData) {
+                cost.fire(pl, l, r, out);
+              } else {
+                cost.step(pl);
+                if (pl.write) out.skip_write();
+                if (pl.read) {
+                  l.skip_read();
+                  r.skip_read();
+                }
+              }
+            }))
           break;
         fired = true;
       }
@@ -452,13 +482,20 @@ class Engine {
                                                   timing_.count(n.name()) ? timing_.at(n.name()).ii_cycles : 1);
     return [this, &n, &c, f, &s, t, conflicts, chunk = std::size_t(0)]() mutable {
       bool fired = false;
+      if (n.still_blocked()) return false;
       kern::NoStream<SumTok> no_sum;
       kern::NoStream<CostTok> no_cost;
       while (!agg_.done()) {
         const kern::AggPlan pl = agg_.plan();
         const int extra = conflicts[chunk];
         const bool ok = n.attempt({Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}}, [&] {
-          if (f && t)
+          if constexpr (!kData) {
+            agg_.step(pl);
+            c.skip_read();
+            if (f) f->skip_read();
+            s.skip_write();
+            if (t) t->skip_write();
+          } else if (f && t)
             agg_.fire(pl, c, *f, s, *t);
           else if (f)
             agg_.fire(pl, c, *f, s, no_cost);
@@ -478,9 +515,19 @@ class Engine {
   std::function<bool()> wta_pump(NodeT& n, Fifo<SumTok>& in, Fifo<kern::DispCode>& out) {
     return [this, &n, &in, &out] {
       bool fired = false;
+      if (n.still_blocked()) return false;
       while (!wta_.done()) {
         const kern::WtaPlan pl = wta_.plan();
-        if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] { wta_.fire(pl, in, out); })) break;
+        if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] {
+              if constexpr (kData) {
+                wta_.fire(pl, in, out);
+              } else {
+                wta_.step(pl);
+                if (pl.read) in.skip_read();
+                if (pl.write) out.skip_write();
+              }
+            }))
+          break;
         fired = true;
       }
       return fired;
@@ -490,10 +537,20 @@ class Engine {
   std::function<bool()> median_pump(NodeT& n, Fifo<kern::DispCode>& in, Fifo<kern::DispCode>& out) {
     return [this, &n, &in, &out] {
       bool fired = false;
+      if (n.still_blocked()) return false;
       while (!median_.done()) {
         const kern::MedianPlan pl = median_.plan();
         if (!pl.read && !pl.write) break;
-        if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] { median_.fire(pl, in, out); })) break;
+        if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] {
+              if constexpr (kData) {
+                median_.fire(pl, in, out);
+              } else {
+                median_.step(pl);
+                if (pl.read) in.skip_read();
+                if (pl.write) out.skip_write();
+              }
+            }))
+          break;
         fired = true;
       }
       return fired;
@@ -502,13 +559,17 @@ class Engine {
 
   // The sink takes one code per cycle; `reverse` restores raster order after the backward pass.
   std::function<bool()> sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got, bool reverse) {
-    const int64_t total = int64_t(out.code.size());
+    const int64_t total = frame_pixels();
     return [this, &n, &in, &out, &got, total, reverse] {
       bool fired = false;
+      if (n.still_blocked()) return false;
       while (got < total) {
         const int64_t i = got;
         if (!n.attempt({Port{&in, true}}, {}, [&] {
-              out.code[std::size_t(reverse ? total - 1 - i : i)] = in.read();
+              if constexpr (kData)
+                out.code[std::size_t(reverse ? total - 1 - i : i)] = in.read();
+              else
+                in.skip_read();
             }))
           break;
         if (rep_) {
@@ -568,6 +629,7 @@ class Engine {
                                  int64_t& next) -> std::function<bool()> {
       return [&n, &table, &out, &next, maps] {
         bool fired = false;
+      if (n.still_blocked()) return false;
         while (next < int64_t(table.size())) {
           const int64_t i = next;
           if (!n.attempt({}, {Port{&out, true}}, [&] { out.write(table[std::size_t(i)]); }, maps.at(i))) break;
@@ -581,6 +643,7 @@ class Engine {
                         Fifo<uint8_t>& out) -> std::function<bool()> {
       return [&n, &st, &raw, &map, &out] {
         bool fired = false;
+      if (n.still_blocked()) return false;
         while (!st.done()) {
           const kern::RectifyPlan pl = st.plan();
           if (!pl.read_pixel && !pl.write) break;
@@ -632,7 +695,7 @@ class Engine {
     NodeT& n_med = node("median");
     NodeT& n_sink = node("sink");
     int64_t got = 0;
-    const int64_t total = int64_t(out.code.size());
+    const int64_t total = frame_pixels();
     std::vector<std::function<bool()>> pumps = fe->pumps;
     pumps.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
     pumps.push_back(
@@ -650,11 +713,13 @@ class Engine {
   // token is written and reads them back in reverse pixel order through `ddr_read`.
   template <class CostStage>
   void run_two_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
-    const std::size_t pixels = out.code.size();
+    const std::size_t pixels = std::size_t(frame_pixels());
     const int chunks = p_.disparities / p_.parallel_units;
     const int64_t tokens = int64_t(pixels) * chunks;
-    frame_cost_.resize(std::size_t(tokens));
-    frame_fwd_.resize(std::size_t(tokens));
+    if (kData) {
+      frame_cost_.resize(std::size_t(tokens));
+      frame_fwd_.resize(std::size_t(tokens));
+    }
     const Rate ddr = ddr_rate();
     cost.configure(p_);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
@@ -670,12 +735,18 @@ class Engine {
     int64_t stored = 0;
     auto write_pump = [&]() -> bool {
       bool fired = false;
+      if (n_wr.still_blocked()) return false;
       while (stored < tokens) {
         const int64_t i = stored;
         if (!n_wr.attempt({Port{tee.get(), true}, Port{fwd.get(), true}}, {},
                           [&] {
-                            frame_cost_[std::size_t(i)] = tee->read();
-                            frame_fwd_[std::size_t(i)] = fwd->read();
+                            if constexpr (kData) {
+                              frame_cost_[std::size_t(i)] = tee->read();
+                              frame_fwd_[std::size_t(i)] = fwd->read();
+                            } else {
+                              tee->skip_read();
+                              fwd->skip_read();
+                            }
                           },
                           ddr.at(i)))
           break;
@@ -713,6 +784,7 @@ class Engine {
     int64_t read_tok = 0, got = 0;
     auto read_pump = [&]() -> bool {
       bool fired = false;
+      if (n_rd.still_blocked()) return false;
       while (read_tok < tokens) {
         const int64_t i = read_tok;
         // Reverse pixel order, ascending chunk order inside a pixel.
@@ -720,8 +792,14 @@ class Engine {
         const std::size_t idx = pix * std::size_t(chunks) + std::size_t(i) % std::size_t(chunks);
         if (!n_rd.attempt({}, {Port{back_c.get(), true}, Port{back_f.get(), true}},
                           [&] {
-                            back_c->write(frame_cost_[idx]);
-                            back_f->write(frame_fwd_[idx]);
+                            if constexpr (kData) {
+                              back_c->write(frame_cost_[idx]);
+                              back_f->write(frame_fwd_[idx]);
+                            } else {
+                              (void)idx;
+                              back_c->skip_write();
+                              back_f->skip_write();
+                            }
                           },
                           rd.at(i)))
           break;
@@ -809,6 +887,8 @@ class Engine {
 };
 
 using TinyCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 8>;  // PU <= 8: 16-byte tokens
+// The timing run's tokens carry no payload; one lane keeps the FIFOs' rings small.
+using ControlCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 1>;
 using NarrowCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 64>;
 using WideCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 256>;
 

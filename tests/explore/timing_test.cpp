@@ -15,7 +15,9 @@ const std::string kConfigs = PARALLAX_CONFIG_DIR;
 SimulationResult run(const config::PipelineConfig& cfg, int clock_mhz) {
   cv::Mat l, r;
   test_pattern(cfg.roi_width_px, cfg.roi_height_px, cfg.disparities, 1, l, r);
-  return simulate(cfg, l, r, clock_mhz, false);
+  SimulateOptions so;
+  so.clock_mhz = clock_mhz;
+  return simulate(cfg, l, r, so);
 }
 
 // Vitis' SemiGlobalBM, 1920x1080, NDISP 64, PU 32, R 4: 42 ms published at 200 MHz.

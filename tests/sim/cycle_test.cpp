@@ -41,9 +41,62 @@ const sim::StageReport& stage(const sim::CycleReport& r, const std::string& name
 
 // --- equiv ---------------------------------------------------------------------------------
 
+// Every figure of two cycle reports, field by field (codes apart).
+void expect_same_report(const sim::CycleReport& a, const sim::CycleReport& b, const std::string& what) {
+  EXPECT_EQ(a.deadlock, b.deadlock) << what;
+  EXPECT_EQ(a.deadlock_message, b.deadlock_message) << what;
+  EXPECT_EQ(a.deadlock_cycle, b.deadlock_cycle) << what;
+  EXPECT_EQ(a.first_pixel_cycle, b.first_pixel_cycle) << what;
+  EXPECT_EQ(a.last_pixel_cycle, b.last_pixel_cycle) << what;
+  EXPECT_EQ(a.cycles_per_frame, b.cycles_per_frame) << what;
+  EXPECT_EQ(a.bottleneck, b.bottleneck) << what;
+  EXPECT_EQ(a.input_period_cycles, b.input_period_cycles) << what;
+  EXPECT_EQ(a.input_overrun, b.input_overrun) << what;
+  EXPECT_EQ(a.rectify_window_misses, b.rectify_window_misses) << what;
+  ASSERT_EQ(a.stages.size(), b.stages.size()) << what;
+  for (std::size_t i = 0; i < a.stages.size(); ++i) {
+    const sim::StageReport &x = a.stages[i], &y = b.stages[i];
+    const std::string at = what + ", stage " + x.name;
+    EXPECT_EQ(x.name, y.name) << at;
+    EXPECT_EQ(x.fires, y.fires) << at;
+    EXPECT_EQ(x.busy_cycles, y.busy_cycles) << at;
+    EXPECT_EQ(x.input_stall_cycles, y.input_stall_cycles) << at;
+    EXPECT_EQ(x.output_stall_cycles, y.output_stall_cycles) << at;
+    EXPECT_EQ(x.port_conflict_cycles, y.port_conflict_cycles) << at;
+    EXPECT_EQ(x.first_fire_cycle, y.first_fire_cycle) << at;
+    EXPECT_EQ(x.last_fire_cycle, y.last_fire_cycle) << at;
+  }
+  ASSERT_EQ(a.fifos.size(), b.fifos.size()) << what;
+  for (std::size_t i = 0; i < a.fifos.size(); ++i) {
+    const sim::FifoReport &x = a.fifos[i], &y = b.fifos[i];
+    EXPECT_EQ(x.name, y.name) << what;
+    EXPECT_EQ(x.depth, y.depth) << what << ", FIFO " << x.name;
+    EXPECT_EQ(x.tokens, y.tokens) << what << ", FIFO " << x.name;
+    EXPECT_EQ(x.high_water, y.high_water) << what << ", FIFO " << x.name;
+  }
+}
+
+// The default cycle run (control-path schedule + func data) against the coupled run, where the
+// kernels' datapath fires inside the schedule at the design's PU: same report, same codes.
+// Returns the coupled report.
+sim::CycleReport run_both_modes(const sim::GreyImage& l, const sim::GreyImage& r, const StereoParams& p,
+                                sim::CycleOptions o, const std::string& what) {
+  o.coupled = false;
+  const sim::CycleReport fast = sim::run_cycle(l, r, p, o);
+  o.coupled = true;
+  const sim::CycleReport coupled = sim::run_cycle(l, r, p, o);
+  expect_same_report(fast, coupled, what);
+  if (!coupled.deadlock) {
+    const Comparison c = compare_maps(fast.codes.code, coupled.codes.code, p.width_px);
+    EXPECT_TRUE(c.sizes_equal && c.mismatches == 0)
+        << what << ": default vs coupled codes: " << c.mismatches << " mismatches, first at " << c.first;
+  }
+  return coupled;
+}
+
 void expect_cycle_equivalent(const StereoParams& p, const sim::CycleOptions& o, uint32_t seed) {
   const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, seed, 3 + int(seed % 7));
-  const sim::CycleReport c = sim::run_cycle(sp.left, sp.right, p, o);
+  const sim::CycleReport c = run_both_modes(sp.left, sp.right, p, o, describe(p) + " seed " + std::to_string(seed));
   ASSERT_FALSE(c.deadlock) << describe(p) << ": " << c.deadlock_message;
   sim::FuncOptions design;
   design.use_design_pu = true;
@@ -210,7 +263,7 @@ TEST(Deadlock, StageWhosePlanCanNeverBeMet) {
   const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 7);
   sim::CycleOptions o = one_pair_per_cycle();
   o.truncate_input_px = 100;
-  const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, o);
+  const sim::CycleReport r = run_both_modes(sp.left, sp.right, p, o, "truncated input");
   ASSERT_TRUE(r.deadlock);
   EXPECT_NE(r.deadlock_message.find("stage 'cost' waits for a token on FIFO 'left_px'"), std::string::npos)
       << r.deadlock_message;
@@ -330,6 +383,43 @@ TEST(Vcd, WindowOfFifoOccupanciesAndStageSignals) {
     }
   EXPECT_GT(stamps, 50);
   EXPECT_FALSE(r.deadlock);
+  // The coupled run writes the same trace.
+  sim::CycleOptions oc = o;
+  oc.coupled = true;
+  oc.vcd_path = ::testing::TempDir() + "parallax_cycle_test_coupled.vcd";
+  (void)sim::run_cycle(sp.left, sp.right, p, oc);
+  std::ifstream in_c(oc.vcd_path);
+  std::stringstream sc;
+  sc << in_c.rdbuf();
+  EXPECT_EQ(sc.str(), vcd);
+}
+
+// run_timing is the report of run_cycle without the codes, in both modes; and on designs of
+// every shape (two passes, SAD, camera input, shallow FIFOs, port conflicts) the control-path
+// schedule and the coupled run agree on every figure.
+TEST(CycleEquiv, ControlPathScheduleEqualsCoupledRun) {
+  uint32_t seed = 9100;
+  for (unsigned paths : {kern::kForwardPaths, kern::kAllPaths, kern::kPath0 | kern::kPath45})
+    for (std::size_t depth : {std::size_t(1), std::size_t(2), std::size_t(5)}) {
+      StereoParams p = params(37, 9, 32, seed % 2 ? 4 : 8, paths);
+      p.cost = seed % 3 ? int(kern::kCostCensus) : int(kern::kCostSad);
+      const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, seed, 5);
+      sim::CycleOptions o = one_pair_per_cycle();
+      o.fifo_depth = depth;
+      o.row_packing = 4;
+      o.row_banks = 1;
+      if (seed % 4 == 1) {
+        o.input = sim::InputKind::camera;
+        o.camera_pixel_hz = 40e6;
+        o.camera_h_blank_px = 5;
+      }
+      const std::string what = describe(p) + " depth " + std::to_string(depth);
+      const sim::CycleReport coupled = run_both_modes(sp.left, sp.right, p, o, what);
+      const sim::CycleReport timing = sim::run_timing(sp.left, sp.right, p, o);
+      expect_same_report(timing, coupled, what + " (run_timing)");
+      EXPECT_TRUE(timing.codes.code.empty());
+      ++seed;
+    }
 }
 
 }  // namespace
@@ -414,7 +504,8 @@ TEST(CycleEquiv, RectifyInFrontOfTheCostStage) {
       o.rectify = kern::RectifyParams{w, h, mode, frac, rows};
       o.rectify_map_left = &map_l;
       o.rectify_map_right = &map_r;
-      const sim::CycleReport c = sim::run_cycle(sp.left, sp.right, p, o);
+      const sim::CycleReport c =
+          run_both_modes(sp.left, sp.right, p, o, "rectify mode " + std::to_string(mode) + " rows " + std::to_string(rows));
       ASSERT_FALSE(c.deadlock) << c.deadlock_message;
       const sim::RectifyOutput rl = sim::run_rectify_func(sp.left, map_l, o.rectify);
       const sim::RectifyOutput rr = sim::run_rectify_func(sp.right, map_r, o.rectify);

@@ -260,7 +260,7 @@ int main(int argc, char** argv) {
   ConfigArgs sim_cfg;
   std::string sim_left, sim_right, sim_out, sim_vcd, sim_vcd_cycles, sim_write_config;
   int sim_clock_mhz = 0;
-  bool sim_json = false, sim_no_sizing = false;
+  bool sim_json = false, sim_no_sizing = false, sim_coupled = false;
   double sim_cal_latency = 0, sim_cal_fps = 0;
   auto* simc = app.add_subcommand("sim", "Cycle-level simulation of one frame: latency, frame rate, stalls, FIFO depths");
   add_config_options(simc, sim_cfg, true);
@@ -270,6 +270,9 @@ int main(int argc, char** argv) {
   simc->add_option("--clock-mhz", sim_clock_mhz, "Processing clock in MHz (default: the config's clock_mhz)")->check(CLI::Range(1, 2000));
   simc->add_flag("--json", sim_json, "Print JSON");
   simc->add_flag("--no-sizing", sim_no_sizing, "Skip the second run that finds stall-free FIFO depths");
+  simc->add_flag("--coupled", sim_coupled,
+                 "Fire the kernels' datapath inside the schedule at the design's PU (slower; same report and "
+                 "output, which by default come from the control-path schedule and the func run)");
   simc->add_option("--vcd", sim_vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)");
   simc->add_option("--vcd-cycles", sim_vcd_cycles, "Cycle window A:B of the VCD (default 0:20000)");
   simc->add_option("--calibrate-latency-ms", sim_cal_latency, "Measured latency at this clock: set host_latency_ms to match");
@@ -464,7 +467,14 @@ int main(int argc, char** argv) {
         }
         if (vcd_from < 0 || vcd_to <= vcd_from) throw InputError("--vcd-cycles: need 0 <= A < B");
       }
-      SimulationResult res = simulate(cfg, l, r, clock, !sim_no_sizing, sim_vcd, vcd_from, vcd_to);
+      SimulateOptions so;
+      so.clock_mhz = clock;
+      so.size_fifos = !sim_no_sizing;
+      so.coupled = sim_coupled;
+      so.vcd_path = sim_vcd;
+      so.vcd_from = vcd_from;
+      so.vcd_to = vcd_to;
+      SimulationResult res = simulate(cfg, l, r, so);
       if (res.cycle.deadlock) {
         std::fprintf(stderr, "parallax: error: %s\n", res.cycle.deadlock_message.c_str());
         return 3;

@@ -30,11 +30,17 @@ struct SimulationResult {
   std::string interval_limit;        // what sets the frame interval
 };
 
-// Runs the cycle model on a grey pair of the ROI size. size_fifos: also run with unbounded FIFOs
-// to find the smallest stall-free depths.
+struct SimulateOptions {
+  int clock_mhz = 200;
+  bool size_fifos = false;  // also run with unbounded FIFOs to find the smallest stall-free depths
+  bool coupled = false;     // fire the kernels' datapath inside the schedule (sim::CycleOptions::coupled)
+  std::string vcd_path;     // VCD of cycles [vcd_from, vcd_to) when not empty
+  int64_t vcd_from = 0, vcd_to = 0;
+};
+
+// Runs the cycle model on a grey pair of the ROI size.
 SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
-                          int clock_mhz, bool size_fifos, const std::string& vcd_path = "", int64_t vcd_from = 0,
-                          int64_t vcd_to = 0);
+                          const SimulateOptions& so);
 
 // Fills the system figures of `res` (latencies, host copies, frame interval, fps) from its cycle
 // report and the configuration's host model; cheap, so calibration recomputes them in place.

@@ -46,6 +46,11 @@ class CostStage {
 
   CostPlan plan() const {
     CostPlan pl;
+    if (chunk_ != 0) {  // the rest of a pixel's chunks: its window was ready at chunk 0
+      pl.write = true;
+      pl.read = false;
+      return pl;
+    }
     pl.write = !out_done_ && left_.window_ready(x_, y_, rx_, ry_);
     pl.read = left_.input_allowed(y_, ry_) && (chunk_ == 0 || !pl.write);
     return pl;
@@ -64,6 +69,17 @@ class CostStage {
     if (pl.read) {
       left_.push(left_in.read());
       right_.push(right_in.read());
+    }
+  }
+
+  // The control path of fire(pl) alone: the counters advance exactly as fire(pl) advances them,
+  // no pixel is stored and no cost computed. plan() after step(pl) equals plan() after fire(pl),
+  // so a scheduler can time the stage without its datapath (the cycle model's timing run).
+  void step(const CostPlan& pl) {
+    if (pl.write) advance();
+    if (pl.read) {
+      left_.skip_push();
+      right_.skip_push();
     }
   }
 

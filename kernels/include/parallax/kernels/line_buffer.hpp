@@ -19,19 +19,30 @@ class LineBuffer {
     height_px_ = height_px;
     rows_ = rows;
     reciprocal_ = (65536u + uint32_t(rows) - 1u) / uint32_t(rows);
-    written_ = 0;
+    reset();
   }
-  void reset() { written_ = 0; }
+  void reset() {
+    written_ = 0;
+    in_row_ = 0;
+    in_col_ = 0;
+    in_slot_ = 0;
+  }
 
   // Appends the next input pixel in raster order.
   void push(T v) {
-    const int yi = int(written_ / width_px_);
-    const int xi = int(written_ - int64_t(yi) * width_px_);
-    mem_[slot(yi)][xi] = v;
+    mem_[in_slot_][in_col_] = v;
+    skip_push();
+  }
+  // Counts the next input pixel without storing it (the control path alone; see step()).
+  void skip_push() {
     ++written_;
+    if (++in_col_ < width_px_) return;
+    in_col_ = 0;
+    ++in_row_;
+    if (++in_slot_ == rows_) in_slot_ = 0;
   }
   int64_t written() const { return written_; }
-  bool input_done() const { return written_ >= int64_t(width_px_) * height_px_; }
+  bool input_done() const { return in_row_ >= height_px_; }
 
   // Pixel (x, y) with both coordinates clamped to the image; it must be resident.
   T at_clamped(int x, int y) const {
@@ -55,8 +66,7 @@ class LineBuffer {
   // radius ry around output row y_out still needs.
   bool input_allowed(int y_out, int ry) const {
     if (input_done()) return false;
-    const int yi = int(written_ / width_px_);
-    return yi - rows_ < max_int(0, y_out - ry);
+    return in_row_ - rows_ < max_int(0, y_out - ry);
   }
 
  private:
@@ -65,6 +75,7 @@ class LineBuffer {
   int height_px_ = 0;
   int rows_ = 1;
   int64_t written_ = 0;
+  int in_row_ = 0, in_col_ = 0, in_slot_ = 0;  // position of the next input pixel: row, column, slot
   uint32_t reciprocal_ = 65536u;  // ceil(2^16 / rows)
 };
 

@@ -49,12 +49,15 @@ class Median {
     if (pl.write) {
       out.write(k_ == 1 ? lb_.at_clamped(x_, y_)
                         : k_ == 3 ? window_median<3>() : k_ == 5 ? window_median<5>() : window_median<7>());
-      if (++x_ == width_px_) {
-        x_ = 0;
-        if (++y_ == height_px_) done_ = true;
-      }
+      advance();
     }
     if (pl.read) lb_.push(in.read());
+  }
+
+  // The control path of fire(pl) alone (see CostStage::step).
+  void step(const MedianPlan& pl) {
+    if (pl.write) advance();
+    if (pl.read) lb_.skip_push();
   }
 
  private:
@@ -94,6 +97,13 @@ class Median {
     for (int a = 0; a < K * K; ++a)
       if (smaller[a] == want) result = DispCode(key[a] >> 6);
     return result;
+  }
+
+  void advance() {
+    if (++x_ == width_px_) {
+      x_ = 0;
+      if (++y_ == height_px_) done_ = true;
+    }
   }
 
   int k_ = 1, r_ = 0, width_px_ = 0, height_px_ = 0;

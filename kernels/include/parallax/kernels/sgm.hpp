@@ -132,6 +132,13 @@ class SgmAggregate {
     advance();
   }
 
+  // The control path of fire(pl) alone (see CostStage::step): the chunk, column and row
+  // counters advance; no path cost is read or written.
+  void step(const AggPlan& pl) {
+    (void)pl;
+    advance();
+  }
+
  private:
   // Fetches the predecessor lanes [lo - 1, lo + PU] of slot's path, its minimum M and where the
   // new Lr lanes go. Returns false at the start of the path (predecessor outside the image).

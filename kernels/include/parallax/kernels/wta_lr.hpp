@@ -63,8 +63,14 @@ class WtaLr {
   void fire(const WtaPlan& pl, InS& in, OutS& out) {
     if (pl.read) consume(in.read());
     if (pl.write) out.write(emit());
-    if (pl.read) advance_input();
-    else if (next_emit_ >= p_.width_px) next_row();
+    finish(pl);
+  }
+
+  // The control path of fire(pl) alone (see CostStage::step): emit() advances next_emit_ and
+  // nothing else of the control state.
+  void step(const WtaPlan& pl) {
+    if (pl.write) ++next_emit_;
+    finish(pl);
   }
 
  private:
@@ -158,6 +164,11 @@ class WtaLr {
       if (diff > p_.lr_tolerance) return invalid;
     }
     return DispCode(d);
+  }
+
+  void finish(const WtaPlan& pl) {
+    if (pl.read) advance_input();
+    else if (next_emit_ >= p_.width_px) next_row();
   }
 
   void advance_input() {

@@ -62,6 +62,12 @@ struct CycleOptions {
   kern::RectifyParams rectify{0, 0, kern::kRectifyNone, 0, 1};
   const std::vector<kern::MapEntry>* rectify_map_left = nullptr;
   const std::vector<kern::MapEntry>* rectify_map_right = nullptr;
+  // false (default): the schedule runs the kernels' control path (plan() and step()) at the
+  // design's PU, and the codes come from the func run of the same kernels; true: the kernels'
+  // datapath fires inside the schedule at the design's PU, token by token. Plans depend on
+  // counters only, so both give the same report and codes (tested); coupled is the slower proof
+  // that the datapath streams at the design's granularity.
+  bool coupled = false;
   // Test hook: the source stops after this many pixels (a frame that never completes).
   int64_t truncate_input_px = -1;
   // VCD trace of FIFO occupancies and stage valid/stall signals for cycles [vcd_from, vcd_to).
@@ -116,9 +122,14 @@ struct CycleReport {
 int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int row_banks, int chunk, int ii_cycles);
 
 // Runs one frame through the cycle model with the design's PU. The codes are bit-identical to the
-// func run (tested).
+// func run and the golden model (tested in both modes, see CycleOptions::coupled).
 CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                       const CycleOptions& opt);
+
+// The timing of run_cycle alone (the control-path schedule, whatever opt.coupled says): the same
+// report with empty codes. Plans never depend on pixel values, so this is every frame's timing.
+CycleReport run_timing(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                       const CycleOptions& opt);
 
 // The same frame with every FIFO unbounded: the high-water marks are the smallest depths with
 // which no stage ever waits for FIFO space (tested: sizing FIFOs so removes all output stalls).

@@ -63,7 +63,7 @@ class FifoBase {
     return t >= capacity() ? t - capacity() : t;
   }
   // Book-keeping of one write into slot s (called by Fifo<T>::write).
-  void on_write(std::size_t s) {
+  [[gnu::always_inline]] void on_write(std::size_t s) {
     if (timed_) {
       visible_[s] = write_visible_;
       last_visible_ = write_visible_;
@@ -73,7 +73,7 @@ class FifoBase {
     if (!timed_ && count_ > high_water_) high_water_ = count_;
   }
   // Book-keeping of one read of the head slot (called by Fifo<T>::read before advancing).
-  void on_read() {
+  [[gnu::always_inline]] void on_read() {
     if (timed_) {
       track_occupancy();  // before this slot's read time (token k - depth's) is overwritten
       read_at_[head_] = read_cycle_;
@@ -109,7 +109,7 @@ class FifoBase {
   // Occupancy over time, evaluated when token k (the head) becomes visible: tokens 0..k are
   // present except those read before that cycle. Reads are monotone, so a pointer suffices;
   // it never lags by more than the occupancy, which the slot ring holds.
-  void track_occupancy() {
+  [[gnu::always_inline]] void track_occupancy() {
     const int64_t k = reads_;
     const int64_t vis = visible_[head_];
     while (counted_reads_ < k && read_time_of(counted_reads_) + 1 <= vis) ++counted_reads_;
@@ -144,6 +144,17 @@ class Fifo : public FifoBase {
     const std::size_t s = tail_slot();
     buf_[s] = v;
     on_write(s);
+  }
+  // The timing run moves tokens without payload: occupancy, counters and times as read() and
+  // write() keep them, the slot's value untouched.
+  [[gnu::always_inline]] void skip_read() {
+    if (count_ == 0) fail("read from empty FIFO");
+    on_read();
+  }
+  [[gnu::always_inline]] void skip_write() {
+    if (full()) fail("write to full FIFO");
+    if (count_ == buf_.size()) grow();
+    on_write(tail_slot());
   }
 
  private:
