@@ -140,13 +140,15 @@ class Node {
     blocked_ = nullptr;
     if constexpr (kTimed) {
       const int64_t t_next = t_next_;
-      const int64_t ready = std::max(t_next, earliest);
-      int64_t t_in = ready, t_out = ready;
+      int64_t t_in = t_next, t_out = t_next;
       for (const Port& p : in)
         if (p.used) t_in = std::max(t_in, p.fifo->head_visible());
       // Results enter the output FIFO at the end of the pipeline, L cycles after the firing.
       for (const Port& p : out)
         if (p.used) t_out = std::max(t_out, p.fifo->next_write_free() - timing_.latency_cycles);
+      if (earliest > std::max(t_in, t_out)) ++earliest_bound_;  // the source's arrival set the cycle
+      t_in = std::max(t_in, earliest);
+      t_out = std::max(t_out, earliest);
       const int64_t t = std::max(t_in, t_out);
       {
         // Waiting before the first firing counts as input stall (the pipeline fills).
@@ -196,6 +198,23 @@ class Node {
     return blocked_ && (blocked_on_input_ ? blocked_->writes() : blocked_->reads()) == blocked_at_;
   }
 
+  // Timed-state access for the periodic fast-forward (see FifoBase::visit).
+  template <class V>
+  void visit(V& v) {
+    v(t_next_);
+    v(report_.fires);
+    v(report_.input_stall_cycles);
+    v(report_.output_stall_cycles);
+    v(report_.port_conflict_cycles);
+    v(report_.first_fire_cycle);
+    v(report_.last_fire_cycle);
+    v(blocked_on_input_);
+    v(blocked_at_);
+    v(earliest_bound_);
+  }
+  // Firings whose cycle the `earliest` bound (a source's arrival) set, above every other bound.
+  int64_t earliest_bound() const { return earliest_bound_; }
+
   // busy = fires x II + the cycles memory-port conflicts add.
   const StageReport& report() const {
     report_.busy_cycles = report_.fires * timing_.ii_cycles + report_.port_conflict_cycles;
@@ -216,6 +235,7 @@ class Node {
   const FifoBase* blocked_ = nullptr;
   bool blocked_on_input_ = false;
   int64_t blocked_at_ = 0;  // the blocking FIFO's writes (input) or reads (output) at the block
+  int64_t earliest_bound_ = 0;
   int valid_sig_ = -1, stall_sig_ = -1;
 };
 
@@ -269,6 +289,11 @@ class Graph {
     return "";
   }
   void clear_fifos() { fifos_.clear(); }
+  std::vector<FifoBase*> fifo_list() const {
+    std::vector<FifoBase*> list;
+    for (const auto& fi : fifos_) list.push_back(fi.fifo);
+    return list;
+  }
 
  private:
   struct FifoInfo {
@@ -578,6 +603,8 @@ class Engine {
         }
         ++got;
         fired = true;
+        if constexpr (kTimed && !kData)
+          if (ff_.enabled && got % p_.width_px == 0) fast_forward();
       }
       return fired;
     };
@@ -696,6 +723,7 @@ class Engine {
     NodeT& n_sink = node("sink");
     int64_t got = 0;
     const int64_t total = frame_pixels();
+    start_fast_forward(fe->next_src, got, int64_t(left.px.size()));
     std::vector<std::function<bool()>> pumps = fe->pumps;
     pumps.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
     pumps.push_back(
@@ -819,6 +847,147 @@ class Engine {
             std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
   }
 
+  // --- periodic fast-forward (the timing run of one-pass designs) ------------------------------
+  //
+  // Between the first and the last rows every stage runs the same plans row after row, so once
+  // the pipeline has settled, the whole timed state (every stage's next cycle and statistics,
+  // every FIFO's counters and the slot times future firings can read, every kernel's counters,
+  // the source and sink positions) advances by the same amount per output row: times by one
+  // period, counts by one row's worth. The evaluation is deterministic (which stage fires and
+  // what it plans depend on counts and counters only), so when three snapshots taken as the
+  // sink completes consecutive rows show the same differences twice, the next rows repeat them
+  // exactly, and K rows can be applied at once: state + K x difference. Conditions that keep it
+  // exact: the rows skipped stay clear of the frame's last rows (and the first rows are past);
+  // the source's arrivals either never set a firing's cycle and come no faster than one period
+  // per row, or repeat with exactly the period over the skipped rows (checked pixel by pixel;
+  // the skip ends before the first row that does not).
+  // Off for the coupled run, two-pass designs, rectification and VCD traces. Tested against the
+  // coupled run, which never skips.
+
+  struct StateIO {
+    std::vector<int64_t>* out = nullptr;  // read mode: append every field
+    const std::vector<int64_t>* in = nullptr;  // write mode: assign every field in order
+    std::size_t pos = 0;
+    template <class T>
+    void operator()(T& field) {
+      if (out)
+        out->push_back(int64_t(field));
+      else
+        field = T((*in)[pos++]);
+    }
+  };
+  struct Snapshot {
+    std::vector<int64_t> values, slots, shape;
+    int64_t source_bound = 0;
+  };
+  struct FastForward {
+    bool enabled = false;
+    int64_t* next_src = nullptr;
+    int64_t* got = nullptr;
+    int64_t source_total = 0;
+    NodeT* source = nullptr;
+    std::vector<FifoBase*> fifos;
+    std::vector<Snapshot> history;  // the last three, oldest first
+  };
+
+  void start_fast_forward(int64_t& next_src, int64_t& got, int64_t source_pixels) {
+    ff_ = FastForward{};
+    const bool tracing = trace_ && trace_->active();
+    ff_.enabled = kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
+    if (!ff_.enabled) return;
+    ff_.next_src = &next_src;
+    ff_.got = &got;
+    ff_.source_total = source_pixels;
+    if (setup_.opt->truncate_input_px >= 0) ff_.source_total = std::min(ff_.source_total, setup_.opt->truncate_input_px);
+    ff_.fifos = graph_->fifo_list();
+    for (const auto& n : graph_->nodes())
+      if (n->name() == "source") ff_.source = n.get();
+  }
+
+  template <class IO>
+  void visit_state(IO& io) {
+    for (const auto& n : graph_->nodes()) n->visit(io);
+    for (FifoBase* f : ff_.fifos) f->visit(io);
+    if (p_.cost == kern::kCostCensus)
+      census_.visit(io);
+    else
+      sad_.visit(io);
+    agg_.visit(io);
+    wta_.visit(io);
+    median_.visit(io);
+    io(*ff_.next_src);
+    io(*ff_.got);
+    io(rep_->last_pixel_cycle);  // last, the period is read from it
+  }
+
+  void fast_forward() {
+    const int64_t w = p_.width_px;
+    const int64_t rows_done = *ff_.got / w;
+    if (rows_done < p_.window_h / 2 + p_.median / 2 + 2) return;  // past the first rows' plans
+    Snapshot s;
+    StateIO reader;
+    reader.out = &s.values;
+    visit_state(reader);
+    for (FifoBase* f : ff_.fifos) {
+      const std::size_t before = s.slots.size();
+      f->slot_times(s.slots);
+      s.shape.push_back(int64_t(s.slots.size() - before));
+    }
+    for (const auto& n : graph_->nodes()) {
+      const auto it = std::find(ff_.fifos.begin(), ff_.fifos.end(), n->blocked_fifo());
+      s.shape.push_back(it == ff_.fifos.end() ? -1 : int64_t(it - ff_.fifos.begin()));
+    }
+    s.source_bound = ff_.source->earliest_bound();
+    ff_.history.push_back(std::move(s));
+    if (ff_.history.size() > 3) ff_.history.erase(ff_.history.begin());
+    if (ff_.history.size() < 3) return;
+    const Snapshot &a = ff_.history[0], &b = ff_.history[1], &c = ff_.history[2];
+    if (a.shape != b.shape || b.shape != c.shape || a.values.size() != c.values.size() ||
+        a.slots.size() != c.slots.size())
+      return;
+    for (std::size_t i = 0; i < c.values.size(); ++i)
+      if (c.values[i] - b.values[i] != b.values[i] - a.values[i]) return;
+    const int64_t period = c.values.back() - b.values.back();
+    if (period <= 0) return;
+    for (std::size_t i = 0; i < c.slots.size(); ++i)
+      if (c.slots[i] - b.slots[i] != period || b.slots[i] - a.slots[i] != period) return;
+    const std::size_t next_at = c.values.size() - 3;  // visit_state's order: next_src, got, last pixel
+    if (c.values[next_at] - b.values[next_at] != w) return;
+    const int64_t next = *ff_.next_src;
+    int64_t rows = (ff_.source_total - next) / w - 3;  // stay clear of the last rows
+    if (rows < 1) return;
+    const bool arrival_bound = c.source_bound != b.source_bound || b.source_bound != a.source_bound;
+    if (!arrival_bound) {
+      // Never bound: it stays so if the input delivers a row in at most one period.
+      if (input_arrival(next + w) - input_arrival(next) > period - 1 ||
+          input_arrival(next + rows * w) - input_arrival(next) > rows * period - 1)
+        return;
+      const double stride = setup_.opt->input == InputKind::camera ? double(w + setup_.opt->camera_h_blank_px)
+                                                                    : double(w);
+      if (stride * input_rate_.cycles_per_token > double(period) - 1.0) return;
+    } else {  // skip the rows up to the first whose arrivals do not repeat with the period
+      for (int64_t j = next; j < next + rows * w; ++j)
+        if (input_arrival(j) - input_arrival(j - w) != period) {
+          rows = (j - next) / w;
+          break;
+        }
+      if (rows < 1) return;
+    }
+    std::vector<int64_t> target(c.values.size());
+    for (std::size_t i = 0; i < target.size(); ++i) target[i] = c.values[i] + rows * (c.values[i] - b.values[i]);
+    StateIO writer;
+    writer.in = &target;
+    visit_state(writer);
+    for (FifoBase* f : ff_.fifos) f->shift_slot_times(rows * period);
+    census_.resync();
+    sad_.resync();
+    agg_.resync();
+    wta_.resync();
+    median_.resync();
+    rep_->rows_fast_forwarded += rows;
+    ff_.history.clear();
+  }
+
   Rate ddr_rate() const {
     Rate r;
     if (!kTimed || !setup_.opt) return r;
@@ -871,6 +1040,7 @@ class Engine {
 
   kern::StereoParams p_{};
   RunSetup setup_;
+  FastForward ff_;
   Rate input_rate_;  // of this run's source, computed once
   CycleReport* rep_ = nullptr;
   TimingModel timing_;

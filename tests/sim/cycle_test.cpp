@@ -394,6 +394,85 @@ TEST(Vcd, WindowOfFifoOccupanciesAndStageSignals) {
   EXPECT_EQ(sc.str(), vcd);
 }
 
+// The periodic fast-forward applies whole rows at once; on frames tall enough for it to engage,
+// over designs of every pacing (aggregation-bound, memory-input-bound, camera-bound with and
+// without overruns, back-pressured through depth-1 FIFOs, memory-port conflicts, LR flushes,
+// no median), the report equals the one that simulates every firing and the coupled run's.
+TEST(CycleEquiv, FastForwardEqualsEveryFiring) {
+  uint32_t seed = 9300;
+  int engaged = 0, cases = 0;
+  for (int variant = 0; variant < 12; ++variant) {
+    const int d = variant % 3 == 0 ? 16 : 32;
+    const int pu = variant % 4 == 0 ? 16 : variant % 4 == 1 ? 4 : 8;
+    StereoParams p = params(variant % 2 ? 24 : 41, 40 + variant, d, pu, kern::kForwardPaths);
+    p.cost = variant % 5 == 2 ? int(kern::kCostSad) : int(kern::kCostCensus);
+    p.median = variant % 3 == 1 ? 0 : (variant % 2 ? 3 : 5);
+    p.lr_check = variant % 4 != 3;
+    const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, seed, 4);
+    sim::CycleOptions o = one_pair_per_cycle();
+    o.fifo_depth = std::size_t(1 + variant % 3);
+    if (variant % 6 == 4) {  // one memory per path row: port conflicts every firing
+      o.row_packing = 4;
+      o.row_banks = 1;
+    }
+    if (variant % 4 == 2) {  // a camera: slower than the pipeline (variant 2), or faster (6, 10: overruns)
+      o.input = sim::InputKind::camera;
+      o.camera_pixel_hz = variant == 2 ? 5e6 : 150e6;
+      o.camera_h_blank_px = 7;
+      o.camera_v_blank_rows = 2;
+    }
+    if (variant == 9) o.input_bytes_per_s = 0.05e9;  // memory input slower than the pipeline
+    const std::string what = describe(p) + " variant " + std::to_string(variant);
+    sim::CycleOptions every = o;
+    every.fast_forward = false;
+    const sim::CycleReport fast = sim::run_timing(sp.left, sp.right, p, o);
+    const sim::CycleReport slow = sim::run_timing(sp.left, sp.right, p, every);
+    expect_same_report(fast, slow, what + " (fast-forward vs every firing)");
+    EXPECT_EQ(slow.rows_fast_forwarded, 0);
+    const sim::CycleReport coupled = run_both_modes(sp.left, sp.right, p, o, what);
+    expect_same_report(fast, coupled, what + " (fast-forward vs coupled)");
+    engaged += fast.rows_fast_forwarded > 0 ? 1 : 0;
+    ++cases;
+    ++seed;
+  }
+  EXPECT_GE(engaged, cases * 2 / 3) << "the fast-forward engaged in too few designs to test it";
+}
+
+// An input-bound design whose rows arrive 72 cycles apart except one row in a hundred (73: the
+// memory delivers a pixel every 3 + 0.01/24 cycles). The schedule repeats for long runs of rows;
+// the fast-forward checks the arrivals of the rows it skips, stops before the longer row,
+// simulates it, and skips again after it.
+TEST(CycleEquiv, FastForwardStopsAtAnIrregularInputRow) {
+  StereoParams p = params(24, 260, 16, 16, kern::kForwardPaths);
+  const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, 23, 4);
+  sim::CycleOptions o = one_pair_per_cycle();
+  const double cycles_per_pixel = 3.0 + 0.01 / 24.0;
+  o.input_bytes_per_s = 2.0 * o.clock_hz / cycles_per_pixel;
+  sim::CycleOptions every = o;
+  every.fast_forward = false;
+  const sim::CycleReport fast = sim::run_timing(sp.left, sp.right, p, o);
+  const sim::CycleReport slow = sim::run_timing(sp.left, sp.right, p, every);
+  EXPECT_GT(fast.rows_fast_forwarded, 200);
+  EXPECT_EQ(slow.bottleneck, "input");
+  expect_same_report(fast, slow, "irregular input rows");
+}
+
+// A frame that never completes is diagnosed the same with the fast-forward: the skipped rows
+// stay clear of the end of the (truncated) input.
+TEST(Deadlock, FastForwardKeepsTheDiagnosis) {
+  StereoParams p = params(20, 60, 16, 4, kern::kForwardPaths);
+  const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 17);
+  sim::CycleOptions o = one_pair_per_cycle();
+  o.truncate_input_px = 20 * 45 + 7;
+  sim::CycleOptions every = o;
+  every.fast_forward = false;
+  const sim::CycleReport fast = sim::run_timing(sp.left, sp.right, p, o);
+  const sim::CycleReport slow = sim::run_timing(sp.left, sp.right, p, every);
+  ASSERT_TRUE(fast.deadlock);
+  EXPECT_GT(fast.rows_fast_forwarded, 0);
+  expect_same_report(fast, slow, "truncated input");
+}
+
 // run_timing is the report of run_cycle without the codes, in both modes; and on designs of
 // every shape (two passes, SAD, camera input, shallow FIFOs, port conflicts) the control-path
 // schedule and the coupled run agree on every figure.

@@ -85,6 +85,23 @@ class CostStage {
 
   const StereoParams& params() const { return p_; }
 
+  // Control-state access for a scheduler that advances periodic rows at once (sim/, never
+  // synthesised): visit(v) calls v(field) on every counter of the control path, by reference;
+  // resync() recomputes the fields derived from them after a visitor wrote them.
+  template <class V>
+  void visit(V& v) {
+    v(x_);
+    v(y_);
+    v(chunk_);
+    v(out_done_);
+    left_.visit(v);
+    right_.visit(v);
+  }
+  void resync() {
+    left_.resync();
+    right_.resync();
+  }
+
  private:
   void advance() {
     if (++chunk_ < chunks_) return;

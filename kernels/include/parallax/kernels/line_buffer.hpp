@@ -42,6 +42,17 @@ class LineBuffer {
     if (++in_slot_ == rows_) in_slot_ = 0;
   }
   int64_t written() const { return written_; }
+
+  // Control-state access for a scheduler that advances periodic rows at once (sim/, never
+  // synthesised): visit(v) calls v(field) on every counter of the control path, by reference;
+  // resync() recomputes the fields derived from them after a visitor wrote them.
+  template <class V>
+  void visit(V& v) {
+    v(written_);
+    v(in_row_);
+    v(in_col_);
+  }
+  void resync() { in_slot_ = slot(in_row_); }
   bool input_done() const { return in_row_ >= height_px_; }
 
   // Pixel (x, y) with both coordinates clamped to the image; it must be resident.

@@ -60,6 +60,18 @@ class Median {
     if (pl.read) lb_.skip_push();
   }
 
+  // Control-state access for a scheduler that advances periodic rows at once (sim/, never
+  // synthesised): visit(v) calls v(field) on every counter of the control path, by reference;
+  // resync() recomputes the fields derived from them after a visitor wrote them.
+  template <class V>
+  void visit(V& v) {
+    v(x_);
+    v(y_);
+    v(done_);
+    lb_.visit(v);
+  }
+  void resync() { lb_.resync(); }
+
  private:
   // Rank selection by counting on distinct keys (code * 64 + window index): the keys are a
   // permutation-free total order, so exactly one has (k*k - 1) / 2 smaller keys, and its code

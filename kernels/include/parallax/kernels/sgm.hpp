@@ -139,6 +139,18 @@ class SgmAggregate {
     advance();
   }
 
+  // Control-state access for a scheduler that advances periodic rows at once (sim/, never
+  // synthesised): visit(v) calls v(field) on every counter of the control path, by reference;
+  // resync() recomputes the fields derived from them after a visitor wrote them.
+  template <class V>
+  void visit(V& v) {
+    v(x_);
+    v(y_);
+    v(chunk_);
+    v(done_);
+  }
+  void resync() { parity_ = (y_ * p_.width_px + x_) & 1; }  // parity toggles once per pixel
+
  private:
   // Fetches the predecessor lanes [lo - 1, lo + PU] of slot's path, its minimum M and where the
   // new Lr lanes go. Returns false at the start of the path (predecessor outside the image).

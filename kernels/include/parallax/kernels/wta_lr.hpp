@@ -73,6 +73,20 @@ class WtaLr {
     finish(pl);
   }
 
+  // Control-state access for a scheduler that advances periodic rows at once (sim/, never
+  // synthesised): visit(v) calls v(field) on every counter of the control path, by reference;
+  // resync() recomputes the fields derived from them after a visitor wrote them.
+  template <class V>
+  void visit(V& v) {
+    v(x_);
+    v(y_);
+    v(chunk_);
+    v(next_emit_);
+    v(in_row_done_);
+    v(done_);
+  }
+  void resync() {}
+
  private:
   void consume(const SumToken& t) {
     const int lo = chunk_ * lanes_;

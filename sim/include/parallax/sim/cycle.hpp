@@ -68,6 +68,9 @@ struct CycleOptions {
   // counters only, so both give the same report and codes (tested); coupled is the slower proof
   // that the datapath streams at the design's granularity.
   bool coupled = false;
+  // Let the control-path schedule advance whole rows at once once they repeat exactly (see
+  // docs/simulator.md); false simulates every firing. Same report either way (tested).
+  bool fast_forward = true;
   // Test hook: the source stops after this many pixels (a frame that never completes).
   int64_t truncate_input_px = -1;
   // VCD trace of FIFO occupancies and stage valid/stall signals for cycles [vcd_from, vcd_to).
@@ -114,6 +117,7 @@ struct CycleReport {
   // Camera input only: the first pixel that found no room (a camera cannot wait).
   std::string input_overrun;
   int64_t rectify_window_misses = 0;  // map taps outside the rectify line buffers (both cameras)
+  int64_t rows_fast_forwarded = 0;    // output rows the schedule applied at once (CycleOptions::fast_forward)
 };
 
 // Extra cycles a firing of chunk `chunk` needs beyond II because the path-cost row memories'

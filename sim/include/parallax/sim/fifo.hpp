@@ -8,6 +8,7 @@
 // visible to the consumer; a slot freed by a read at cycle r can take a token from r + 1 on.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -51,6 +52,37 @@ class FifoBase {
   // Timed mode: visible cycle of the last token written, and read cycle of the last token read.
   int64_t last_write_visible() const { return last_visible_; }
   int64_t last_read_cycle() const { return last_read_; }
+
+  // Timed-state access for the periodic fast-forward of the cycle model (engine.hpp):
+  // visit(v) calls v(field) on every counter and scalar time by reference; slot_times() appends
+  // the times that future firings can still read, in token order (the live tokens' visible
+  // cycles, then the read cycles from the oldest token occupancy tracking or the next write's
+  // slot may consult); shift_slot_times(dt) adds dt to every slot's times.
+  template <class V>
+  void visit(V& v) {
+    v(count_);
+    v(high_water_);
+    v(writes_);
+    v(reads_);
+    v(counted_reads_);
+    v(read_cycle_);
+    v(write_visible_);
+    v(last_visible_);
+    v(last_read_);
+  }
+  void slot_times(std::vector<int64_t>& out) const {
+    for (std::size_t k = 0; k < count_; ++k) {
+      const std::size_t s = head_ + k;
+      out.push_back(visible_[s >= capacity_ ? s - capacity_ : s]);
+    }
+    int64_t oldest = counted_reads_;
+    if (depth_ != 0 && writes_ - int64_t(depth_) < oldest) oldest = std::max<int64_t>(0, writes_ - int64_t(depth_));
+    for (int64_t token = oldest; token < reads_; ++token) out.push_back(read_time_of(token));
+  }
+  void shift_slot_times(int64_t dt) {
+    for (auto& t : visible_) t += dt;
+    for (auto& t : read_at_) t += dt;
+  }
 
  protected:
   [[noreturn]] void fail(const char* what) const {
@@ -116,7 +148,7 @@ class FifoBase {
     const std::size_t occ = std::size_t(k + 1 - counted_reads_);
     if (occ > high_water_) high_water_ = occ;
   }
-  int64_t read_time_of(int64_t token) const {
+  int64_t read_time_of(int64_t token) const {  // token in [reads_ - (capacity - count_), reads_)
     // Token j sits in the slot that is (reads_ - j) slots behind the head.
     const std::size_t back = std::size_t(reads_ - token);
     return read_at_[head_ >= back ? head_ - back : head_ + capacity() - back];
