@@ -260,7 +260,7 @@ int main(int argc, char** argv) {
   ConfigArgs sim_cfg;
   std::string sim_left, sim_right, sim_out, sim_vcd, sim_vcd_cycles, sim_write_config;
   int sim_clock_mhz = 0;
-  bool sim_json = false, sim_no_sizing = false, sim_coupled = false;
+  bool sim_json = false, sim_no_sizing = false, sim_coupled = false, sim_every_firing = false;
   double sim_cal_latency = 0, sim_cal_fps = 0;
   auto* simc = app.add_subcommand("sim", "Cycle-level simulation of one frame: latency, frame rate, stalls, FIFO depths");
   add_config_options(simc, sim_cfg, true);
@@ -273,6 +273,8 @@ int main(int argc, char** argv) {
   simc->add_flag("--coupled", sim_coupled,
                  "Fire the kernels' datapath inside the schedule at the design's PU (slower; same report and "
                  "output, which by default come from the control-path schedule and the func run)");
+  simc->add_flag("--every-firing", sim_every_firing,
+                 "Simulate every firing instead of applying rows that repeat exactly at once (same report, slower)");
   simc->add_option("--vcd", sim_vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)");
   simc->add_option("--vcd-cycles", sim_vcd_cycles, "Cycle window A:B of the VCD (default 0:20000)");
   simc->add_option("--calibrate-latency-ms", sim_cal_latency, "Measured latency at this clock: set host_latency_ms to match");
@@ -471,6 +473,7 @@ int main(int argc, char** argv) {
       so.clock_mhz = clock;
       so.size_fifos = !sim_no_sizing;
       so.coupled = sim_coupled;
+      so.fast_forward = !sim_every_firing;
       so.vcd_path = sim_vcd;
       so.vcd_from = vcd_from;
       so.vcd_to = vcd_to;
@@ -528,6 +531,7 @@ int main(int argc, char** argv) {
         j["fps"] = res.fps;
         j["interval_limit"] = res.interval_limit;
         j["bottleneck"] = c.bottleneck;
+        j["rows_fast_forwarded"] = c.rows_fast_forwarded;
         j["input_period_cycles"] = c.input_period_cycles;
         if (cfg.rectify != "none") j["rectify_window_misses"] = c.rectify_window_misses;
         if (res.unbounded_last_pixel_cycle >= 0) j["unbounded_fifos_last_pixel_cycle"] = res.unbounded_last_pixel_cycle;
@@ -562,6 +566,9 @@ int main(int argc, char** argv) {
           std::printf("%-15s %4d %4d %10lld %12lld %12lld %12lld %12lld %12lld\n", s.name.c_str(), s.ii_cycles,
                       s.latency_cycles, (long long)s.fires, (long long)s.busy_cycles, (long long)s.input_stall_cycles,
                       (long long)s.output_stall_cycles, (long long)s.first_fire_cycle, (long long)s.last_fire_cycle);
+        if (c.rows_fast_forwarded > 0)
+          std::printf("\n%lld of %d output rows repeated the previous rows' schedule exactly and were applied at once\n",
+                      (long long)c.rows_fast_forwarded, l.rows);
         if (res.unbounded_last_pixel_cycle >= 0)
           std::printf("\nwith unbounded FIFOs the last pixel leaves at cycle %lld (%+lld cycles); stall_free = depth at which\n"
                       "no producer ever waits (behind a faster producer: its whole backlog, harmless back-pressure)\n",
