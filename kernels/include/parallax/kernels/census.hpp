@@ -22,6 +22,10 @@ class CensusMatcher {
 
   // Computes the left and right codes of pixel (x, y); the right code joins the ring of the last
   // D right codes of this row. Contract: called once per pixel, in raster order, before cost().
+  // Columns left of the output column that costs() may still read from the line buffers (the
+  // right image's codes are kept in a ring, so only the window's own half width).
+  int columns_behind() const { return w_ / 2; }
+
   template <class LB>
   void begin_pixel(const LB& left, const LB& right, int x, int y) {
     left_code_ = code(left, x, y);

@@ -21,7 +21,7 @@ template <class Caps, class Matcher>
 class CostStage {
  public:
   typedef Lanes<uint16_t, Caps::lanes> Token;
-  static constexpr int kRows = kMaxWindow + 1;  // line-buffer slots: window rows + 1
+  static constexpr int kRows = kMaxWindow;  // line-buffer slots: the window's rows
 
   void configure(const StereoParams& p) {
     p_ = p;
@@ -29,8 +29,8 @@ class CostStage {
     ry_ = p.window_h / 2;
     lanes_ = p.parallel_units;
     chunks_ = p.disparities / p.parallel_units;
-    left_.configure(p.width_px, p.height_px, p.window_h + 1);
-    right_.configure(p.width_px, p.height_px, p.window_h + 1);
+    left_.configure(p.width_px, p.height_px, p.window_h);
+    right_.configure(p.width_px, p.height_px, p.window_h);
     matcher_.configure(p);
     start_frame();
   }
@@ -52,7 +52,7 @@ class CostStage {
       return pl;
     }
     pl.write = !out_done_ && left_.window_ready(x_, y_, rx_, ry_);
-    pl.read = left_.input_allowed(y_, ry_) && (chunk_ == 0 || !pl.write);
+    pl.read = left_.input_allowed(x_, y_, matcher_.columns_behind(), ry_) && (chunk_ == 0 || !pl.write);
     return pl;
   }
 

@@ -1,6 +1,8 @@
 // A raster-order line buffer with clamped ("replicate") window access, the common memory of the
 // window stages (census, SAD, median). It holds SLOTS rows of up to MAX_W pixels; input row yi
-// lives in slot yi % rows. C++14 synthesisable subset.
+// lives in slot yi % rows. A window of k rows needs only k rows: the next input row overwrites
+// the oldest row column by column, behind the window (see input_allowed()), as Vitis' line
+// buffers do. C++14 synthesisable subset.
 #pragma once
 
 #include "parallax/kernels/common.hpp"
@@ -12,8 +14,8 @@ template <class T, int MAX_W, int SLOTS>
 class LineBuffer {
  public:
   static_assert(SLOTS <= 10 && kMaxHeightPx <= 4096, "slot(): the reciprocal is exact only up to 10 rows of 4096");
-  // rows: slots in use (<= SLOTS). Contract: the caller never writes row yi while a pending
-  // output still reads row yi - rows (see window_input_allowed()).
+  // rows: slots in use (<= SLOTS), at least the window's height. Contract: the caller writes
+  // only when input_allowed() says so.
   void configure(int width_px, int height_px, int rows) {
     width_px_ = width_px;
     height_px_ = height_px;
@@ -73,11 +75,18 @@ class LineBuffer {
     const int64_t last = int64_t(min_int(y + ry, height_px_ - 1)) * width_px_ + min_int(x + rx, width_px_ - 1);
     return written_ > last;
   }
-  // True when the next input row may be written without overwriting a row that the window of
-  // radius ry around output row y_out still needs.
-  bool input_allowed(int y_out, int ry) const {
+  // True when the next input pixel may be written without overwriting a pixel that the window
+  // of radius (rx, ry) around the next output (x_out, y_out), or a later output, still needs.
+  // It overwrites row in_row - rows at column in_col: free when that row lies above every
+  // window still to come, or when it is the top row of output row y_out's windows (and of no
+  // later row's) and the column lies left of the window at x_out. Rows near the top are shared
+  // by several output rows through clamping (y_out < ry), so they are not overwritten early.
+  bool input_allowed(int x_out, int y_out, int rx, int ry) const {
     if (input_done()) return false;
-    return in_row_ - rows_ < max_int(0, y_out - ry);
+    const int oldest = in_row_ - rows_;
+    const int first_needed = max_int(0, y_out - ry);
+    if (oldest < first_needed) return true;
+    return oldest == y_out - ry && in_col_ < x_out - rx;
   }
 
  private:

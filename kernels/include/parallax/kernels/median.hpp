@@ -19,14 +19,14 @@ struct MedianPlan {
 template <class Caps>
 class Median {
  public:
-  static constexpr int kRows = kMaxMedian + 1;  // line-buffer slots: k rows + 1
+  static constexpr int kRows = kMaxMedian;  // line-buffer slots: the window's k rows
 
   void configure(const StereoParams& p) {
     k_ = p.median >= 3 ? p.median : 1;
     r_ = k_ / 2;
     width_px_ = p.width_px;
     height_px_ = p.height_px;
-    lb_.configure(p.width_px, p.height_px, k_ + 1);
+    lb_.configure(p.width_px, p.height_px, k_);
     start_frame();
   }
   void start_frame() {
@@ -40,7 +40,7 @@ class Median {
   MedianPlan plan() const {
     MedianPlan pl;
     pl.write = !done_ && lb_.window_ready(x_, y_, r_, r_);
-    pl.read = lb_.input_allowed(y_, r_);
+    pl.read = lb_.input_allowed(x_, y_, r_, r_);
     return pl;
   }
 

@@ -16,8 +16,13 @@ class SadMatcher {
     w_ = p.window_w;
     h_ = p.window_h;
     width_px_ = p.width_px;
+    disparities_ = p.disparities;
     cost_max_ = uint16_t(cost_max(p));
   }
+
+  // Columns left of the output column that costs() may still read from the line buffers: the
+  // right window at x - d reaches x - D + 1 - w/2, and the slide's trailing column one more.
+  int columns_behind() const { return w_ / 2 + disparities_; }
 
   // Latches the left window and the window's row pointers for pixel (x, y).
   // Contract: once per pixel, in raster order, before cost() is called for every d in [0, D).
@@ -92,7 +97,7 @@ class SadMatcher {
   }
 
  private:
-  int w_ = 5, h_ = 5, width_px_ = 1;
+  int w_ = 5, h_ = 5, width_px_ = 1, disparities_ = 1;
   uint16_t cost_max_ = 0;
   uint8_t window_[kMaxWindow * kMaxWindow];
   const uint8_t* left_rows_[kMaxWindow];
