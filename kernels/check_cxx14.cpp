@@ -4,6 +4,7 @@
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/median.hpp"
 #include "parallax/kernels/rectify.hpp"
+#include "parallax/kernels/resources.hpp"
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"

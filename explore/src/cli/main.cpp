@@ -18,6 +18,8 @@
 
 #include "parallax/config/config.hpp"
 #include "parallax/explore/bench.hpp"
+#include "parallax/resources/fit.hpp"
+#include "parallax/resources/model.hpp"
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/disparity_io.hpp"
 #include "parallax/explore/evaluate.hpp"
@@ -161,6 +163,58 @@ cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<st
   return grey;
 }
 
+
+// Resources, utilisation and power of a design at its processed size (models/resources).
+struct ResourceReport {
+  res::Estimate estimate;
+  res::Utilisation util;
+  res::Power power;
+};
+ResourceReport resource_report(const config::PipelineConfig& cfg, int width_px, int height_px, const res::Device& dev,
+                               int clock_mhz, double frame_interval_ms) {
+  ResourceReport r;
+  r.estimate = res::estimate(res::design_inventory(cfg, width_px, height_px));
+  r.util = res::utilisation(r.estimate.total, dev);
+  r.power = res::power(r.estimate.total, clock_mhz, frame_interval_ms);
+  return r;
+}
+void add_resources_json(json& j, const ResourceReport& r) {
+  const res::Usage& u = r.estimate.total;
+  j["device"] = r.util.device->name;
+  j["bram18k"] = u.bram18k;
+  j["uram"] = u.uram;
+  j["lut"] = u.lut;
+  j["ff"] = u.ff;
+  j["dsp"] = u.dsp;
+  j["fits_device"] = r.util.fits;
+  j["utilisation_pct"] = {{"bram18k", r.util.bram18k_pct}, {"uram", r.util.uram_pct}, {"lut", r.util.lut_pct},
+                          {"ff", r.util.ff_pct}, {"dsp", r.util.dsp_pct}};
+  j["resource_stages"] = json::array();
+  for (const auto& s : r.estimate.stages)
+    j["resource_stages"].push_back({{"stage", s.stage}, {"bram18k", s.usage.bram18k}, {"lut", s.usage.lut},
+                                    {"ff", s.usage.ff}, {"dsp", s.usage.dsp}, {"lutram_luts", s.usage.lutram_luts},
+                                    {"srl_luts", s.usage.srl_luts}});
+  j["power_estimate_w"] = {{"static", r.power.static_w}, {"dynamic", r.power.dynamic_w}, {"total", r.power.total_w}};
+  j["energy_estimate_mj_per_frame"] = r.power.energy_mj_per_frame;
+}
+void print_resources(const ResourceReport& r) {
+  const res::Usage& u = r.estimate.total;
+  const res::Device& d = *r.util.device;
+  std::printf("\nresources (estimate)  %-8s %8s %8s %8s %8s\n", "BRAM_18K", "LUT", "FF", "DSP", "URAM");
+  for (const auto& s : r.estimate.stages)
+    std::printf("  %-19s %8lld %8lld %8lld %8lld %8d\n", s.stage.c_str(), (long long)s.usage.bram18k,
+                (long long)s.usage.lut, (long long)s.usage.ff, (long long)s.usage.dsp, 0);
+  std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", "total", (long long)u.bram18k, (long long)u.lut, (long long)u.ff,
+              (long long)u.dsp, (long long)u.uram);
+  std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", d.name.c_str(), (long long)d.bram18k, (long long)d.lut,
+              (long long)d.ff, (long long)d.dsp, (long long)d.uram);
+  std::printf("  %-19s %7.1f%% %7.1f%% %7.1f%% %7.1f%% %7.1f%%\n", "utilisation", r.util.bram18k_pct, r.util.lut_pct,
+              r.util.ff_pct, r.util.dsp_pct, r.util.uram_pct);
+  std::printf("fits %s: %s\n", d.name.c_str(), r.util.fits ? "yes" : "no");
+  std::printf("power (estimate)     %.2f W static + %.2f W dynamic = %.2f W; %.1f mJ per frame\n", r.power.static_w,
+              r.power.dynamic_w, r.power.total_w, r.power.energy_mj_per_frame);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -261,6 +315,7 @@ int main(int argc, char** argv) {
   std::string sim_left, sim_right, sim_out, sim_vcd, sim_vcd_cycles, sim_write_config;
   int sim_clock_mhz = 0;
   bool sim_json = false, sim_no_sizing = false, sim_coupled = false, sim_every_firing = false;
+  std::string sim_device = "XCZU3EG";
   double sim_cal_latency = 0, sim_cal_fps = 0;
   auto* simc = app.add_subcommand("sim", "Cycle-level simulation of one frame: latency, frame rate, stalls, FIFO depths");
   add_config_options(simc, sim_cfg, true);
@@ -273,6 +328,8 @@ int main(int argc, char** argv) {
   simc->add_flag("--coupled", sim_coupled,
                  "Fire the kernels' datapath inside the schedule at the design's PU (slower; same report and "
                  "output, which by default come from the control-path schedule and the func run)");
+  simc->add_option("--device", sim_device, "Device for utilisation and fit (" + res::device_names() + ")")
+      ->capture_default_str();
   simc->add_flag("--every-firing", sim_every_firing,
                  "Simulate every firing instead of applying rows that repeat exactly at once (same report, slower)");
   simc->add_option("--vcd", sim_vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)");
@@ -280,6 +337,16 @@ int main(int argc, char** argv) {
   simc->add_option("--calibrate-latency-ms", sim_cal_latency, "Measured latency at this clock: set host_latency_ms to match");
   simc->add_option("--calibrate-fps", sim_cal_fps, "Measured frame rate at this clock: set host_frame_ms to match");
   simc->add_option("--write-config", sim_write_config, "Write the (calibrated) configuration here");
+
+  // fit-resources
+  std::string fit_points = "models/data/published_points.yaml", fit_root = ".", fit_write;
+  bool fit_json = false;
+  auto* fitc = app.add_subcommand(
+      "fit-resources", "Fit the resource model's LUT/FF coefficients to published designs (Ceres), with leave-one-out errors");
+  fitc->add_option("--points", fit_points, "Published points (YAML)")->capture_default_str();
+  fitc->add_option("--root", fit_root, "Repository root the points' config paths are relative to")->capture_default_str();
+  fitc->add_option("--write", fit_write, "Write the coefficients with the fitted section here (e.g. models/data/resource_model.yaml)");
+  fitc->add_flag("--json", fit_json, "Print JSON");
 
   CLI11_PARSE(app, argc, argv);
 
@@ -442,6 +509,8 @@ int main(int argc, char** argv) {
     if (*simc) {
       config::PipelineConfig cfg = load_config_args(sim_cfg);
       const int clock = sim_clock_mhz > 0 ? sim_clock_mhz : cfg.clock_mhz;
+      const res::Device* device = res::find_device(sim_device);
+      if (!device) throw InputError("--device '" + sim_device + "': unknown device; known: " + res::device_names());
       cv::Mat l, r;
       std::vector<std::string> notes;
       if (sim_left.empty() != sim_right.empty()) throw InputError("--left and --right go together");
@@ -512,6 +581,7 @@ int main(int argc, char** argv) {
       }
       print_notes(notes);
       const auto& c = res.cycle;
+      const ResourceReport rr = resource_report(cfg, l.cols, l.rows, *device, clock, res.frame_interval_ms);
       if (sim_json) {
         json j;
         j["config"] = cfg.name;
@@ -549,6 +619,7 @@ int main(int argc, char** argv) {
           if (res.stall_free_depths.count(f.name)) fj["stall_free_depth"] = res.stall_free_depths.at(f.name);
           j["fifos"].push_back(fj);
         }
+        add_resources_json(j, rr);
         std::cout << j.dump(2) << "\n";
       } else {
         std::printf("%s at %d MHz, %dx%d, D=%d, PU=%d\n", cfg.name.c_str(), clock, l.cols, l.rows, cfg.disparities,
@@ -582,6 +653,65 @@ int main(int argc, char** argv) {
                       f.consumer.c_str(), (long long)f.depth, (long long)f.tokens, (long long)f.high_water,
                       it == res.stall_free_depths.end() ? "-" : std::to_string(it->second).c_str());
         }
+        print_resources(rr);
+      }
+      return 0;
+    }
+    if (*fitc) {
+      std::vector<res::PublishedPoint> points;
+      try {
+        points = res::load_points(fit_points, fit_root);
+      } catch (const config::ConfigError& e) {
+        throw InputError(e.what());
+      } catch (const std::runtime_error& e) {
+        throw InputError(e.what());
+      }
+      const res::FitResult fr = res::fit(points, res::default_coefficients());
+      const res::Coefficients& k = fr.coefficients;
+      if (fit_json) {
+        json j;
+        j["coefficients"] = {{"lut_scale", k.lut_scale}, {"lut_per_stage", k.lut_per_stage},
+                             {"lut_per_memory", k.lut_per_memory}, {"ff_per_op_bit", k.ff_per_op_bit},
+                             {"ff_per_stage", k.ff_per_stage}};
+        j["lut_loo_mean_pct"] = fr.lut_loo_mean_pct;
+        j["lut_loo_max_pct"] = fr.lut_loo_max_pct;
+        j["ff_loo_mean_pct"] = fr.ff_loo_mean_pct;
+        j["ff_loo_max_pct"] = fr.ff_loo_max_pct;
+        j["points"] = json::array();
+        for (const auto& row : fr.rows)
+          j["points"].push_back({{"name", row.name},
+                                 {"published", {{"bram18k", row.published.bram18k}, {"lut", row.published.lut},
+                                                {"ff", row.published.ff}, {"dsp", row.published.dsp}}},
+                                 {"fitted", {{"bram18k", row.fitted.bram18k}, {"lut", row.fitted.lut},
+                                             {"ff", row.fitted.ff}, {"dsp", row.fitted.dsp}}},
+                                 {"leave_one_out", {{"lut", row.loo.lut}, {"ff", row.loo.ff}}}});
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::printf("fitted on %zu published points (%s)\n", points.size(), fit_points.c_str());
+        std::printf("  lut = %.4f x operator LUTs + memory LUTs + %.1f x stages + %.2f x memories\n", k.lut_scale,
+                    k.lut_per_stage, k.lut_per_memory);
+        std::printf("  ff  = register bits + %.4f x operator bits + %.1f x stages\n\n", k.ff_per_op_bit, k.ff_per_stage);
+        std::printf("%-26s %8s %8s %8s | %7s %7s %7s %7s | %7s %7s %7s %7s\n", "point", "BRAM pub", "model", "", "LUT pub",
+                    "fit", "loo", "loo %", "FF pub", "fit", "loo", "loo %");
+        for (const auto& row : fr.rows) {
+          auto pct = [](int64_t m, int64_t p) { return p > 0 ? 100.0 * double(m - p) / double(p) : 0.0; };
+          std::printf("%-26s %8lld %8lld %8s | %7lld %7lld %7lld %+6.1f%% | %7lld %7lld %7lld %+6.1f%%\n", row.name.c_str(),
+                      (long long)row.published.bram18k, (long long)row.fitted.bram18k,
+                      row.published.bram18k == row.fitted.bram18k ? "exact" : "",
+                      (long long)row.published.lut, (long long)row.fitted.lut, (long long)row.loo.lut,
+                      pct(row.loo.lut, row.published.lut), (long long)row.published.ff, (long long)row.fitted.ff,
+                      (long long)row.loo.ff, pct(row.loo.ff, row.published.ff));
+        }
+        std::printf("\nleave-one-out |error|: LUT mean %.1f%% max %.1f%%; FF mean %.1f%% max %.1f%%\n",
+                    fr.lut_loo_mean_pct, fr.lut_loo_max_pct, fr.ff_loo_mean_pct, fr.ff_loo_max_pct);
+      }
+      if (!fit_write.empty()) {
+        std::ofstream out(fit_write);
+        if (!out) throw InputError(fit_write + ": cannot write");
+        out << "# Coefficients of the resource and power model (models/resources, docs/resources.md).\n"
+               "# Written by `parallax fit-resources --write`; compiled into parallax (rebuild after editing).\n"
+            << res::coefficients_yaml(k);
+        std::fprintf(stderr, "parallax: wrote %s (rebuild to use it)\n", fit_write.c_str());
       }
       return 0;
     }

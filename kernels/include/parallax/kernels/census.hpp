@@ -22,6 +22,21 @@ class CensusMatcher {
 
   // Computes the left and right codes of pixel (x, y); the right code joins the ring of the last
   // D right codes of this row. Contract: called once per pixel, in raster order, before cost().
+  // Hardware (resources.hpp): a w x h window of registers per image, w*h - 1 comparisons per
+  // image, the right codes of the last D columns in PU banks, and PU XOR + popcount lanes.
+  template <class R>
+  void declare(R& r, const StereoParams& p) const {
+    const int taps = w_ * h_;
+    const int bits = taps - 1;
+    const int pu = p.parallel_units;
+    r.registers("census_windows", 8, 2 * taps);
+    r.op("census_compares", kOpCompare, 8, 2 * bits);
+    r.registers("census_codes", bits, 2);
+    r.memory("right_codes", (p.disparities + pu - 1) / pu, bits, pu, false);
+    r.op("hamming_xor", kOpXor, bits, pu);
+    r.op("hamming_popcount", kOpPopcount, bits, pu);
+  }
+
   // Columns left of the output column that costs() may still read from the line buffers (the
   // right image's codes are kept in a ring, so only the window's own half width).
   int columns_behind() const { return w_ / 2; }

@@ -102,6 +102,17 @@ class CostStage {
     right_.resync();
   }
 
+  // Resources of this configuration (resources.hpp): raster control, the two line buffers of
+  // the window's rows, the matcher's datapath, the output token.
+  template <class R>
+  void declare(R& r) const {
+    declare_raster_control(r, p_.width_px, p_.height_px, chunks_);
+    left_.declare(r, "left_line_buffer", 8);
+    right_.declare(r, "right_line_buffer", 8);
+    matcher_.declare(r, p_);
+    r.registers("cost_token", lanes_ * cost_bits(p_), 1);
+  }
+
  private:
   void advance() {
     if (++chunk_ < chunks_) return;

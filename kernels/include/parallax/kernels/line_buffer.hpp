@@ -6,6 +6,7 @@
 #pragma once
 
 #include "parallax/kernels/common.hpp"
+#include "parallax/kernels/resources.hpp"
 
 namespace parallax {
 namespace kern {
@@ -55,6 +56,12 @@ class LineBuffer {
     v(in_col_);
   }
   void resync() { in_slot_ = slot(in_row_); }
+
+  // Hardware: one memory per row slot (the window reads all rows in one cycle), W words deep.
+  template <class R>
+  void declare(R& r, const char* name, int value_bits) const {
+    r.memory(name, width_px_, value_bits, rows_, false);
+  }
   bool input_done() const { return in_row_ >= height_px_; }
 
   // Pixel (x, y) with both coordinates clamped to the image; it must be resident.

@@ -72,6 +72,26 @@ class Median {
   }
   void resync() { lb_.resync(); }
 
+  // Resources of this configuration (resources.hpp) for values of value_bits: the k-row line
+  // buffer, the k x k window, and the rank network over n = k*k keys (the value and the window
+  // index): one comparator per pair of keys, n(n-1)/2, since the keys are distinct and a < b is
+  // !(b < a); per key a popcount of the n - 1 comparisons that rank it; n equality tests against
+  // the median rank and a select.
+  template <class R>
+  void declare(R& r, int value_bits) const {
+    declare_raster_control(r, width_px_, height_px_, 1);
+    lb_.declare(r, "median_line_buffer", value_bits);
+    r.registers("median_window", value_bits, k_ * k_);
+    if (k_ > 1) {
+      const int n = k_ * k_;
+      r.op("rank_compares", kOpCompare, value_bits + bits_for(uint64_t(n - 1)), n * (n - 1) / 2);
+      r.op("rank_counts", kOpPopcount, n - 1, n);
+      r.op("rank_pick", kOpCompare, bits_for(uint64_t(n)), n);
+      r.op("rank_select", kOpMux, value_bits, n);
+    }
+    r.registers("median_out", value_bits, 1);
+  }
+
  private:
   // Rank selection by counting on distinct keys (code * 64 + window index): the keys are a
   // permutation-free total order, so exactly one has (k*k - 1) / 2 smaller keys, and its code

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "parallax/kernels/common.hpp"
+#include "parallax/kernels/resources.hpp"
 
 namespace parallax {
 namespace kern {
@@ -31,6 +32,27 @@ class Rectify {
     window_misses_ = 0;
   }
   bool done() const { return done_; }
+
+  // Resources of this configuration (resources.hpp): the R-row line buffer (bilinear reads two
+  // adjacent columns of a row per cycle: true dual port), the window test of each tap, and for
+  // bilinear the four weights (products of F+1-bit factors) and the four weighted taps.
+  template <class R>
+  void declare(R& r) const {
+    declare_raster_control(r, p_.width_px, p_.height_px, 1);
+    const bool bilinear = p_.mode == kRectifyBilinear;
+    r.memory("rectify_line_buffer", p_.width_px, 8, p_.buffer_rows, bilinear);
+    r.registers("map_entry", 64, 1);
+    r.op("tap_window_tests", kOpCompare, 16, bilinear ? 8 : 4);
+    if (bilinear) {
+      const int f = p_.frac_bits;
+      r.op("weight_complements", kOpAdd, f + 1, 2);
+      r.mul("weights", f + 1, f + 1, 4);
+      r.mul("weighted_taps", 8, 2 * f + 2, 4);
+      r.op("accumulate", kOpAdd, 2 * f + 10, 4);
+      r.registers("taps", 8, 4);
+    }
+    r.registers("rectify_out", 8, 1);
+  }
   int64_t window_misses() const { return window_misses_; }
 
   RectifyPlan plan() const {

@@ -20,6 +20,19 @@ class SadMatcher {
     cost_max_ = uint16_t(cost_max(p));
   }
 
+  // Hardware (resources.hpp): the left window and D + w right columns of h pixels in registers;
+  // per lane w*h absolute differences (subtract, negate, select) and an adder tree.
+  template <class R>
+  void declare(R& r, const StereoParams& p) const {
+    const int taps = w_ * h_;
+    const int pu = p.parallel_units;
+    r.registers("sad_left_window", 8, taps);
+    r.registers("sad_right_columns", 8, h_ * (p.disparities + w_));
+    r.op("sad_differences", kOpAdd, 9, 2 * taps * pu);
+    r.op("sad_abs_select", kOpMux, 8, taps * pu);
+    r.op("sad_adder_tree", kOpAdd, cost_bits(p), (taps - 1) * pu);
+  }
+
   // Columns left of the output column that costs() may still read from the line buffers: the
   // right window at x - d reaches x - D + 1 - w/2, and the slide's trailing column one more.
   int columns_behind() const { return w_ / 2 + disparities_; }

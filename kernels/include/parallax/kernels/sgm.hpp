@@ -11,6 +11,7 @@
 
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/common.hpp"
+#include "parallax/kernels/resources.hpp"
 
 namespace parallax {
 namespace kern {
@@ -150,6 +151,48 @@ class SgmAggregate {
     v(done_);
   }
   void resync() { parity_ = (y_ * p_.width_px + x_) & 1; }  // parity toggles once per pixel
+
+  // Resources of this configuration (resources.hpp). Row paths keep the previous row's Lr in
+  // memories: `packing` disparities per word, the words of a column spread over `banks`
+  // memories (0: one memory per word, complete partitioning); the pixel path keeps the previous
+  // pixel's Lr in registers (hold_). Per lane and path: two +P1 adds, the min of four, + C - M,
+  // and the running minimum; per lane the sum over paths.
+  template <class R>
+  void declare(R& r, int packing, int banks) const {
+    const int pb = path_bits(p_);
+    const int ab = aggregate_bits(p_);
+    const int d = p_.disparities;
+    const int pu = lanes_;
+    declare_raster_control(r, p_.width_px, p_.height_px, chunks_);
+    const int q = packing < 1 ? 1 : (packing > d ? d : packing);
+    const int words = (d + q - 1) / q;
+    const int memories = banks <= 0 || banks > words ? words : banks;
+    const int words_per_memory = (words + memories - 1) / memories;
+  agg_declare_paths:
+    for (int s = 0; s < n_slots_; ++s) {
+      const int k = kind_[s];
+      if (k == kKindPixel) {
+        r.registers("pixel_path_previous", pb, 2 * d);
+        r.registers("pixel_path_min", pb, 2);
+      } else {
+        const char* row = k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right";
+        const char* mins = k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right";
+        r.memory(row, int64_t(p_.width_px) * words_per_memory, q * pb, memories, false);
+        r.memory(mins, p_.width_px, pb, 1, false);
+      }
+      r.op("path_p1_adds", kOpAdd, pb + 1, 2 * pu);
+      r.op("path_p2_add", kOpAdd, pb + 1, 1);
+      r.op("path_min_of_four", kOpCompare, pb + 1, 3 * pu);
+      r.op("path_min_select", kOpMux, pb + 1, 3 * pu);
+      r.op("path_cost_minus_min", kOpAdd, pb + 1, 2 * pu);
+      r.op("path_running_min", kOpCompare, pb, pu);
+      r.op("path_running_min_select", kOpMux, pb, pu);
+      r.registers("path_min", pb, 1);
+    }
+    r.op("sum_over_paths", kOpAdd, ab, pu * n_slots_);
+    r.registers("cost_in", pu * cost_bits(p_), 1);
+    r.registers("sum_token", pu * ab, 1);
+  }
 
  private:
   // Fetches the predecessor lanes [lo - 1, lo + PU] of slot's path, its minimum M and where the

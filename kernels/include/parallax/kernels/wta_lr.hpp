@@ -9,6 +9,7 @@
 
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/common.hpp"
+#include "parallax/kernels/resources.hpp"
 
 namespace parallax {
 namespace kern {
@@ -86,6 +87,35 @@ class WtaLr {
     v(done_);
   }
   void resync() {}
+
+  // Resources of this configuration (resources.hpp): the min tree and first-lane encoder over
+  // PU lanes, the left results delayed by D - 1 columns for the check (delay_ + 1 entries), and
+  // with the LR check the right candidates of the last 2D - 1 columns in PU banks with a
+  // compare-select per lane.
+  template <class R>
+  void declare(R& r) const {
+    const int ab = aggregate_bits(p_);
+    const int db = disparity_bits(p_);
+    const int pu = lanes_;
+    declare_raster_control(r, p_.width_px, p_.height_px, chunks_);
+    if (pu > 1) {
+      r.op("wta_min_tree", kOpCompare, ab, pu - 1);
+      r.op("wta_min_select", kOpMux, ab, pu - 1);
+    }
+    r.op("wta_first_lane", kOpCompare, ab, pu);
+    r.op("wta_best", kOpCompare, ab, 1);
+    r.registers("wta_best", ab + db, 1);
+    r.memory("left_disparities", delay_ + 1, db, 1, false);
+    r.op("emit_counter", kOpAdd, bits_for(uint64_t(p_.width_px)), 1);
+    if (p_.lr_check) {
+      const int entries = 2 * p_.disparities - 1;
+      r.memory("right_candidates", (entries + pu - 1) / pu, ab + db, pu, false);
+      r.op("right_compare", kOpCompare, ab, pu);
+      r.op("right_select", kOpMux, ab + db, pu);
+      r.op("lr_difference", kOpAdd, db, 2);
+      r.op("lr_tolerance", kOpCompare, db, 1);
+    }
+  }
 
  private:
   void consume(const SumToken& t) {
