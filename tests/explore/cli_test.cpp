@@ -44,7 +44,7 @@ const std::string kData = PARALLAX_DATA_DIR "/kitti2015-640x360/training";
 const std::string kCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
 
 TEST(Cli, HelpOnEveryCommand) {
-  for (const char* c : {"run", "eval", "score", "baseline", "config", "crop-dataset", "sim", "bench"}) {
+  for (const char* c : {"run", "eval", "score", "baseline", "config", "crop-dataset", "sim", "bench", "fit-resources"}) {
     const CliRun r = run_cli(std::string(c) + " --help");
     EXPECT_EQ(r.status, 0) << c;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << c;
@@ -241,6 +241,22 @@ TEST(CliSim, SimOfAPairMatchesRun) {
   const cv::Mat f = cv::imread((d / "f.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_FALSE(c.empty());
   EXPECT_EQ(cv::countNonZero(c != f), 0);
+}
+
+TEST(CliSim, JsonCarriesTheResourceKeys) {
+  const CliRun r = run_cli("sim --config " + kCensus + " --no-sizing --device xczu9eg --json 2>/dev/null");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* k : {"bram18k", "uram", "lut", "ff", "dsp", "fits_device", "utilisation_pct", "resource_stages",
+                        "power_estimate_w", "energy_estimate_mj_per_frame"})
+    EXPECT_NE(r.output.find(std::string("\"") + k + "\""), std::string::npos) << k;
+  EXPECT_NE(r.output.find("\"XCZU9EG\""), std::string::npos);
+}
+
+TEST(CliSim, UnknownDeviceIsRejectedWithTheKnownOnes) {
+  const CliRun r = run_cli("sim --config " + kCensus + " --device XC9000");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("XC9000"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("XCZU3EG"), std::string::npos) << r.output;
 }
 
 TEST(CliSim, BadVcdWindowIsRejected) {
