@@ -2,6 +2,8 @@
 // configurations) print one clear message naming the file or field and exit with status 2.
 #include <unistd.h>
 
+#include <chrono>
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -18,6 +20,7 @@
 
 #include "parallax/config/config.hpp"
 #include "parallax/explore/bench.hpp"
+#include "parallax/explore/sweep.hpp"
 #include "parallax/resources/fit.hpp"
 #include "parallax/resources/model.hpp"
 #include "parallax/explore/dataset.hpp"
@@ -338,6 +341,33 @@ int main(int argc, char** argv) {
   simc->add_option("--calibrate-fps", sim_cal_fps, "Measured frame rate at this clock: set host_frame_ms to match");
   simc->add_option("--write-config", sim_write_config, "Write the (calibrated) configuration here");
 
+  // sweep
+  std::string sw_spec, sw_base, sw_dataset, sw_frames, sw_gt, sw_db, sw_strategy, sw_name;
+  std::vector<std::string> sw_grid;
+  int sw_jobs = 0, sw_samples = 0;
+  uint32_t sw_seed = 0;
+  auto* sweepc = app.add_subcommand("sweep", "Evaluate many designs (accuracy, timing, resources) into a SQLite store; reruns skip finished designs");
+  sweepc->add_option("spec", sw_spec, "Sweep file (YAML, docs/explorer.md); optional when --base and --grid say it all");
+  sweepc->add_option("--base", sw_base, "Base configuration the axes modify (overrides the file's)");
+  sweepc->add_option("--grid", sw_grid, "Axis KEY=V1,V2,... over any configuration field (repeatable)");
+  sweepc->add_option("--dataset", sw_dataset, "Dataset folder (KITTI 2015/2012, Middlebury)")->required();
+  sweepc->add_option("--frames", sw_frames, "Frame filter, e.g. 0-9,15 (default: the file's, else all)");
+  sweepc->add_option("--gt", sw_gt, "Ground truth: noc or occ (default: the file's, else noc)");
+  sweepc->add_option("--db", sw_db, "Results store (SQLite); created if absent")->required();
+  sweepc->add_option("--jobs", sw_jobs, "Designs in parallel (default: all cores)")->check(CLI::Range(0, 256));
+  sweepc->add_option("--strategy", sw_strategy, "grid, random or lhs (default: the file's, else grid)");
+  sweepc->add_option("--samples", sw_samples, "Designs drawn by random / lhs")->check(CLI::Range(1, 1000000));
+  sweepc->add_option("--seed", sw_seed, "Seed of random / lhs");
+  sweepc->add_option("--name", sw_name, "Sweep name in the store (default: the file's, else 'sweep')");
+
+  // pareto
+  std::string pa_db, pa_sweep;
+  bool pa_json = false;
+  auto* paretoc = app.add_subcommand("pareto", "The non-dominated designs of a sweep that meet its constraints");
+  paretoc->add_option("--db", pa_db, "Results store")->required();
+  paretoc->add_option("--sweep", pa_sweep, "Sweep name (default: the only one in the store)");
+  paretoc->add_flag("--json", pa_json, "Print JSON: a list of designs with configuration and metrics");
+
   // fit-resources
   std::string fit_points = "models/data/published_points.yaml", fit_root = ".", fit_write;
   bool fit_json = false;
@@ -654,6 +684,92 @@ int main(int argc, char** argv) {
                       it == res.stall_free_depths.end() ? "-" : std::to_string(it->second).c_str());
         }
         print_resources(rr);
+      }
+      return 0;
+    }
+    if (*sweepc) {
+      SweepSpec spec = sw_spec.empty() ? SweepSpec{} : load_sweep(sw_spec);
+      if (!sw_base.empty()) spec.base = sw_base;
+      for (const auto& g : sw_grid) add_axis(spec, g);
+      if (!sw_frames.empty()) spec.frames = sw_frames;
+      if (!sw_gt.empty()) {
+        if (sw_gt != "noc" && sw_gt != "occ") throw InputError("--gt '" + sw_gt + "': expected noc or occ");
+        spec.gt = sw_gt;
+      }
+      if (!sw_strategy.empty()) {
+        if (sw_strategy != "grid" && sw_strategy != "random" && sw_strategy != "lhs")
+          throw InputError("--strategy '" + sw_strategy + "': expected grid, random or lhs");
+        spec.strategy = sw_strategy;
+      }
+      if (sw_samples > 0) spec.samples = sw_samples;
+      if (sw_seed > 0) spec.seed = sw_seed;
+      if (!sw_name.empty()) spec.name = sw_name;
+      ResultStore store(sw_db);
+      SweepRunOptions ro;
+      ro.dataset = sw_dataset;
+      ro.jobs = sw_jobs;
+      const bool tty = isatty(fileno(stderr)) != 0;
+      const auto t0 = std::chrono::steady_clock::now();
+      ro.progress = [&](int done, int total, int skipped) {
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const int worked = done - skipped;
+        const double eta = worked > 0 ? s / worked * double(total - done) : 0.0;
+        if (tty) {
+          const int width = 30, filled = total > 0 ? done * width / total : width;
+          std::fprintf(stderr, "\r[%s%s] %d/%d designs (%d already stored), ETA %.0f s   ",
+                       std::string(std::size_t(filled), '#').c_str(), std::string(std::size_t(width - filled), '.').c_str(),
+                       done, total, skipped, eta);
+          if (done == total) std::fprintf(stderr, "\n");
+        } else {
+          std::fprintf(stderr, "parallax: sweep %d/%d designs (%d already stored), ETA %.0f s\n", done, total, skipped, eta);
+        }
+      };
+      const SweepSummary sum = run_sweep(spec, store, ro);
+      std::printf("sweep '%s': %d designs: %d evaluated (%d invalid, %d failed), %d already in %s; %.1f s\n",
+                  spec.name.c_str(), sum.total, sum.evaluated + sum.invalid, sum.invalid, sum.failed, sum.skipped,
+                  sw_db.c_str(), sum.seconds);
+      return 0;
+    }
+    if (*paretoc) {
+      ResultStore store(pa_db);
+      const std::vector<SweepSpec> sweeps = store.sweeps();
+      if (sweeps.empty()) throw InputError(pa_db + ": no sweep in this store");
+      const SweepSpec* spec = nullptr;
+      std::string names;
+      for (const auto& s : sweeps) {
+        names += (names.empty() ? "" : ", ") + s.name;
+        if (s.name == pa_sweep) spec = &s;
+      }
+      if (pa_sweep.empty() && sweeps.size() == 1) spec = &sweeps.front();
+      if (!spec)
+        throw InputError(pa_sweep.empty() ? pa_db + ": several sweeps (" + names + "): choose one with --sweep"
+                                          : "--sweep '" + pa_sweep + "': not in " + pa_db + " (" + names + ")");
+      const auto rows = store.designs(spec->name);
+      const auto front = pareto_front(*spec, rows);
+      if (pa_json) {
+        json j = json::array();
+        for (const auto& r : front) j.push_back({{"hash", r.hash}, {"configuration", r.config_yaml}, {"metrics", r.metrics}});
+        std::cout << j.dump(2) << "\n";
+      } else {
+        int meets = 0;
+        for (const auto& r : rows) meets += meets_constraints(*spec, r) ? 1 : 0;
+        std::printf("sweep '%s': %zu designs stored, %d meet the constraints, %zu on the front\n", spec->name.c_str(),
+                    rows.size(), meets, front.size());
+        std::printf("objectives:");
+        for (const auto& o : spec->objectives) std::printf(" %s %s", o.maximise ? "max" : "min", o.key.c_str());
+        std::printf("\n\n%-18s %-40s", "hash", "design");
+        for (const auto& o : spec->objectives) std::printf(" %16s", o.key.c_str());
+        std::printf(" %8s %8s\n", "fps", "bram18k");
+        for (const auto& r : front) {
+          std::string name;
+          const auto pos = r.config_yaml.find("name: ");
+          if (pos != std::string::npos) name = r.config_yaml.substr(pos + 6, r.config_yaml.find('\n', pos) - pos - 6);
+          std::printf("%-18s %-40s", r.hash.c_str(), name.substr(0, 40).c_str());
+          for (const auto& o : spec->objectives)
+            std::printf(" %16.3f", r.metrics.count(o.key) ? r.metrics.at(o.key) : 0.0);
+          std::printf(" %8.1f %8.0f\n", r.metrics.count("fps") ? r.metrics.at("fps") : 0.0,
+                      r.metrics.count("bram18k") ? r.metrics.at("bram18k") : 0.0);
+        }
       }
       return 0;
     }

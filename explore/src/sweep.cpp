@@ -1,0 +1,590 @@
+// Sweeps, the results store and Pareto fronts (sweep.hpp).
+#include "parallax/explore/sweep.hpp"
+
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <mutex>
+#include <random>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "parallax/explore/dataset.hpp"
+#include "parallax/explore/evaluate.hpp"
+#include "parallax/explore/simulate.hpp"
+#include "parallax/resources/model.hpp"
+#include "parallax/sim/cycle.hpp"
+
+namespace parallax::explore {
+
+using json = nlohmann::json;
+
+// --- spec -------------------------------------------------------------------------------------
+
+SweepSpec parse_sweep(const std::string& text, const std::string& source) {
+  YAML::Node n;
+  try {
+    n = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source + ": not YAML: " + e.what());
+  }
+  if (!n.IsMap()) throw InputError(source + ": expected a mapping of sweep fields");
+  SweepSpec s;
+  static const std::set<std::string> known = {"name",    "base",    "strategy",    "samples", "seed", "axes",
+                                              "constraints", "objectives", "frames", "gt"};
+  for (const auto& kv : n) {
+    const std::string key = kv.first.as<std::string>();
+    if (!known.count(key)) throw InputError(source + ": unknown field '" + key + "'");
+  }
+  auto str = [&](const char* k, std::string& out) {
+    if (n[k]) out = n[k].as<std::string>();
+  };
+  try {
+    str("name", s.name);
+    str("base", s.base);
+    str("strategy", s.strategy);
+    str("frames", s.frames);
+    str("gt", s.gt);
+    if (n["samples"]) s.samples = n["samples"].as<int>();
+    if (n["seed"]) s.seed = n["seed"].as<uint32_t>();
+  } catch (const YAML::Exception&) {
+    throw InputError(source + ": a scalar field has the wrong type (samples and seed are integers)");
+  }
+  if (s.strategy != "grid" && s.strategy != "random" && s.strategy != "lhs")
+    throw InputError(source + ": field 'strategy': '" + s.strategy + "' is not grid, random or lhs");
+  if (s.samples < 1) throw InputError(source + ": field 'samples' must be at least 1");
+  if (s.gt != "noc" && s.gt != "occ") throw InputError(source + ": field 'gt' must be noc or occ");
+  if (n["axes"]) {
+    if (!n["axes"].IsMap()) throw InputError(source + ": field 'axes' must map configuration fields to lists");
+    for (const auto& kv : n["axes"]) {
+      std::vector<std::string> values;
+      if (kv.second.IsSequence())
+        for (const auto& v : kv.second) values.push_back(v.as<std::string>());
+      else
+        values.push_back(kv.second.as<std::string>());
+      if (values.empty()) throw InputError(source + ": axis '" + kv.first.as<std::string>() + "' has no values");
+      s.axes.emplace_back(kv.first.as<std::string>(), values);
+    }
+  }
+  if (n["constraints"]) {
+    const YAML::Node c = n["constraints"];
+    try {
+      if (c["device"]) s.device = c["device"].as<std::string>();
+      if (c["fits_device"]) s.require_fit = c["fits_device"].as<bool>();
+      if (c["min_fps"]) s.min_fps = c["min_fps"].as<double>();
+      if (c["max_latency_ms"]) s.max_latency_ms = c["max_latency_ms"].as<double>();
+    } catch (const YAML::Exception&) {
+      throw InputError(source + ": field 'constraints': device is a name, fits_device a bool, min_fps and "
+                                "max_latency_ms numbers");
+    }
+    if (!res::find_device(s.device))
+      throw InputError(source + ": constraints.device '" + s.device + "' is unknown; known: " + res::device_names());
+  }
+  if (n["objectives"]) {
+    s.objectives.clear();
+    for (const auto& o : n["objectives"]) {
+      const std::string t = o.as<std::string>();
+      const auto sp = t.find(' ');
+      const std::string goal = t.substr(0, sp);
+      if (sp == std::string::npos || (goal != "max" && goal != "min"))
+        throw InputError(source + ": objective '" + t + "': write 'max KEY' or 'min KEY'");
+      s.objectives.push_back({t.substr(sp + 1), goal == "max"});
+    }
+    if (s.objectives.empty()) throw InputError(source + ": field 'objectives' is empty");
+  }
+  return s;
+}
+
+SweepSpec load_sweep(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read the sweep file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  SweepSpec s = parse_sweep(ss.str(), path);
+  // A relative base is relative to the working directory (as on the command line).
+  return s;
+}
+
+std::string sweep_to_yaml(const SweepSpec& s) {
+  YAML::Emitter e;
+  e << YAML::BeginMap << YAML::Key << "name" << YAML::Value << s.name << YAML::Key << "base" << YAML::Value << s.base
+    << YAML::Key << "strategy" << YAML::Value << s.strategy << YAML::Key << "samples" << YAML::Value << s.samples
+    << YAML::Key << "seed" << YAML::Value << s.seed << YAML::Key << "axes" << YAML::Value << YAML::BeginMap;
+  for (const auto& a : s.axes) e << YAML::Key << a.first << YAML::Value << YAML::Flow << a.second;
+  e << YAML::EndMap << YAML::Key << "constraints" << YAML::Value << YAML::BeginMap << YAML::Key << "device"
+    << YAML::Value << s.device << YAML::Key << "fits_device" << YAML::Value << s.require_fit << YAML::Key << "min_fps"
+    << YAML::Value << s.min_fps << YAML::Key << "max_latency_ms" << YAML::Value << s.max_latency_ms << YAML::EndMap;
+  e << YAML::Key << "objectives" << YAML::Value << YAML::BeginSeq;
+  for (const auto& o : s.objectives) e << (std::string(o.maximise ? "max " : "min ") + o.key);
+  e << YAML::EndSeq << YAML::Key << "frames" << YAML::Value << s.frames << YAML::Key << "gt" << YAML::Value << s.gt
+    << YAML::EndMap;
+  return e.c_str();
+}
+
+void add_axis(SweepSpec& s, const std::string& kv) {
+  const auto eq = kv.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 >= kv.size())
+    throw InputError("--grid '" + kv + "': expected KEY=V1,V2,...");
+  const std::string key = kv.substr(0, eq);
+  std::vector<std::string> values;
+  std::stringstream ss(kv.substr(eq + 1));
+  std::string v;
+  while (std::getline(ss, v, ','))
+    if (!v.empty()) values.push_back(v);
+  if (values.empty()) throw InputError("--grid '" + kv + "': no values");
+  for (auto& a : s.axes)
+    if (a.first == key) {
+      a.second = values;
+      return;
+    }
+  s.axes.emplace_back(key, values);
+}
+
+// --- designs ----------------------------------------------------------------------------------
+
+std::vector<DesignPoint> enumerate_designs(const SweepSpec& s) {
+  std::vector<DesignPoint> out;
+  if (s.axes.empty()) {
+    out.push_back({});
+    return out;
+  }
+  auto point = [&](const std::vector<std::size_t>& idx) {
+    DesignPoint d;
+    for (std::size_t a = 0; a < s.axes.size(); ++a) d.fields.emplace_back(s.axes[a].first, s.axes[a].second[idx[a]]);
+    return d;
+  };
+  if (s.strategy == "grid") {
+    std::vector<std::size_t> idx(s.axes.size(), 0);
+    for (;;) {
+      out.push_back(point(idx));
+      std::size_t a = s.axes.size();
+      while (a > 0) {
+        --a;
+        if (++idx[a] < s.axes[a].second.size()) break;
+        idx[a] = 0;
+        if (a == 0) return out;
+      }
+    }
+  }
+  std::mt19937 rng(s.seed);
+  std::set<std::vector<std::size_t>> seen;
+  const int n = s.samples;
+  if (s.strategy == "random") {
+    for (int k = 0; k < n * 20 && int(out.size()) < n; ++k) {
+      std::vector<std::size_t> idx;
+      for (const auto& a : s.axes) idx.push_back(std::uniform_int_distribution<std::size_t>(0, a.second.size() - 1)(rng));
+      if (seen.insert(idx).second) out.push_back(point(idx));
+    }
+    return out;
+  }
+  // Latin hypercube over the axes' value indices: per axis, n strata in a random order.
+  std::vector<std::vector<std::size_t>> columns;
+  for (const auto& a : s.axes) {
+    std::vector<std::size_t> col(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      const double u = (double(i) + std::uniform_real_distribution<double>(0.0, 1.0)(rng)) / double(n);
+      col[std::size_t(i)] = std::min(a.second.size() - 1, std::size_t(u * double(a.second.size())));
+    }
+    std::shuffle(col.begin(), col.end(), rng);
+    columns.push_back(col);
+  }
+  for (int i = 0; i < n; ++i) {
+    std::vector<std::size_t> idx;
+    for (const auto& col : columns) idx.push_back(col[std::size_t(i)]);
+    if (seen.insert(idx).second) out.push_back(point(idx));
+  }
+  return out;
+}
+
+namespace {
+
+std::string fnv1a_hex(const std::string& s) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+}  // namespace
+
+MaterialisedDesign materialise(const config::PipelineConfig& base, const DesignPoint& d) {
+  MaterialisedDesign m;
+  m.config = base;
+  for (const auto& f : d.fields) {
+    try {
+      config::set_field(m.config, f.first, f.second);
+    } catch (const config::ConfigError& e) {
+      m.errors.push_back(e.what());
+    }
+  }
+  for (const auto& e : config::validate(m.config)) m.errors.push_back(e.field + ": " + e.message);
+  std::string name;
+  for (const auto& f : d.fields) name += (name.empty() ? "" : " ") + f.first + "=" + f.second;
+  m.config.name = base.name + (name.empty() ? "" : " [" + name + "]");
+  config::PipelineConfig anonymous = m.config;
+  anonymous.name = "design";
+  m.yaml = config::to_yaml(m.config);
+  m.hash = fnv1a_hex(config::to_yaml(anonymous));
+  return m;
+}
+
+// --- store ------------------------------------------------------------------------------------
+
+struct ResultStore::Impl {
+  sqlite3* db = nullptr;
+  std::string path;
+  std::mutex mu;
+  void exec(const std::string& sql) {
+    char* err = nullptr;
+    if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
+      const std::string msg = err ? err : "?";
+      sqlite3_free(err);
+      throw InputError(path + ": SQLite: " + msg);
+    }
+  }
+};
+
+ResultStore::ResultStore(const std::string& path) : impl_(new Impl) {
+  impl_->path = path;
+  if (sqlite3_open(path.c_str(), &impl_->db) != SQLITE_OK) {
+    const std::string msg = impl_->db ? sqlite3_errmsg(impl_->db) : "cannot open";
+    sqlite3_close(impl_->db);
+    delete impl_;
+    throw InputError(path + ": cannot open the results store: " + msg);
+  }
+  sqlite3_busy_timeout(impl_->db, 10000);
+  try {
+    impl_->exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
+    impl_->exec(
+        "CREATE TABLE IF NOT EXISTS sweeps(name TEXT PRIMARY KEY, spec TEXT NOT NULL, created_at TEXT NOT NULL);"
+        "CREATE TABLE IF NOT EXISTS designs(hash TEXT PRIMARY KEY, sweep TEXT NOT NULL, config TEXT NOT NULL,"
+        " status TEXT NOT NULL, reason TEXT, metrics TEXT, model_version TEXT, started_at TEXT, finished_at TEXT);"
+        "CREATE TABLE IF NOT EXISTS frames(hash TEXT NOT NULL, frame TEXT NOT NULL, metrics TEXT NOT NULL,"
+        " PRIMARY KEY(hash, frame));");
+  } catch (...) {
+    sqlite3_close(impl_->db);
+    delete impl_;
+    throw;
+  }
+}
+
+ResultStore::~ResultStore() {
+  sqlite3_close(impl_->db);
+  delete impl_;
+}
+
+namespace {
+
+struct Stmt {
+  sqlite3_stmt* s = nullptr;
+  Stmt(sqlite3* db, const char* sql, const std::string& path) {
+    if (sqlite3_prepare_v2(db, sql, -1, &s, nullptr) != SQLITE_OK)
+      throw InputError(path + ": SQLite: " + sqlite3_errmsg(db));
+  }
+  ~Stmt() { sqlite3_finalize(s); }
+  void text(int i, const std::string& v) { sqlite3_bind_text(s, i, v.c_str(), int(v.size()), SQLITE_TRANSIENT); }
+  std::string col(int i) {
+    const unsigned char* t = sqlite3_column_text(s, i);
+    return t ? reinterpret_cast<const char*>(t) : "";
+  }
+};
+
+}  // namespace
+
+void ResultStore::put_sweep(const SweepSpec& s) {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  Stmt st(impl_->db, "INSERT INTO sweeps(name, spec, created_at) VALUES(?1, ?2, ?3) ON CONFLICT(name) DO UPDATE SET spec=?2",
+          impl_->path);
+  st.text(1, s.name);
+  st.text(2, sweep_to_yaml(s));
+  st.text(3, utc_now());
+  if (sqlite3_step(st.s) != SQLITE_DONE) throw InputError(impl_->path + ": SQLite: " + sqlite3_errmsg(impl_->db));
+}
+
+bool ResultStore::has_design(const std::string& hash) {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  Stmt st(impl_->db, "SELECT 1 FROM designs WHERE hash = ?1", impl_->path);
+  st.text(1, hash);
+  return sqlite3_step(st.s) == SQLITE_ROW;
+}
+
+void ResultStore::put_design(const Row& r) {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  impl_->exec("BEGIN IMMEDIATE");
+  try {
+    Stmt st(impl_->db,
+            "INSERT OR IGNORE INTO designs(hash, sweep, config, status, reason, metrics, model_version, started_at,"
+            " finished_at) VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
+            impl_->path);
+    st.text(1, r.hash);
+    st.text(2, r.sweep);
+    st.text(3, r.config_yaml);
+    st.text(4, r.status);
+    st.text(5, r.reason);
+    st.text(6, json(r.metrics).dump());
+    st.text(7, r.model_version);
+    st.text(8, r.started_at);
+    st.text(9, r.finished_at);
+    if (sqlite3_step(st.s) != SQLITE_DONE) throw InputError(impl_->path + ": SQLite: " + sqlite3_errmsg(impl_->db));
+    for (const auto& f : r.frames) {
+      Stmt fs(impl_->db, "INSERT OR IGNORE INTO frames(hash, frame, metrics) VALUES(?1, ?2, ?3)", impl_->path);
+      fs.text(1, r.hash);
+      fs.text(2, f.first);
+      fs.text(3, json(f.second).dump());
+      if (sqlite3_step(fs.s) != SQLITE_DONE) throw InputError(impl_->path + ": SQLite: " + sqlite3_errmsg(impl_->db));
+    }
+    impl_->exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(impl_->db, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep) {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  Stmt st(impl_->db,
+          "SELECT hash, sweep, config, status, reason, metrics, model_version, started_at, finished_at FROM designs"
+          " WHERE ?1 = '' OR sweep = ?1 ORDER BY rowid",
+          impl_->path);
+  st.text(1, sweep);
+  std::vector<Row> out;
+  while (sqlite3_step(st.s) == SQLITE_ROW) {
+    Row r;
+    r.hash = st.col(0);
+    r.sweep = st.col(1);
+    r.config_yaml = st.col(2);
+    r.status = st.col(3);
+    r.reason = st.col(4);
+    const std::string m = st.col(5);
+    if (!m.empty()) r.metrics = json::parse(m).get<std::map<std::string, double>>();
+    r.model_version = st.col(6);
+    r.started_at = st.col(7);
+    r.finished_at = st.col(8);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::vector<SweepSpec> ResultStore::sweeps() {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  Stmt st(impl_->db, "SELECT name, spec FROM sweeps ORDER BY rowid", impl_->path);
+  std::vector<SweepSpec> out;
+  while (sqlite3_step(st.s) == SQLITE_ROW) out.push_back(parse_sweep(st.col(1), impl_->path + ": sweep " + st.col(0)));
+  return out;
+}
+
+int64_t ResultStore::count_designs() {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  Stmt st(impl_->db, "SELECT COUNT(*) FROM designs", impl_->path);
+  return sqlite3_step(st.s) == SQLITE_ROW ? sqlite3_column_int64(st.s, 0) : 0;
+}
+
+// --- running ----------------------------------------------------------------------------------
+
+namespace {
+
+constexpr const char* kModelVersion = "parallax-models/2026-11-23 (kernels, cycle schedule, resources)";
+
+ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m, const Dataset& dataset) {
+  ResultStore::Row row;
+  row.hash = m.hash;
+  row.sweep = spec.name;
+  row.config_yaml = m.yaml;
+  row.model_version = kModelVersion;
+  row.started_at = utc_now();
+  const config::PipelineConfig& cfg = m.config;
+  // Accuracy: the func run over the frames.
+  EvalOptions eo;
+  eo.gt_kind = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
+  eo.frames = spec.frames;
+  eo.threads = 1;
+  const EvalResult er = evaluate_design(cfg, dataset, eo);
+  for (const auto& kv : named_metrics(er.pooled.metrics)) row.metrics[kv.first] = kv.second;
+  for (const auto& f : er.frames) {
+    std::map<std::string, double> fm;
+    for (const auto& kv : named_metrics(f.metrics)) fm[kv.first] = kv.second;
+    row.frames.emplace_back(f.frame_id, fm);
+  }
+  row.metrics["frames"] = double(er.frames.size());
+  // Timing: the schedule of the design at its ROI size (independent of the images).
+  const RoiSize roi = roi_for(cfg);
+  const int w = roi.full ? 640 : roi.width_px, h = roi.full ? 360 : roi.height_px;
+  sim::GreyImage blank{w, h, std::vector<uint8_t>(std::size_t(w) * std::size_t(h), 0)};
+  SimulationResult sr;
+  sr.clock_mhz = cfg.clock_mhz;
+  sr.cycle = sim::run_timing(blank, blank, cfg.stereo_params(w, h), cycle_options(cfg, cfg.clock_mhz));
+  if (sr.cycle.deadlock) {
+    row.status = "error";
+    row.reason = "cycle model: " + sr.cycle.deadlock_message;
+  } else {
+    system_figures(cfg, sr);
+    row.metrics["latency_ms"] = sr.latency_ms;
+    row.metrics["frame_interval_ms"] = sr.frame_interval_ms;
+    row.metrics["fps"] = sr.fps;
+    row.metrics["cycles_per_frame"] = double(sr.cycle.cycles_per_frame);
+    // Resources on the sweep's device.
+    const res::Estimate est = res::estimate(res::design_inventory(cfg, w, h));
+    const res::Device* dev = res::find_device(spec.device);
+    const res::Utilisation u = res::utilisation(est.total, *dev);
+    const res::Power pw = res::power(est.total, cfg.clock_mhz, sr.frame_interval_ms);
+    row.metrics["bram18k"] = double(est.total.bram18k);
+    row.metrics["lut"] = double(est.total.lut);
+    row.metrics["ff"] = double(est.total.ff);
+    row.metrics["dsp"] = double(est.total.dsp);
+    row.metrics["fits_device"] = u.fits ? 1.0 : 0.0;
+    row.metrics["power_w"] = pw.total_w;
+    row.metrics["energy_mj_per_frame"] = pw.energy_mj_per_frame;
+    row.status = "ok";
+  }
+  row.finished_at = utc_now();
+  return row;
+}
+
+}  // namespace
+
+SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (spec.base.empty()) throw InputError("sweep '" + spec.name + "': no base configuration (field 'base' or --base)");
+  const config::PipelineConfig base = config::load_config(spec.base);
+  const Dataset dataset = open_dataset(opt.dataset);
+  if (!res::find_device(spec.device)) throw InputError("sweep: unknown device '" + spec.device + "'");
+  store.put_sweep(spec);
+  const std::vector<DesignPoint> points = enumerate_designs(spec);
+  SweepSummary sum;
+  sum.total = int(points.size());
+  std::vector<MaterialisedDesign> designs;
+  for (const auto& p : points) designs.push_back(materialise(base, p));
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0}, skipped{0}, evaluated{0}, invalid{0}, failed{0};
+  std::mutex progress_mu;
+  auto report = [&] {
+    if (!opt.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mu);
+    opt.progress(done.load(), sum.total, skipped.load());
+  };
+  std::set<std::string> claimed;  // one evaluation per hash even when two points coincide
+  std::mutex claim_mu;
+  auto worker = [&] {
+    for (;;) {
+      const std::size_t i = next.fetch_add(1);
+      if (i >= designs.size()) return;
+      const MaterialisedDesign& m = designs[i];
+      bool mine = false;
+      {
+        std::lock_guard<std::mutex> lock(claim_mu);
+        mine = claimed.insert(m.hash).second;
+      }
+      if (!mine || store.has_design(m.hash)) {
+        ++skipped;
+      } else if (!m.errors.empty()) {
+        ResultStore::Row r;
+        r.hash = m.hash;
+        r.sweep = spec.name;
+        r.config_yaml = m.yaml;
+        r.status = "invalid";
+        for (const auto& e : m.errors) r.reason += (r.reason.empty() ? "" : "; ") + e;
+        r.model_version = kModelVersion;
+        r.started_at = r.finished_at = utc_now();
+        store.put_design(r);
+        ++invalid;
+      } else {
+        ResultStore::Row r;
+        try {
+          r = evaluate_one(spec, m, dataset);
+        } catch (const std::exception& e) {
+          r = ResultStore::Row{};
+          r.hash = m.hash;
+          r.sweep = spec.name;
+          r.config_yaml = m.yaml;
+          r.status = "error";
+          r.reason = e.what();
+          r.model_version = kModelVersion;
+          r.started_at = r.finished_at = utc_now();
+        }
+        if (r.status == "error") ++failed;
+        store.put_design(r);
+        ++evaluated;
+      }
+      ++done;
+      report();
+    }
+  };
+  const int jobs = opt.jobs > 0 ? opt.jobs : std::max(1, int(std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::min<int>(jobs, int(designs.size())); ++j) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
+  sum.evaluated = evaluated;
+  sum.skipped = skipped;
+  sum.invalid = invalid;
+  sum.failed = failed;
+  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return sum;
+}
+
+// --- Pareto -----------------------------------------------------------------------------------
+
+bool meets_constraints(const SweepSpec& s, const ResultStore::Row& r) {
+  if (r.status != "ok") return false;
+  auto get = [&](const char* k) {
+    const auto it = r.metrics.find(k);
+    return it == r.metrics.end() ? 0.0 : it->second;
+  };
+  if (s.require_fit && get("fits_device") < 0.5) return false;
+  if (s.min_fps > 0 && get("fps") < s.min_fps) return false;
+  if (s.max_latency_ms > 0 && get("latency_ms") > s.max_latency_ms) return false;
+  return true;
+}
+
+std::vector<ResultStore::Row> pareto_front(const SweepSpec& s, const std::vector<ResultStore::Row>& rows) {
+  std::vector<const ResultStore::Row*> ok;
+  for (const auto& r : rows)
+    if (meets_constraints(s, r)) ok.push_back(&r);
+  auto value = [&](const ResultStore::Row& r, const Objective& o) {
+    const auto it = r.metrics.find(o.key);
+    const double v = it == r.metrics.end() ? 0.0 : it->second;
+    return o.maximise ? v : -v;  // larger is better
+  };
+  auto dominates = [&](const ResultStore::Row& a, const ResultStore::Row& b) {
+    bool strictly = false;
+    for (const auto& o : s.objectives) {
+      const double va = value(a, o), vb = value(b, o);
+      if (va < vb) return false;
+      if (va > vb) strictly = true;
+    }
+    return strictly;
+  };
+  std::vector<ResultStore::Row> front;
+  for (const auto* a : ok) {
+    bool dominated = false;
+    for (const auto* b : ok)
+      if (b != a && dominates(*b, *a)) {
+        dominated = true;
+        break;
+      }
+    if (!dominated) front.push_back(*a);
+  }
+  return front;
+}
+
+}  // namespace parallax::explore

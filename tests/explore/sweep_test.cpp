@@ -1,0 +1,202 @@
+// unit + reject: sweeps (design enumeration, materialisation, the results store, resuming after a
+// SIGKILL, Pareto fronts). The evaluation runs on the shipped KITTI crops.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <set>
+#include <thread>
+
+#include "parallax/explore/dataset.hpp"
+#include "parallax/explore/sweep.hpp"
+
+namespace parallax::test {
+namespace {
+
+namespace fs = std::filesystem;
+using explore::ResultStore;
+using explore::SweepSpec;
+
+const std::string kData = PARALLAX_DATA_DIR "/kitti2015-640x360";
+const std::string kCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
+
+fs::path fresh(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("parallax_sweep_test_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(SweepSpec, GridIsTheFullProductInOdometerOrder) {
+  SweepSpec s;
+  explore::add_axis(s, "p1=8,10");
+  explore::add_axis(s, "median=0,3,5");
+  const auto d = explore::enumerate_designs(s);
+  ASSERT_EQ(d.size(), 6u);
+  EXPECT_EQ(d[0].fields[0].second, "8");
+  EXPECT_EQ(d[0].fields[1].second, "0");
+  EXPECT_EQ(d[1].fields[1].second, "3");
+  EXPECT_EQ(d[5].fields[0].second, "10");
+  EXPECT_EQ(d[5].fields[1].second, "5");
+  explore::add_axis(s, "p1=12");  // replaces the axis
+  EXPECT_EQ(explore::enumerate_designs(s).size(), 3u);
+}
+
+TEST(SweepSpec, RandomAndLatinHypercubeAreSeededAndDistinct) {
+  SweepSpec s;
+  explore::add_axis(s, "p1=4,6,8,10,12");
+  explore::add_axis(s, "p2=20,30,40,50,60,70");
+  for (const char* strategy : {"random", "lhs"}) {
+    s.strategy = strategy;
+    s.samples = 10;
+    s.seed = 7;
+    const auto a = explore::enumerate_designs(s), b = explore::enumerate_designs(s);
+    ASSERT_EQ(a.size(), b.size()) << strategy;
+    std::set<std::string> keys;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].fields, b[i].fields) << strategy;
+      keys.insert(a[i].fields[0].second + "/" + a[i].fields[1].second);
+    }
+    EXPECT_EQ(keys.size(), a.size()) << strategy << ": duplicates";
+    EXPECT_GE(a.size(), 8u) << strategy;
+    s.seed = 8;
+    EXPECT_NE(explore::enumerate_designs(s)[0].fields, a[0].fields) << strategy;
+  }
+}
+
+TEST(SweepSpec, FileErrorsNameTheField) {
+  EXPECT_THROW(explore::parse_sweep("strategy: annealing\n", "s.yaml"), explore::InputError);
+  try {
+    explore::parse_sweep("axes: {p1: [8]}\nbogus: 1\n", "s.yaml");
+    FAIL();
+  } catch (const explore::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bogus"), std::string::npos);
+  }
+  try {
+    explore::parse_sweep("objectives: [best correct_3px_pct]\n", "s.yaml");
+    FAIL();
+  } catch (const explore::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("max KEY"), std::string::npos);
+  }
+  SweepSpec s;
+  EXPECT_THROW(explore::add_axis(s, "p1"), explore::InputError);
+  // Round trip.
+  explore::add_axis(s, "p2=32,64");
+  s.objectives = {{"bram18k", false}};
+  const SweepSpec t = explore::parse_sweep(explore::sweep_to_yaml(s), "round trip");
+  EXPECT_EQ(t.axes, s.axes);
+  EXPECT_EQ(t.objectives.size(), 1u);
+  EXPECT_FALSE(t.objectives[0].maximise);
+}
+
+TEST(SweepRun, InvalidDesignsAreStoredWithTheReasonAndRerunsSkip) {
+  const fs::path d = fresh("resume");
+  SweepSpec s;
+  s.name = "t";
+  s.base = kCensus;
+  s.frames = "1";
+  explore::add_axis(s, "disparities=60,61");  // 61 is not a multiple of PU 6
+  ResultStore store((d / "r.db").string());
+  explore::SweepRunOptions ro;
+  ro.dataset = kData;
+  ro.jobs = 2;
+  const auto first = explore::run_sweep(s, store, ro);
+  EXPECT_EQ(first.total, 2);
+  EXPECT_EQ(first.invalid, 1);
+  const auto rows = store.designs("t");
+  ASSERT_EQ(rows.size(), 2u);
+  int ok = 0;
+  for (const auto& r : rows) {
+    if (r.status == "invalid") {
+      EXPECT_NE(r.reason.find("disparities"), std::string::npos) << r.reason;
+    } else {
+      ++ok;
+      EXPECT_EQ(r.status, "ok");
+      for (const char* k : {"correct_3px_pct", "density_pct", "latency_ms", "fps", "bram18k", "lut", "fits_device"})
+        EXPECT_TRUE(r.metrics.count(k)) << k;
+      EXPECT_GT(r.metrics.at("density_pct"), 50.0);
+    }
+  }
+  EXPECT_EQ(ok, 1);
+  const auto second = explore::run_sweep(s, store, ro);
+  EXPECT_EQ(second.skipped, 2);
+  EXPECT_EQ(second.evaluated, 0);
+  EXPECT_EQ(store.count_designs(), 2);
+}
+
+// SIGKILL mid-sweep, then rerun: every design stored once, the ones finished before the kill
+// untouched.
+TEST(SweepRun, KilledMidSweepLosesNothingAndDuplicatesNothing) {
+  const fs::path d = fresh("kill");
+  const std::string db = (d / "k.db").string();
+  const std::string args = "sweep --base " + kCensus + " --grid p2=32,40,48,56,64,72 --dataset " + kData +
+                           " --frames 1,5 --jobs 1 --db " + db;
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)) _exit(126);
+    execl("/bin/sh", "sh", "-c", (std::string(PARALLAX_CLI) + " " + args).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until two designs are stored, then kill the whole process group member.
+  std::vector<ResultStore::Row> before;
+  for (int i = 0; i < 600; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (!fs::exists(db)) continue;
+    ResultStore peek(db);
+    if (peek.count_designs() >= 2) {
+      before = peek.designs();
+      break;
+    }
+  }
+  kill(pid, SIGKILL);
+  if (system(("pkill -9 -f 'sweep --base " + kCensus + " --grid p2=32,40' >/dev/null 2>&1").c_str()) < 0) ADD_FAILURE();
+  int st = 0;
+  waitpid(pid, &st, 0);
+  ASSERT_GE(before.size(), 2u) << "the sweep stored nothing in time";
+  ASSERT_LT(before.size(), 6u) << "the sweep finished before the kill; the test proves nothing";
+  const int rc = system((std::string(PARALLAX_CLI) + " " + args + " >/dev/null 2>&1").c_str());
+  ASSERT_EQ(WEXITSTATUS(rc), 0);
+  ResultStore store(db);
+  const auto after = store.designs();
+  EXPECT_EQ(after.size(), 6u);
+  std::set<std::string> hashes;
+  for (const auto& r : after) hashes.insert(r.hash);
+  EXPECT_EQ(hashes.size(), 6u);
+  for (const auto& b : before)
+    for (const auto& a : after)
+      if (a.hash == b.hash) {
+        EXPECT_EQ(a.finished_at, b.finished_at) << "re-evaluated " << a.hash;
+        EXPECT_EQ(a.metrics, b.metrics);
+      }
+}
+
+TEST(SweepPareto, NonDominatedUnderConstraints) {
+  SweepSpec s;
+  s.objectives = {{"correct_3px_pct", true}, {"bram18k", false}};
+  s.min_fps = 29;
+  auto row = [](const char* h, double correct, double bram, double fps, double fits = 1) {
+    ResultStore::Row r;
+    r.hash = h;
+    r.status = "ok";
+    r.metrics = {{"correct_3px_pct", correct}, {"bram18k", bram}, {"fps", fps}, {"fits_device", fits}};
+    return r;
+  };
+  std::vector<ResultStore::Row> rows = {row("a", 90, 200, 40), row("b", 88, 100, 40), row("c", 87, 150, 40),
+                                        row("d", 95, 50, 20),  row("e", 99, 10, 40, 0), row("f", 90, 200, 40)};
+  rows.push_back(row("g", 91, 300, 40));
+  ResultStore::Row bad = row("h", 99, 1, 99);
+  bad.status = "invalid";
+  rows.push_back(bad);
+  std::set<std::string> front;
+  for (const auto& r : explore::pareto_front(s, rows)) front.insert(r.hash);
+  // c is dominated by b; d is too slow; e does not fit; h is invalid; a and f tie (both stay).
+  EXPECT_EQ(front, (std::set<std::string>{"a", "b", "f", "g"}));
+}
+
+}  // namespace
+}  // namespace parallax::test
