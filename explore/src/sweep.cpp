@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <random>
@@ -400,6 +401,32 @@ int64_t ResultStore::count_designs() {
   return sqlite3_step(st.s) == SQLITE_ROW ? sqlite3_column_int64(st.s, 0) : 0;
 }
 
+int64_t ResultStore::merge_from(const std::string& other) {
+  if (!std::filesystem::exists(other)) throw InputError(other + ": no such results store");
+  const int64_t before = count_designs();
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  {
+    Stmt st(impl_->db, "ATTACH DATABASE ?1 AS src", impl_->path);
+    st.text(1, other);
+    if (sqlite3_step(st.s) != SQLITE_DONE) throw InputError(other + ": cannot attach: " + sqlite3_errmsg(impl_->db));
+  }
+  try {
+    impl_->exec("BEGIN IMMEDIATE");
+    impl_->exec("INSERT OR IGNORE INTO main.sweeps SELECT * FROM src.sweeps;"
+                "INSERT OR IGNORE INTO main.designs SELECT * FROM src.designs;"
+                "INSERT OR IGNORE INTO main.frames SELECT * FROM src.frames;");
+    impl_->exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(impl_->db, "ROLLBACK", nullptr, nullptr, nullptr);
+    sqlite3_exec(impl_->db, "DETACH DATABASE src", nullptr, nullptr, nullptr);
+    throw;
+  }
+  impl_->exec("DETACH DATABASE src");
+  Stmt st(impl_->db, "SELECT COUNT(*) FROM designs", impl_->path);
+  const int64_t after = sqlite3_step(st.s) == SQLITE_ROW ? sqlite3_column_int64(st.s, 0) : before;
+  return after - before;
+}
+
 // --- running ----------------------------------------------------------------------------------
 
 namespace {
@@ -470,7 +497,15 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
   const Dataset dataset = open_dataset(opt.dataset);
   if (!res::find_device(spec.device)) throw InputError("sweep: unknown device '" + spec.device + "'");
   store.put_sweep(spec);
-  const std::vector<DesignPoint> points = enumerate_designs(spec);
+  if (opt.shard_count < 1 || opt.shard_index < 1 || opt.shard_index > opt.shard_count)
+    throw InputError("shard " + std::to_string(opt.shard_index) + "/" + std::to_string(opt.shard_count) +
+                     ": expected K/N with 1 <= K <= N");
+  std::vector<DesignPoint> points;
+  {
+    const std::vector<DesignPoint> all = enumerate_designs(spec);
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (int(i % std::size_t(opt.shard_count)) == opt.shard_index - 1) points.push_back(all[i]);
+  }
   SweepSummary sum;
   sum.total = int(points.size());
   std::vector<MaterialisedDesign> designs;

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -174,6 +175,71 @@ TEST(SweepRun, KilledMidSweepLosesNothingAndDuplicatesNothing) {
         EXPECT_EQ(a.metrics, b.metrics);
       }
 }
+
+std::map<std::string, std::map<std::string, double>> by_hash(ResultStore& s) {
+  std::map<std::string, std::map<std::string, double>> m;
+  for (const auto& r : s.designs()) m[r.hash] = r.metrics;
+  return m;
+}
+
+SweepSpec small_sweep() {
+  SweepSpec s;
+  s.name = "small";
+  s.base = kCensus;
+  s.frames = "1";
+  explore::add_axis(s, "p2=32,48,64");
+  explore::add_axis(s, "median=0,5");
+  return s;
+}
+
+// Shards are disjoint, cover the sweep, and merge into the store one process writes.
+TEST(SweepScale, ShardsMergeToTheWholeSweep) {
+  const fs::path d = fresh("shards");
+  const SweepSpec s = small_sweep();
+  explore::SweepRunOptions ro;
+  ro.dataset = kData;
+  ro.jobs = 1;
+  ResultStore whole((d / "whole.db").string());
+  explore::run_sweep(s, whole, ro);
+  int sizes = 0;
+  for (int k = 1; k <= 3; ++k) {
+    ResultStore part((d / ("part" + std::to_string(k) + ".db")).string());
+    ro.shard_index = k;
+    ro.shard_count = 3;
+    sizes += explore::run_sweep(s, part, ro).total;
+  }
+  EXPECT_EQ(sizes, 6);
+  ResultStore merged((d / "merged.db").string());
+  for (int k = 1; k <= 3; ++k) merged.merge_from((d / ("part" + std::to_string(k) + ".db")).string());
+  EXPECT_EQ(merged.merge_from((d / "part1.db").string()), 0);  // merging twice adds nothing
+  EXPECT_EQ(by_hash(merged), by_hash(whole));
+  EXPECT_EQ(merged.sweeps().size(), 1u);
+  ro.shard_index = 4;
+  EXPECT_THROW(explore::run_sweep(s, merged, ro), explore::InputError);
+}
+
+#ifdef PARALLAX_MPIEXEC
+// The MPI mode on localhost with two ranks gives the results of one process.
+TEST(SweepScale, MpiTwoRanksEqualOneProcess) {
+  const fs::path d = fresh("mpi");
+  const std::string db = (d / "mpi.db").string();
+  const std::string cmd = std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + PARALLAX_MPIEXEC +
+                          " --oversubscribe -np 2 " + PARALLAX_CLI + " sweep --base " + kCensus +
+                          " --grid p2=32,48,64 --grid median=0,5 --dataset " + kData + " --frames 1 --jobs 1 --mpi --db " +
+                          db + " >/dev/null 2>&1";
+  ASSERT_EQ(WEXITSTATUS(system(cmd.c_str())), 0) << cmd;
+  ResultStore mpi(db);
+  ResultStore one((d / "one.db").string());
+  explore::SweepRunOptions ro;
+  ro.dataset = kData;
+  ro.jobs = 1;
+  SweepSpec s = small_sweep();
+  s.name = "sweep";  // the CLI's default name
+  explore::run_sweep(s, one, ro);
+  EXPECT_EQ(mpi.count_designs(), 6);
+  EXPECT_EQ(by_hash(mpi), by_hash(one));
+}
+#endif
 
 TEST(SweepPareto, NonDominatedUnderConstraints) {
   SweepSpec s;

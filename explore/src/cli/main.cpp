@@ -4,6 +4,10 @@
 
 #include <chrono>
 
+#ifdef PARALLAX_HAVE_MPI
+#include <mpi.h>
+#endif
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -359,6 +363,19 @@ int main(int argc, char** argv) {
   sweepc->add_option("--samples", sw_samples, "Designs drawn by random / lhs")->check(CLI::Range(1, 1000000));
   sweepc->add_option("--seed", sw_seed, "Seed of random / lhs");
   sweepc->add_option("--name", sw_name, "Sweep name in the store (default: the file's, else 'sweep')");
+  std::string sw_shard;
+  bool sw_mpi = false;
+  sweepc->add_option("--shard", sw_shard, "K/N: evaluate only shard K of N (merge the stores with `parallax merge`)");
+#ifdef PARALLAX_HAVE_MPI
+  sweepc->add_flag("--mpi", sw_mpi, "Under mpirun: rank r evaluates shard r+1 of the ranks into DB.rank<r>; rank 0 merges them into DB");
+#endif
+
+  // merge
+  std::string mg_db;
+  std::vector<std::string> mg_inputs;
+  auto* mergec = app.add_subcommand("merge", "Merge results stores (shards of a sweep) into one");
+  mergec->add_option("--db", mg_db, "Store to merge into (created if absent)")->required();
+  mergec->add_option("inputs", mg_inputs, "Stores to merge from")->required();
 
   // pareto
   std::string pa_db, pa_sweep;
@@ -704,10 +721,34 @@ int main(int argc, char** argv) {
       if (sw_samples > 0) spec.samples = sw_samples;
       if (sw_seed > 0) spec.seed = sw_seed;
       if (!sw_name.empty()) spec.name = sw_name;
-      ResultStore store(sw_db);
       SweepRunOptions ro;
       ro.dataset = sw_dataset;
       ro.jobs = sw_jobs;
+      if (!sw_shard.empty()) {
+        const auto slash = sw_shard.find('/');
+        try {
+          if (slash == std::string::npos) throw std::invalid_argument("no slash");
+          ro.shard_index = std::stoi(sw_shard.substr(0, slash));
+          ro.shard_count = std::stoi(sw_shard.substr(slash + 1));
+        } catch (const std::exception&) {
+          throw InputError("--shard '" + sw_shard + "': expected K/N, e.g. 2/8");
+        }
+        if (ro.shard_count < 1 || ro.shard_index < 1 || ro.shard_index > ro.shard_count)
+          throw InputError("--shard '" + sw_shard + "': expected 1 <= K <= N");
+      }
+      std::string db_path = sw_db;
+      int mpi_rank = 0, mpi_size = 1;
+#ifdef PARALLAX_HAVE_MPI
+      if (sw_mpi) {
+        MPI_Init(&argc, &argv);
+        MPI_Comm_rank(MPI_COMM_WORLD, &mpi_rank);
+        MPI_Comm_size(MPI_COMM_WORLD, &mpi_size);
+        ro.shard_index = mpi_rank + 1;
+        ro.shard_count = mpi_size;
+        db_path = sw_db + ".rank" + std::to_string(mpi_rank);
+      }
+#endif
+      ResultStore store(db_path);
       const bool tty = isatty(fileno(stderr)) != 0;
       const auto t0 = std::chrono::steady_clock::now();
       ro.progress = [&](int done, int total, int skipped) {
@@ -725,9 +766,32 @@ int main(int argc, char** argv) {
         }
       };
       const SweepSummary sum = run_sweep(spec, store, ro);
-      std::printf("sweep '%s': %d designs: %d evaluated (%d invalid, %d failed), %d already in %s; %.1f s\n",
-                  spec.name.c_str(), sum.total, sum.evaluated + sum.invalid, sum.invalid, sum.failed, sum.skipped,
-                  sw_db.c_str(), sum.seconds);
+      std::printf("sweep '%s'%s: %d designs: %d evaluated (%d invalid, %d failed), %d already in %s; %.1f s\n",
+                  spec.name.c_str(),
+                  ro.shard_count > 1 ? (" shard " + std::to_string(ro.shard_index) + "/" + std::to_string(ro.shard_count)).c_str() : "",
+                  sum.total, sum.evaluated + sum.invalid, sum.invalid, sum.failed, sum.skipped, db_path.c_str(), sum.seconds);
+#ifdef PARALLAX_HAVE_MPI
+      if (sw_mpi) {
+        MPI_Barrier(MPI_COMM_WORLD);
+        if (mpi_rank == 0) {
+          ResultStore merged(sw_db);
+          int64_t added = 0;
+          for (int r = 0; r < mpi_size; ++r) added += merged.merge_from(sw_db + ".rank" + std::to_string(r));
+          std::printf("merged %d ranks into %s: %lld designs added\n", mpi_size, sw_db.c_str(), (long long)added);
+        }
+        MPI_Finalize();
+      }
+#endif
+      (void)mpi_size;
+      return 0;
+    }
+    if (*mergec) {
+      ResultStore out(mg_db);
+      for (const auto& in : mg_inputs) {
+        const int64_t added = out.merge_from(in);
+        std::printf("%s: %lld designs added\n", in.c_str(), (long long)added);
+      }
+      std::printf("%s: %lld designs\n", mg_db.c_str(), (long long)out.count_designs());
       return 0;
     }
     if (*paretoc) {

@@ -85,6 +85,9 @@ class ResultStore {
   std::vector<Row> designs(const std::string& sweep = "");
   std::vector<SweepSpec> sweeps();
   int64_t count_designs();
+  // Copies every sweep, design and frame of another store that this one lacks (same hash: kept
+  // as is). Returns the designs added.
+  int64_t merge_from(const std::string& other_path);
 
  private:
   struct Impl;
@@ -96,6 +99,9 @@ class ResultStore {
 struct SweepRunOptions {
   std::string dataset;
   int jobs = 0;
+  // Shard K of N (1 <= K <= N): only the designs whose index in the strategy's order is
+  // K - 1 modulo N. Shards of one sweep are disjoint and together the whole sweep.
+  int shard_index = 1, shard_count = 1;
   std::function<void(int done, int total, int skipped)> progress;
 };
 struct SweepSummary {
