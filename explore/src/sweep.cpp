@@ -6,7 +6,10 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <ctime>
+#include <limits>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -39,7 +42,7 @@ SweepSpec parse_sweep(const std::string& text, const std::string& source) {
   }
   if (!n.IsMap()) throw InputError(source + ": expected a mapping of sweep fields");
   SweepSpec s;
-  static const std::set<std::string> known = {"name",    "base",    "strategy",    "samples", "seed", "axes",
+  static const std::set<std::string> known = {"name", "base", "strategy", "samples", "seed", "generations", "axes",
                                               "constraints", "objectives", "frames", "gt"};
   for (const auto& kv : n) {
     const std::string key = kv.first.as<std::string>();
@@ -56,11 +59,13 @@ SweepSpec parse_sweep(const std::string& text, const std::string& source) {
     str("gt", s.gt);
     if (n["samples"]) s.samples = n["samples"].as<int>();
     if (n["seed"]) s.seed = n["seed"].as<uint32_t>();
+    if (n["generations"]) s.generations = n["generations"].as<int>();
   } catch (const YAML::Exception&) {
     throw InputError(source + ": a scalar field has the wrong type (samples and seed are integers)");
   }
-  if (s.strategy != "grid" && s.strategy != "random" && s.strategy != "lhs")
-    throw InputError(source + ": field 'strategy': '" + s.strategy + "' is not grid, random or lhs");
+  if (s.strategy != "grid" && s.strategy != "random" && s.strategy != "lhs" && s.strategy != "nsga2")
+    throw InputError(source + ": field 'strategy': '" + s.strategy + "' is not grid, random, lhs or nsga2");
+  if (s.generations < 1) throw InputError(source + ": field 'generations' must be at least 1");
   if (s.samples < 1) throw InputError(source + ": field 'samples' must be at least 1");
   if (s.gt != "noc" && s.gt != "occ") throw InputError(source + ": field 'gt' must be noc or occ");
   if (n["axes"]) {
@@ -118,7 +123,8 @@ std::string sweep_to_yaml(const SweepSpec& s) {
   YAML::Emitter e;
   e << YAML::BeginMap << YAML::Key << "name" << YAML::Value << s.name << YAML::Key << "base" << YAML::Value << s.base
     << YAML::Key << "strategy" << YAML::Value << s.strategy << YAML::Key << "samples" << YAML::Value << s.samples
-    << YAML::Key << "seed" << YAML::Value << s.seed << YAML::Key << "axes" << YAML::Value << YAML::BeginMap;
+    << YAML::Key << "seed" << YAML::Value << s.seed << YAML::Key << "generations" << YAML::Value << s.generations
+    << YAML::Key << "axes" << YAML::Value << YAML::BeginMap;
   for (const auto& a : s.axes) e << YAML::Key << a.first << YAML::Value << YAML::Flow << a.second;
   e << YAML::EndMap << YAML::Key << "constraints" << YAML::Value << YAML::BeginMap << YAML::Key << "device"
     << YAML::Value << s.device << YAML::Key << "fits_device" << YAML::Value << s.require_fit << YAML::Key << "min_fps"
@@ -490,33 +496,20 @@ ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m
 
 }  // namespace
 
-SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt) {
-  const auto t0 = std::chrono::steady_clock::now();
-  if (spec.base.empty()) throw InputError("sweep '" + spec.name + "': no base configuration (field 'base' or --base)");
-  const config::PipelineConfig base = config::load_config(spec.base);
-  const Dataset dataset = open_dataset(opt.dataset);
-  if (!res::find_device(spec.device)) throw InputError("sweep: unknown device '" + spec.device + "'");
-  store.put_sweep(spec);
-  if (opt.shard_count < 1 || opt.shard_index < 1 || opt.shard_index > opt.shard_count)
-    throw InputError("shard " + std::to_string(opt.shard_index) + "/" + std::to_string(opt.shard_count) +
-                     ": expected K/N with 1 <= K <= N");
-  std::vector<DesignPoint> points;
-  {
-    const std::vector<DesignPoint> all = enumerate_designs(spec);
-    for (std::size_t i = 0; i < all.size(); ++i)
-      if (int(i % std::size_t(opt.shard_count)) == opt.shard_index - 1) points.push_back(all[i]);
-  }
-  SweepSummary sum;
-  sum.total = int(points.size());
-  std::vector<MaterialisedDesign> designs;
-  for (const auto& p : points) designs.push_back(materialise(base, p));
+namespace {
+
+// Evaluates the designs (skipping stored ones) with `jobs` threads; counts into `sum`.
+void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>& designs, ResultStore& store,
+                    const Dataset& dataset, const SweepRunOptions& opt, SweepSummary& sum, int total_for_progress,
+                    int done_before) {
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0}, skipped{0}, evaluated{0}, invalid{0}, failed{0};
   std::mutex progress_mu;
+  const int skipped_before = sum.skipped;
   auto report = [&] {
     if (!opt.progress) return;
     std::lock_guard<std::mutex> lock(progress_mu);
-    opt.progress(done.load(), sum.total, skipped.load());
+    opt.progress(done_before + done.load(), total_for_progress, skipped_before + skipped.load());
   };
   std::set<std::string> claimed;  // one evaluation per hash even when two points coincide
   std::mutex claim_mu;
@@ -569,10 +562,193 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
   std::vector<std::thread> pool;
   for (int j = 0; j < std::min<int>(jobs, int(designs.size())); ++j) pool.emplace_back(worker);
   for (auto& t : pool) t.join();
-  sum.evaluated = evaluated;
-  sum.skipped = skipped;
-  sum.invalid = invalid;
-  sum.failed = failed;
+  sum.evaluated += evaluated;
+  sum.skipped += skipped;
+  sum.invalid += invalid;
+  sum.failed += failed;
+}
+
+// --- NSGA-II over the axes' value indices -----------------------------------------------------
+
+using Genome = std::vector<std::size_t>;
+
+DesignPoint point_of(const SweepSpec& s, const Genome& g) {
+  DesignPoint d;
+  for (std::size_t a = 0; a < s.axes.size(); ++a) d.fields.emplace_back(s.axes[a].first, s.axes[a].second[g[a]]);
+  return d;
+}
+
+// Objective vector, larger is better; infeasible designs get -inf everywhere (constrained
+// domination: every feasible design dominates them).
+std::vector<double> objective_vector(const SweepSpec& s, const ResultStore::Row* r) {
+  std::vector<double> v;
+  const bool feasible = r && meets_constraints(s, *r);
+  for (const auto& o : s.objectives) {
+    if (!feasible) {
+      v.push_back(-std::numeric_limits<double>::infinity());
+      continue;
+    }
+    const auto it = r->metrics.find(o.key);
+    const double x = it == r->metrics.end() ? 0.0 : it->second;
+    v.push_back(o.maximise ? x : -x);
+  }
+  return v;
+}
+
+bool dominates_vec(const std::vector<double>& a, const std::vector<double>& b) {
+  bool strictly = false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k] < b[k]) return false;
+    if (a[k] > b[k]) strictly = true;
+  }
+  return strictly;
+}
+
+// Fronts (indices) of non-dominated sorting, then crowding distance per index.
+void rank_and_crowd(const std::vector<std::vector<double>>& f, std::vector<int>& rank, std::vector<double>& crowd) {
+  const std::size_t n = f.size();
+  rank.assign(n, 0);
+  crowd.assign(n, 0.0);
+  std::vector<std::vector<std::size_t>> dominated(n);
+  std::vector<int> count(n, 0);
+  std::vector<std::size_t> front;
+  for (std::size_t p = 0; p < n; ++p) {
+    for (std::size_t q = 0; q < n; ++q) {
+      if (dominates_vec(f[p], f[q])) dominated[p].push_back(q);
+      else if (dominates_vec(f[q], f[p])) ++count[p];
+    }
+    if (count[p] == 0) front.push_back(p);
+  }
+  int r = 0;
+  while (!front.empty()) {
+    for (std::size_t p : front) rank[p] = r;
+    // Crowding distance inside this front.
+    for (std::size_t k = 0; k < (f.empty() ? 0 : f[0].size()); ++k) {
+      std::vector<std::size_t> order = front;
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return f[a][k] < f[b][k]; });
+      const double lo = f[order.front()][k], hi = f[order.back()][k];
+      crowd[order.front()] = crowd[order.back()] = std::numeric_limits<double>::infinity();
+      if (!(hi > lo) || !std::isfinite(hi - lo)) continue;
+      for (std::size_t i = 1; i + 1 < order.size(); ++i) crowd[order[i]] += (f[order[i + 1]][k] - f[order[i - 1]][k]) / (hi - lo);
+    }
+    std::vector<std::size_t> next;
+    for (std::size_t p : front)
+      for (std::size_t q : dominated[p])
+        if (--count[q] == 0) next.push_back(q);
+    front = next;
+    ++r;
+  }
+}
+
+}  // namespace
+
+SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (spec.base.empty()) throw InputError("sweep '" + spec.name + "': no base configuration (field 'base' or --base)");
+  const config::PipelineConfig base = config::load_config(spec.base);
+  const Dataset dataset = open_dataset(opt.dataset);
+  if (!res::find_device(spec.device)) throw InputError("sweep: unknown device '" + spec.device + "'");
+  if (opt.shard_count < 1 || opt.shard_index < 1 || opt.shard_index > opt.shard_count)
+    throw InputError("shard " + std::to_string(opt.shard_index) + "/" + std::to_string(opt.shard_count) +
+                     ": expected K/N with 1 <= K <= N");
+  store.put_sweep(spec);
+  SweepSummary sum;
+  if (spec.strategy == "nsga2") {
+    if (opt.shard_count > 1) throw InputError("nsga2 cannot be sharded: each generation depends on the last");
+    if (spec.axes.empty()) throw InputError("nsga2 needs at least one axis");
+    std::mt19937 rng(spec.seed);
+    const int pop_n = std::max(4, spec.samples);
+    auto random_genome = [&] {
+      Genome g;
+      for (const auto& a : spec.axes) g.push_back(std::uniform_int_distribution<std::size_t>(0, a.second.size() - 1)(rng));
+      return g;
+    };
+    std::map<Genome, std::string> hash_of;  // genome -> design hash
+    std::set<std::string> visited;
+    auto evaluate = [&](const std::vector<Genome>& genomes, int generation) {
+      std::vector<MaterialisedDesign> batch;
+      for (const auto& g : genomes) {
+        batch.push_back(materialise(base, point_of(spec, g)));
+        hash_of[g] = batch.back().hash;
+        visited.insert(batch.back().hash);
+      }
+      const int total = pop_n * (spec.generations + 1);
+      evaluate_batch(spec, batch, store, dataset, opt, sum, total, generation * pop_n);
+    };
+    auto rows_by_hash = [&] {
+      std::map<std::string, ResultStore::Row> m;
+      for (auto& r : store.designs()) m[r.hash] = r;
+      return m;
+    };
+    std::vector<Genome> pop;
+    for (int i = 0; i < pop_n; ++i) pop.push_back(random_genome());
+    evaluate(pop, 0);
+    for (int gen = 1; gen <= spec.generations; ++gen) {
+      const auto rows = rows_by_hash();
+      auto fitness = [&](const std::vector<Genome>& gs) {
+        std::vector<std::vector<double>> f;
+        for (const auto& g : gs) {
+          const auto it = rows.find(hash_of[g]);
+          f.push_back(objective_vector(spec, it == rows.end() ? nullptr : &it->second));
+        }
+        return f;
+      };
+      std::vector<int> rank;
+      std::vector<double> crowd;
+      rank_and_crowd(fitness(pop), rank, crowd);
+      auto tournament = [&]() -> const Genome& {
+        const std::size_t a = std::uniform_int_distribution<std::size_t>(0, pop.size() - 1)(rng);
+        const std::size_t b = std::uniform_int_distribution<std::size_t>(0, pop.size() - 1)(rng);
+        if (rank[a] != rank[b]) return rank[a] < rank[b] ? pop[a] : pop[b];
+        return crowd[a] >= crowd[b] ? pop[a] : pop[b];
+      };
+      std::vector<Genome> children;
+      const double p_mut = 1.0 / double(spec.axes.size());
+      for (int tries = 0; int(children.size()) < pop_n && tries < pop_n * 50; ++tries) {
+        const Genome& x = tournament();
+        const Genome& y = tournament();
+        Genome c(x.size());
+        for (std::size_t k = 0; k < c.size(); ++k) {
+          c[k] = std::uniform_int_distribution<int>(0, 1)(rng) ? x[k] : y[k];  // uniform crossover
+          if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) < p_mut)
+            c[k] = std::uniform_int_distribution<std::size_t>(0, spec.axes[k].second.size() - 1)(rng);
+        }
+        const std::string h = materialise(base, point_of(spec, c)).hash;
+        if (visited.count(h)) continue;  // only new designs cost an evaluation
+        children.push_back(c);
+        visited.insert(h);
+      }
+      if (children.empty()) break;  // the space is exhausted
+      evaluate(children, gen);
+      // Environmental selection: the best pop_n of parents + children by rank, then crowding.
+      std::vector<Genome> merged = pop;
+      merged.insert(merged.end(), children.begin(), children.end());
+      const auto rows2 = rows_by_hash();
+      std::vector<std::vector<double>> f;
+      for (const auto& g : merged) {
+        const auto it = rows2.find(hash_of[g]);
+        f.push_back(objective_vector(spec, it == rows2.end() ? nullptr : &it->second));
+      }
+      rank_and_crowd(f, rank, crowd);
+      std::vector<std::size_t> idx(merged.size());
+      for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+      std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+        return rank[a] != rank[b] ? rank[a] < rank[b] : crowd[a] > crowd[b];
+      });
+      pop.clear();
+      for (std::size_t i = 0; i < idx.size() && int(pop.size()) < pop_n; ++i) pop.push_back(merged[idx[i]]);
+    }
+    sum.total = int(visited.size());
+  } else {
+    std::vector<DesignPoint> points;
+    const std::vector<DesignPoint> all = enumerate_designs(spec);
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (int(i % std::size_t(opt.shard_count)) == opt.shard_index - 1) points.push_back(all[i]);
+    sum.total = int(points.size());
+    std::vector<MaterialisedDesign> designs;
+    for (const auto& p : points) designs.push_back(materialise(base, p));
+    evaluate_batch(spec, designs, store, dataset, opt, sum, sum.total, 0);
+  }
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }

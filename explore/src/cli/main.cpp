@@ -359,8 +359,10 @@ int main(int argc, char** argv) {
   sweepc->add_option("--gt", sw_gt, "Ground truth: noc or occ (default: the file's, else noc)");
   sweepc->add_option("--db", sw_db, "Results store (SQLite); created if absent")->required();
   sweepc->add_option("--jobs", sw_jobs, "Designs in parallel (default: all cores)")->check(CLI::Range(0, 256));
-  sweepc->add_option("--strategy", sw_strategy, "grid, random or lhs (default: the file's, else grid)");
-  sweepc->add_option("--samples", sw_samples, "Designs drawn by random / lhs")->check(CLI::Range(1, 1000000));
+  sweepc->add_option("--strategy", sw_strategy, "grid, random, lhs or nsga2 (default: the file's, else grid)");
+  sweepc->add_option("--samples", sw_samples, "Designs drawn by random / lhs; population of nsga2")->check(CLI::Range(1, 1000000));
+  int sw_generations = 0;
+  sweepc->add_option("--generations", sw_generations, "Generations of nsga2 after the first population")->check(CLI::Range(1, 10000));
   sweepc->add_option("--seed", sw_seed, "Seed of random / lhs");
   sweepc->add_option("--name", sw_name, "Sweep name in the store (default: the file's, else 'sweep')");
   std::string sw_shard;
@@ -714,11 +716,12 @@ int main(int argc, char** argv) {
         spec.gt = sw_gt;
       }
       if (!sw_strategy.empty()) {
-        if (sw_strategy != "grid" && sw_strategy != "random" && sw_strategy != "lhs")
-          throw InputError("--strategy '" + sw_strategy + "': expected grid, random or lhs");
+        if (sw_strategy != "grid" && sw_strategy != "random" && sw_strategy != "lhs" && sw_strategy != "nsga2")
+          throw InputError("--strategy '" + sw_strategy + "': expected grid, random, lhs or nsga2");
         spec.strategy = sw_strategy;
       }
       if (sw_samples > 0) spec.samples = sw_samples;
+      if (sw_generations > 0) spec.generations = sw_generations;
       if (sw_seed > 0) spec.seed = sw_seed;
       if (!sw_name.empty()) spec.name = sw_name;
       SweepRunOptions ro;

@@ -25,8 +25,9 @@ struct SweepSpec {
   std::string name = "sweep";
   std::string base;  // configuration file the axes modify
   std::vector<std::pair<std::string, std::vector<std::string>>> axes;  // field -> values, in order
-  std::string strategy = "grid";  // grid | random | lhs
-  int samples = 20;               // random / lhs
+  std::string strategy = "grid";  // grid | random | lhs | nsga2
+  int samples = 20;               // random / lhs: designs; nsga2: population size
+  int generations = 10;           // nsga2: generations after the first population
   uint32_t seed = 1;
   // Constraints (a design that breaks one is stored, but never on the Pareto front).
   std::string device = "XCZU3EG";  // fits_device is evaluated against it
