@@ -439,28 +439,10 @@ namespace {
 
 constexpr const char* kModelVersion = "parallax-models/2026-11-23 (kernels, cycle schedule, resources)";
 
-ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m, const Dataset& dataset) {
-  ResultStore::Row row;
-  row.hash = m.hash;
-  row.sweep = spec.name;
-  row.config_yaml = m.yaml;
-  row.model_version = kModelVersion;
-  row.started_at = utc_now();
+// Timing (the schedule at the ROI size, once: it does not depend on the images) and resources
+// of a design whose accuracy metrics are in `row`.
+void finish_row(const SweepSpec& spec, const MaterialisedDesign& m, ResultStore::Row& row) {
   const config::PipelineConfig& cfg = m.config;
-  // Accuracy: the func run over the frames.
-  EvalOptions eo;
-  eo.gt_kind = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
-  eo.frames = spec.frames;
-  eo.threads = 1;
-  const EvalResult er = evaluate_design(cfg, dataset, eo);
-  for (const auto& kv : named_metrics(er.pooled.metrics)) row.metrics[kv.first] = kv.second;
-  for (const auto& f : er.frames) {
-    std::map<std::string, double> fm;
-    for (const auto& kv : named_metrics(f.metrics)) fm[kv.first] = kv.second;
-    row.frames.emplace_back(f.frame_id, fm);
-  }
-  row.metrics["frames"] = double(er.frames.size());
-  // Timing: the schedule of the design at its ROI size (independent of the images).
   const RoiSize roi = roi_for(cfg);
   const int w = roi.full ? 640 : roi.width_px, h = roi.full ? 360 : roi.height_px;
   sim::GreyImage blank{w, h, std::vector<uint8_t>(std::size_t(w) * std::size_t(h), 0)};
@@ -476,7 +458,6 @@ ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m
     row.metrics["frame_interval_ms"] = sr.frame_interval_ms;
     row.metrics["fps"] = sr.fps;
     row.metrics["cycles_per_frame"] = double(sr.cycle.cycles_per_frame);
-    // Resources on the sweep's device.
     const res::Estimate est = res::estimate(res::design_inventory(cfg, w, h));
     const res::Device* dev = res::find_device(spec.device);
     const res::Utilisation u = res::utilisation(est.total, *dev);
@@ -491,18 +472,96 @@ ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m
     row.status = "ok";
   }
   row.finished_at = utc_now();
+}
+
+ResultStore::Row new_row(const SweepSpec& spec, const MaterialisedDesign& m) {
+  ResultStore::Row row;
+  row.hash = m.hash;
+  row.sweep = spec.name;
+  row.config_yaml = m.yaml;
+  row.model_version = kModelVersion;
+  row.started_at = utc_now();
   return row;
+}
+
+void put_accuracy(ResultStore::Row& row, const std::vector<FrameRow>& frames) {
+  const FrameRow pooled = pool_rows(frames);
+  for (const auto& kv : named_metrics(pooled.metrics)) row.metrics[kv.first] = kv.second;
+  for (const auto& f : frames) {
+    std::map<std::string, double> fm;
+    for (const auto& kv : named_metrics(f.metrics)) fm[kv.first] = kv.second;
+    row.frames.emplace_back(f.frame_id, fm);
+  }
+  row.metrics["frames"] = double(frames.size());
+}
+
+ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m, const Dataset& dataset) {
+  ResultStore::Row row = new_row(spec, m);
+  EvalOptions eo;
+  eo.gt_kind = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
+  eo.frames = spec.frames;
+  eo.threads = 1;
+  const EvalResult er = evaluate_design(m.config, dataset, eo);
+  put_accuracy(row, er.frames);
+  finish_row(spec, m, row);
+  return row;
+}
+
+// Designs sharing the cost stage, evaluated together: each frame decoded and cropped once, its
+// costs recorded once and replayed into every design.
+std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::vector<const MaterialisedDesign*>& group,
+                                             const Dataset& dataset) {
+  const GtKind gt = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
+  const std::vector<FrameRef> refs = list_frames(dataset, gt, spec.frames);
+  if (refs.empty()) throw InputError(dataset.root.string() + ": no frame with ground truth matches '" + spec.frames + "'");
+  std::vector<ResultStore::Row> rows;
+  for (const auto* m : group) rows.push_back(new_row(spec, *m));
+  std::vector<std::vector<FrameRow>> frames(group.size());
+  sim::FuncPipeline pipe;
+  sim::CostRecording rec;
+  const RoiSize roi = roi_for(group.front()->config);
+  for (const auto& ref : refs) {
+    const Frame f = load_frame(ref);
+    const Roi r = resolve_roi(roi, f.left.cols, f.left.rows);
+    const cv::Mat l = crop_to_roi(f.left, r), rr = crop_to_roi(f.right, r);
+    const cv::Mat gtd = crop_to_roi(f.gt_disparity_px, r), gtm = crop_to_roi(f.gt_mask, r);
+    sim::GreyImage gl{l.cols, l.rows, std::vector<uint8_t>(std::size_t(l.total()))},
+        gr{rr.cols, rr.rows, std::vector<uint8_t>(std::size_t(rr.total()))};
+    for (int y = 0; y < l.rows; ++y) {
+      std::copy(l.ptr<uint8_t>(y), l.ptr<uint8_t>(y) + l.cols, gl.px.data() + std::size_t(y) * std::size_t(l.cols));
+      std::copy(rr.ptr<uint8_t>(y), rr.ptr<uint8_t>(y) + rr.cols, gr.px.data() + std::size_t(y) * std::size_t(rr.cols));
+    }
+    pipe.record_costs(gl, gr, group.front()->config.stereo_params(l.cols, l.rows), rec);
+    for (std::size_t k = 0; k < group.size(); ++k) {
+      const kern::StereoParams p = group[k]->config.stereo_params(l.cols, l.rows);
+      const sim::DisparityCodes codes = pipe.run_from_costs(rec, p);
+      cv::Mat disp(l.rows, l.cols, CV_32FC1), valid(l.rows, l.cols, CV_8UC1);
+      const uint16_t invalid = uint16_t(kern::invalid_code(p));
+      for (int y = 0; y < l.rows; ++y)
+        for (int x = 0; x < l.cols; ++x) {
+          const uint16_t c = codes.code[std::size_t(y) * std::size_t(l.cols) + std::size_t(x)];
+          disp.at<float>(y, x) = c != invalid ? float(c) : 0.0f;
+          valid.at<uint8_t>(y, x) = c != invalid ? 255 : 0;
+        }
+      frames[k].push_back(make_frame_row(f.id, count_frame(disp, valid, gtd, gtm)));
+    }
+  }
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    put_accuracy(rows[k], frames[k]);
+    finish_row(spec, *group[k], rows[k]);
+  }
+  return rows;
 }
 
 }  // namespace
 
 namespace {
 
-// Evaluates the designs (skipping stored ones) with `jobs` threads; counts into `sum`.
+// Evaluates the designs (skipping stored ones) with `jobs` threads; counts into `sum`. Designs
+// sharing the cost stage form groups (opt.share_costs) that a thread evaluates together.
 void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>& designs, ResultStore& store,
                     const Dataset& dataset, const SweepRunOptions& opt, SweepSummary& sum, int total_for_progress,
                     int done_before) {
-  std::atomic<std::size_t> next{0};
   std::atomic<int> done{0}, skipped{0}, evaluated{0}, invalid{0}, failed{0};
   std::mutex progress_mu;
   const int skipped_before = sum.skipped;
@@ -511,56 +570,95 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     std::lock_guard<std::mutex> lock(progress_mu);
     opt.progress(done_before + done.load(), total_for_progress, skipped_before + skipped.load());
   };
-  std::set<std::string> claimed;  // one evaluation per hash even when two points coincide
-  std::mutex claim_mu;
+  // Work units: the designs to evaluate, grouped; stored, duplicate and invalid ones settled now.
+  std::vector<std::vector<const MaterialisedDesign*>> units;
+  std::map<std::string, std::size_t> unit_of_key;
+  std::set<std::string> seen;
+  const int jobs = opt.jobs > 0 ? opt.jobs : std::max(1, int(std::thread::hardware_concurrency()));
+  for (const auto& m : designs) {
+    if (!seen.insert(m.hash).second || store.has_design(m.hash)) {
+      ++skipped;
+      ++done;
+      report();
+      continue;
+    }
+    if (!m.errors.empty()) {
+      ResultStore::Row r = new_row(spec, m);
+      r.status = "invalid";
+      for (const auto& e : m.errors) r.reason += (r.reason.empty() ? "" : "; ") + e;
+      r.finished_at = r.started_at;
+      store.put_design(r);
+      ++invalid;
+      ++done;
+      report();
+      continue;
+    }
+    const RoiSize roi = roi_for(m.config);
+    const std::string key = opt.share_costs && m.config.rectify == "none" && !roi.full
+                                ? sim::cost_sharing_key(m.config.stereo_params(roi.width_px, roi.height_px))
+                                : "";
+    if (key.empty()) {
+      units.push_back({&m});
+      continue;
+    }
+    const auto it = unit_of_key.find(key);
+    if (it == unit_of_key.end()) {
+      unit_of_key[key] = units.size();
+      units.push_back({&m});
+    } else {
+      units[it->second].push_back(&m);
+    }
+  }
+  // Fewer groups than threads: split the largest so that every thread works.
+  while (int(units.size()) < jobs) {
+    auto big = std::max_element(units.begin(), units.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    if (big == units.end() || big->size() < 2) break;
+    std::vector<const MaterialisedDesign*> half(big->begin() + std::ptrdiff_t(big->size() / 2), big->end());
+    big->resize(big->size() / 2);
+    units.push_back(half);
+  }
+  std::atomic<std::size_t> next{0};
+  auto store_row = [&](ResultStore::Row& r) {
+    if (r.status == "error") ++failed;
+    store.put_design(r);
+    ++evaluated;
+    ++done;
+    report();
+  };
+  auto error_row = [&](const MaterialisedDesign& m, const std::string& what) {
+    ResultStore::Row r = new_row(spec, m);
+    r.status = "error";
+    r.reason = what;
+    r.finished_at = utc_now();
+    return r;
+  };
   auto worker = [&] {
     for (;;) {
       const std::size_t i = next.fetch_add(1);
-      if (i >= designs.size()) return;
-      const MaterialisedDesign& m = designs[i];
-      bool mine = false;
-      {
-        std::lock_guard<std::mutex> lock(claim_mu);
-        mine = claimed.insert(m.hash).second;
-      }
-      if (!mine || store.has_design(m.hash)) {
-        ++skipped;
-      } else if (!m.errors.empty()) {
-        ResultStore::Row r;
-        r.hash = m.hash;
-        r.sweep = spec.name;
-        r.config_yaml = m.yaml;
-        r.status = "invalid";
-        for (const auto& e : m.errors) r.reason += (r.reason.empty() ? "" : "; ") + e;
-        r.model_version = kModelVersion;
-        r.started_at = r.finished_at = utc_now();
-        store.put_design(r);
-        ++invalid;
-      } else {
+      if (i >= units.size()) return;
+      const auto& unit = units[i];
+      if (unit.size() == 1) {
         ResultStore::Row r;
         try {
-          r = evaluate_one(spec, m, dataset);
+          r = evaluate_one(spec, *unit.front(), dataset);
         } catch (const std::exception& e) {
-          r = ResultStore::Row{};
-          r.hash = m.hash;
-          r.sweep = spec.name;
-          r.config_yaml = m.yaml;
-          r.status = "error";
-          r.reason = e.what();
-          r.model_version = kModelVersion;
-          r.started_at = r.finished_at = utc_now();
+          r = error_row(*unit.front(), e.what());
         }
-        if (r.status == "error") ++failed;
-        store.put_design(r);
-        ++evaluated;
+        store_row(r);
+        continue;
       }
-      ++done;
-      report();
+      std::vector<ResultStore::Row> rows;
+      try {
+        rows = evaluate_group(spec, unit, dataset);
+      } catch (const std::exception& e) {
+        rows.clear();
+        for (const auto* m : unit) rows.push_back(error_row(*m, e.what()));
+      }
+      for (auto& r : rows) store_row(r);
     }
   };
-  const int jobs = opt.jobs > 0 ? opt.jobs : std::max(1, int(std::thread::hardware_concurrency()));
   std::vector<std::thread> pool;
-  for (int j = 0; j < std::min<int>(jobs, int(designs.size())); ++j) pool.emplace_back(worker);
+  for (int j = 0; j < std::min<int>(jobs, int(units.size())); ++j) pool.emplace_back(worker);
   for (auto& t : pool) t.join();
   sum.evaluated += evaluated;
   sum.skipped += skipped;

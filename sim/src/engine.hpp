@@ -379,7 +379,92 @@ class Engine {
     if (rep_) finish_report();
   }
 
+  // Func run only (work sharing in sweeps): the matching-cost tokens of one frame, the cost
+  // stage alone; and the rest of a one-pass pipeline fed with such tokens. Designs that share
+  // cost, window and disparities (so the same lanes) share the tokens: a penalty sweep computes
+  // them once per frame. run_from_costs gives the codes of run() (tested).
+  void record_costs(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                    std::vector<CostTok>& tokens) {
+    static_assert(!kTimed && kData, "cost recording belongs to the func run");
+    begin_untimed(p);
+    tokens.clear();
+    tokens.reserve(std::size_t(frame_pixels()) * std::size_t(p.disparities / p.parallel_units));
+    if (p.cost == kern::kCostCensus)
+      record_with(census_, left, right, tokens);
+    else
+      record_with(sad_, left, right, tokens);
+  }
+  void run_from_costs(const std::vector<CostTok>& tokens, const kern::StereoParams& p, DisparityCodes& out) {
+    static_assert(!kTimed && kData, "cost replay belongs to the func run");
+    begin_untimed(p);
+    out.width_px = p.width_px;
+    out.height_px = p.height_px;
+    out.disparities = p.disparities;
+    out.code.assign(std::size_t(frame_pixels()), 0);
+    if ((p.path_mask & kern::kBackwardPaths) != 0 ||
+        tokens.size() != std::size_t(frame_pixels()) * std::size_t(p.disparities / p.parallel_units))
+      internal_error("run_from_costs: a one-pass design and the tokens of its cost stage are needed");
+    agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, false);
+    wta_.configure(p_, false);
+    median_.configure(p_);
+    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "replay", "aggregate");
+    auto sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate", "wta_lr");
+    auto disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
+    auto filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
+    NodeT& n_rep = node("replay");
+    NodeT& n_agg = node("aggregate");
+    NodeT& n_wta = node("wta_lr");
+    NodeT& n_med = node("median");
+    NodeT& n_sink = node("sink");
+    std::size_t next = 0;
+    auto replay = [&]() -> bool {
+      bool fired = false;
+      while (next < tokens.size()) {
+        if (!n_rep.attempt({}, {Port{costs.get(), true}}, [&] { costs->write(tokens[next]); })) break;
+        ++next;
+        fired = true;
+      }
+      return fired;
+    };
+    int64_t got = 0;
+    const int64_t total = frame_pixels();
+    schedule({replay,
+              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *sums, nullptr),
+              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
+              sink_pump(n_sink, *filtered, out, got, false)},
+             [&] { return got >= total; });
+  }
+
  private:
+  void begin_untimed(const kern::StereoParams& p) {
+    p_ = p;
+    setup_ = RunSetup{};
+    rep_ = nullptr;
+    timing_ = default_timing(p);
+    trace_.reset();
+    graph_ = std::make_unique<Graph<kTimed>>(nullptr);
+    input_rate_ = Rate{};
+  }
+  template <class CostStage>
+  void record_with(CostStage& cost, const GreyImage& left, const GreyImage& right, std::vector<CostTok>& tokens) {
+    cost.configure(p_);
+    std::unique_ptr<FrontEnd> fe = front_end(left, right);
+    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "recorder");
+    NodeT& n_cost = node("cost");
+    auto record = [&]() -> bool {
+      bool fired = false;
+      while (!costs->empty()) {
+        tokens.push_back(costs->read());
+        fired = true;
+      }
+      return fired;
+    };
+    std::vector<std::function<bool()>> pumps = fe->pumps;
+    pumps.push_back(cost_pump(n_cost, cost, *fe->out_l, *fe->out_r, *costs));
+    pumps.push_back(record);
+    schedule(pumps, [&] { return cost.done() && costs->empty(); });
+  }
+
   int64_t frame_pixels() const { return int64_t(p_.width_px) * p_.height_px; }
   std::size_t depth_of(const std::string& name, std::size_t func_depth) const {
     if (!kTimed || !setup_.opt) return func_depth;

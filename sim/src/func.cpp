@@ -66,6 +66,21 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
   return e;
 }
 
+struct CostRecording::Impl {
+  std::string key;
+  std::vector<kern::Lanes<uint16_t, Narrow::lanes>> tokens;
+};
+CostRecording::CostRecording() : impl(std::make_unique<Impl>()) {}
+CostRecording::~CostRecording() = default;
+CostRecording::CostRecording(CostRecording&&) noexcept = default;
+CostRecording& CostRecording::operator=(CostRecording&&) noexcept = default;
+
+std::string cost_sharing_key(const kern::StereoParams& p) {
+  if ((p.path_mask & kern::kBackwardPaths) != 0) return "";
+  return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) + " window " +
+         std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities);
+}
+
 struct FuncPipeline::Impl {
   std::unique_ptr<Engine<Narrow, uint16_t>> n16;
   std::unique_ptr<Engine<Narrow, uint32_t>> n32;
@@ -149,6 +164,38 @@ DisparityCodes run_func(const GreyImage& left, const GreyImage& right, const ker
                         const FuncOptions& opt) {
   FuncPipeline pipe;
   return pipe.run(left, right, p, opt);
+}
+
+void FuncPipeline::record_costs(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p_in,
+                                CostRecording& rec) {
+  const auto errors = func_param_errors(p_in);
+  if (!errors.empty()) internal_error(("invalid parameters reached record_costs: " + errors.front()).c_str());
+  kern::StereoParams p = p_in;
+  p.parallel_units = largest_divisor_at_most(p.disparities, 64);
+  rec.impl->key = cost_sharing_key(p_in);
+  if (rec.impl->key.empty()) internal_error("record_costs: the 8-path variant cannot replay costs");
+  auto& i = *impl_;
+  if (!i.n16) i.n16 = std::make_unique<Engine<Narrow, uint16_t>>();
+  i.n16->record_costs(left, right, p, rec.impl->tokens);
+}
+
+DisparityCodes FuncPipeline::run_from_costs(const CostRecording& rec, const kern::StereoParams& p_in) {
+  const auto errors = func_param_errors(p_in);
+  if (!errors.empty()) internal_error(("invalid parameters reached run_from_costs: " + errors.front()).c_str());
+  if (rec.impl->key.empty() || rec.impl->key != cost_sharing_key(p_in))
+    internal_error("run_from_costs: the recording belongs to another cost stage");
+  kern::StereoParams p = p_in;
+  p.parallel_units = largest_divisor_at_most(p.disparities, 64);
+  auto& i = *impl_;
+  DisparityCodes out;
+  if (kern::aggregate_bits(p) > 16) {
+    if (!i.n32) i.n32 = std::make_unique<Engine<Narrow, uint32_t>>();
+    i.n32->run_from_costs(rec.impl->tokens, p, out);
+  } else {
+    if (!i.n16) i.n16 = std::make_unique<Engine<Narrow, uint16_t>>();
+    i.n16->run_from_costs(rec.impl->tokens, p, out);
+  }
+  return out;
 }
 
 }  // namespace parallax::sim

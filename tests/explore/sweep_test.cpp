@@ -134,7 +134,8 @@ TEST(SweepRun, InvalidDesignsAreStoredWithTheReasonAndRerunsSkip) {
 TEST(SweepRun, KilledMidSweepLosesNothingAndDuplicatesNothing) {
   const fs::path d = fresh("kill");
   const std::string db = (d / "k.db").string();
-  const std::string args = "sweep --base " + kCensus + " --grid p2=32,40,48,56,64,72 --dataset " + kData +
+  // Disparity ranges: no two designs share the cost stage, so each is stored as it finishes.
+  const std::string args = "sweep --base " + kCensus + " --grid disparities=24,30,36,42,48,54 --dataset " + kData +
                            " --frames 1,5 --jobs 1 --db " + db;
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
@@ -155,7 +156,8 @@ TEST(SweepRun, KilledMidSweepLosesNothingAndDuplicatesNothing) {
     }
   }
   kill(pid, SIGKILL);
-  if (system(("pkill -9 -f 'sweep --base " + kCensus + " --grid p2=32,40' >/dev/null 2>&1").c_str()) < 0) ADD_FAILURE();
+  if (system(("pkill -9 -f 'sweep --base " + kCensus + " --grid disparities=24,30' >/dev/null 2>&1").c_str()) < 0)
+    ADD_FAILURE();
   int st = 0;
   waitpid(pid, &st, 0);
   ASSERT_GE(before.size(), 2u) << "the sweep stored nothing in time";
@@ -240,6 +242,24 @@ TEST(SweepScale, MpiTwoRanksEqualOneProcess) {
   EXPECT_EQ(by_hash(mpi), by_hash(one));
 }
 #endif
+
+// Designs sharing the cost stage (a penalty and median sweep) evaluated together give exactly the
+// results of evaluating each on its own.
+TEST(SweepSharing, SharedCostsGiveTheSameResults) {
+  const fs::path d = fresh("sharing");
+  SweepSpec s = small_sweep();
+  s.frames = "1,5";
+  explore::add_axis(s, "p1=4,8");
+  explore::SweepRunOptions ro;
+  ro.dataset = kData;
+  ro.jobs = 2;
+  ResultStore shared((d / "shared.db").string()), alone((d / "alone.db").string());
+  explore::run_sweep(s, shared, ro);
+  ro.share_costs = false;
+  explore::run_sweep(s, alone, ro);
+  EXPECT_EQ(shared.count_designs(), 12);
+  EXPECT_EQ(by_hash(shared), by_hash(alone));
+}
 
 // NSGA-II: seeded, only new designs cost an evaluation, and it finds the front of a small space
 // that the grid also enumerates.

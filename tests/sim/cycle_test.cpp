@@ -457,6 +457,42 @@ TEST(CycleEquiv, FastForwardStopsAtAnIrregularInputRow) {
   expect_same_report(fast, slow, "irregular input rows");
 }
 
+// Work sharing: one recording of the cost stage replayed into designs that differ in every later
+// stage gives each the codes of its own func run.
+TEST(FuncSharing, ReplayedCostsGiveTheCodesOfTheRun) {
+  uint32_t seed = 9500;
+  for (int cost : {int(kern::kCostCensus), int(kern::kCostSad)}) {
+    StereoParams base = params(53, 17, 32, 8, kern::kForwardPaths);
+    base.cost = cost;
+    const StereoPair sp = make_pair(Pattern::kShiftedTexture, base.width_px, base.height_px, seed++, 5);
+    sim::FuncPipeline pipe;
+    sim::CostRecording rec;
+    pipe.record_costs(sp.left, sp.right, base, rec);
+    const struct {
+      int p1, p2, median;
+      unsigned paths;
+      bool lr;
+    } variants[] = {{8, 32, 5, kern::kForwardPaths, true}, {4, 96, 0, kern::kPath0, false},
+                    {20, 400, 3, kern::kPath0 | kern::kPath90, true}, {2, 3, 7, kern::kPath45 | kern::kPath135, true}};
+    for (const auto& v : variants) {
+      StereoParams p = base;
+      p.p1 = cost == kern::kCostSad ? v.p1 * 25 : v.p1;
+      p.p2 = cost == kern::kCostSad ? v.p2 * 25 : v.p2;
+      p.median = v.median;
+      p.path_mask = v.paths;
+      p.lr_check = v.lr;
+      p.parallel_units = 4;  // the design's PU does not matter to the func run's lanes
+      ASSERT_EQ(sim::cost_sharing_key(p), sim::cost_sharing_key(base));
+      const sim::DisparityCodes replayed = pipe.run_from_costs(rec, p);
+      const sim::DisparityCodes direct = sim::run_func(sp.left, sp.right, p);
+      const Comparison c = compare_maps(replayed.code, direct.code, p.width_px);
+      EXPECT_TRUE(c.sizes_equal && c.mismatches == 0) << describe(p) << ": " << c.mismatches << " at " << c.first;
+    }
+  }
+  StereoParams eight = params(20, 9, 16, 4, kern::kAllPaths);
+  EXPECT_EQ(sim::cost_sharing_key(eight), "");
+}
+
 // A frame that never completes is diagnosed the same with the fast-forward: the skipped rows
 // stay clear of the end of the (truncated) input.
 TEST(Deadlock, FastForwardKeepsTheDiagnosis) {

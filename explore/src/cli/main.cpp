@@ -366,7 +366,9 @@ int main(int argc, char** argv) {
   sweepc->add_option("--seed", sw_seed, "Seed of random / lhs");
   sweepc->add_option("--name", sw_name, "Sweep name in the store (default: the file's, else 'sweep')");
   std::string sw_shard;
-  bool sw_mpi = false;
+  bool sw_mpi = false, sw_no_sharing = false;
+  sweepc->add_flag("--no-sharing", sw_no_sharing,
+                   "Evaluate every design on its own (by default designs sharing the cost stage share each frame's costs)");
   sweepc->add_option("--shard", sw_shard, "K/N: evaluate only shard K of N (merge the stores with `parallax merge`)");
 #ifdef PARALLAX_HAVE_MPI
   sweepc->add_flag("--mpi", sw_mpi, "Under mpirun: rank r evaluates shard r+1 of the ranks into DB.rank<r>; rank 0 merges them into DB");
@@ -727,6 +729,7 @@ int main(int argc, char** argv) {
       SweepRunOptions ro;
       ro.dataset = sw_dataset;
       ro.jobs = sw_jobs;
+      ro.share_costs = !sw_no_sharing;
       if (!sw_shard.empty()) {
         const auto slash = sw_shard.find('/');
         try {

@@ -103,6 +103,9 @@ struct SweepRunOptions {
   // Shard K of N (1 <= K <= N): only the designs whose index in the strategy's order is
   // K - 1 modulo N. Shards of one sweep are disjoint and together the whole sweep.
   int shard_index = 1, shard_count = 1;
+  // Designs that share the cost stage (sim::cost_sharing_key) are evaluated together: each frame
+  // is decoded once and its matching costs computed once for all of them. Same results.
+  bool share_costs = true;
   std::function<void(int done, int total, int skipped)> progress;
 };
 struct SweepSummary {

@@ -37,6 +37,23 @@ struct FuncOptions {
 // user-facing validation lives in models/config; this is the kernels' own guard.
 std::vector<std::string> func_param_errors(const kern::StereoParams& p);
 
+// The matching costs of one frame as the cost stage streams them, recorded once and replayed
+// into every design that shares the cost stage: work sharing for sweeps over the later stages
+// (penalties, paths, LR check, median). Opaque; see FuncPipeline::record_costs.
+class CostRecording {
+ public:
+  CostRecording();
+  ~CostRecording();
+  CostRecording(CostRecording&&) noexcept;
+  CostRecording& operator=(CostRecording&&) noexcept;
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
+
+// Designs with equal keys (cost, window, disparities, size) produce the same cost tokens in the
+// func run; "" for designs that cannot replay costs (the 8-path variant's two passes).
+std::string cost_sharing_key(const kern::StereoParams& p);
+
 // Reusable pipeline: keeps its (large) stage objects between frames.
 class FuncPipeline {
  public:
@@ -48,6 +65,11 @@ class FuncPipeline {
   // Runs one frame. Aborts on parameters rejected by func_param_errors (callers validate).
   DisparityCodes run(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                      const FuncOptions& opt = {});
+  // The cost stage alone on one frame, into `rec` (at the func run's lanes).
+  void record_costs(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p, CostRecording& rec);
+  // The rest of the design fed with a recording of a design of the same cost_sharing_key: the
+  // codes of run() on the frame (tested). Aborts when the keys differ.
+  DisparityCodes run_from_costs(const CostRecording& rec, const kern::StereoParams& p);
 
  private:
   struct Impl;
