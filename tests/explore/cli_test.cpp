@@ -44,7 +44,8 @@ const std::string kData = PARALLAX_DATA_DIR "/kitti2015-640x360/training";
 const std::string kCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
 
 TEST(Cli, HelpOnEveryCommand) {
-  for (const char* c : {"run", "eval", "score", "baseline", "config", "crop-dataset", "sim", "bench", "fit-resources"}) {
+  for (const char* c : {"run", "eval", "score", "baseline", "config", "crop-dataset", "sim", "bench", "fit-resources",
+                        "sweep", "pareto", "merge"}) {
     const CliRun r = run_cli(std::string(c) + " --help");
     EXPECT_EQ(r.status, 0) << c;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << c;

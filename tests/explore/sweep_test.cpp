@@ -69,6 +69,14 @@ TEST(SweepSpec, RandomAndLatinHypercubeAreSeededAndDistinct) {
   }
 }
 
+TEST(SweepSpec, ShippedSweepsParse) {
+  for (const char* f : {"ruf2018-neighbourhood.yaml", "census-penalties.yaml"}) {
+    const SweepSpec s = explore::load_sweep(std::string(PARALLAX_CONFIG_DIR) + "/sweeps/" + f);
+    EXPECT_FALSE(s.axes.empty()) << f;
+    EXPECT_FALSE(explore::enumerate_designs(s).empty()) << f;
+  }
+}
+
 TEST(SweepSpec, FileErrorsNameTheField) {
   EXPECT_THROW(explore::parse_sweep("strategy: annealing\n", "s.yaml"), explore::InputError);
   try {
