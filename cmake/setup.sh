@@ -12,7 +12,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 PACKAGES=(build-essential cmake ninja-build pkg-config git
           libopencv-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
-          libceres-dev libeigen3-dev libsqlite3-dev libopenmpi-dev openmpi-bin)
+          libceres-dev libeigen3-dev libsqlite3-dev)
+# Optional: the MPI mode of `parallax sweep` is built when these are present.
+OPTIONAL_PACKAGES=(libopenmpi-dev openmpi-bin)
 PRESET="${PARALLAX_PRESET:-release}"
 JOBS="${PARALLAX_JOBS:-$(nproc)}"
 
@@ -29,8 +31,22 @@ deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
+optional_deps() {
+  local missing=()
+  for p in "${OPTIONAL_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  local sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  echo "setup: installing optional ${missing[*]}" >&2
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null 2>&1 ||
+    echo "setup: optional ${missing[*]} not installed; the MPI mode is left out" >&2
+}
+
 build() {
   deps
+  optional_deps
   cmake --preset "$PRESET" >/dev/null
   cmake --build --preset "$PRESET" -j "$JOBS"
 }
