@@ -40,6 +40,7 @@ optional_deps() {
   local sudo=""
   [ "$(id -u)" -eq 0 ] || sudo="sudo"
   echo "setup: installing optional ${missing[*]}" >&2
+  $sudo apt-get update -qq >/dev/null 2>&1 || true
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null 2>&1 ||
     echo "setup: optional ${missing[*]} not installed; the MPI mode is left out" >&2
 }
