@@ -390,6 +390,14 @@ std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep) {
     r.finished_at = st.col(8);
     out.push_back(std::move(r));
   }
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < out.size(); ++i) index[out[i].hash] = i;
+  Stmt fs(impl_->db, "SELECT hash, frame, metrics FROM frames ORDER BY hash, frame", impl_->path);
+  while (sqlite3_step(fs.s) == SQLITE_ROW) {
+    const auto it = index.find(fs.col(0));
+    if (it == index.end()) continue;
+    out[it->second].frames.emplace_back(fs.col(1), json::parse(fs.col(2)).get<std::map<std::string, double>>());
+  }
   return out;
 }
 

@@ -66,6 +66,11 @@ TEST(Config, CanonicalTextRoundTrips) {
   EXPECT_EQ(to_yaml(c), to_yaml(d));
   EXPECT_EQ(d.path_mask, c.path_mask);
   EXPECT_TRUE(d.roi_full);
+  // Every path set survives the round trip, a single angle included ([0] is an angle, 0 no count).
+  for (unsigned mask = 1; mask <= kern::kAllPaths; ++mask) {
+    c.path_mask = mask;
+    EXPECT_EQ(parse_config(to_yaml(c), "roundtrip").path_mask, mask) << to_yaml(c);
+  }
 }
 
 TEST(Config, WindowAcceptsSquareShorthand) {

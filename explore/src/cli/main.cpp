@@ -24,6 +24,7 @@
 
 #include "parallax/config/config.hpp"
 #include "parallax/explore/bench.hpp"
+#include "parallax/explore/report.hpp"
 #include "parallax/explore/sweep.hpp"
 #include "parallax/resources/fit.hpp"
 #include "parallax/resources/model.hpp"
@@ -388,6 +389,20 @@ int main(int argc, char** argv) {
   paretoc->add_option("--db", pa_db, "Results store")->required();
   paretoc->add_option("--sweep", pa_sweep, "Sweep name (default: the only one in the store)");
   paretoc->add_flag("--json", pa_json, "Print JSON: a list of designs with configuration and metrics");
+
+  // report
+  std::string rp_db, rp_sweep, rp_html, rp_csv, rp_frames_csv, rp_json, rp_dataset, rp_frame;
+  int rp_details = 6;
+  auto* reportc = app.add_subcommand("report", "CSV, JSON and a self-contained HTML report of a sweep");
+  reportc->add_option("--db", rp_db, "Results store")->required();
+  reportc->add_option("--sweep", rp_sweep, "Sweep name (default: the only one in the store)");
+  reportc->add_option("--html", rp_html, "Write the HTML report (one file, viewable offline)");
+  reportc->add_option("--csv", rp_csv, "Write one row per design (parameters and metrics)");
+  reportc->add_option("--frames-csv", rp_frames_csv, "Write one row per design and frame");
+  reportc->add_option("--json", rp_json, "Write the same content as JSON");
+  reportc->add_option("--dataset", rp_dataset, "Dataset to render the front designs' images from (optional)");
+  reportc->add_option("--frame", rp_frame, "Frame of those images (default: the first with ground truth)");
+  reportc->add_option("--details", rp_details, "Front designs with a full section")->capture_default_str()->check(CLI::Range(0, 1000));
 
   // fit-resources
   std::string fit_points = "models/data/published_points.yaml", fit_root = ".", fit_write;
@@ -840,6 +855,50 @@ int main(int argc, char** argv) {
           std::printf(" %8.1f %8.0f\n", r.metrics.count("fps") ? r.metrics.at("fps") : 0.0,
                       r.metrics.count("bram18k") ? r.metrics.at("bram18k") : 0.0);
         }
+      }
+      return 0;
+    }
+    if (*reportc) {
+      if (rp_html.empty() && rp_csv.empty() && rp_frames_csv.empty() && rp_json.empty())
+        throw InputError("report: nothing to write; give --html, --csv, --frames-csv or --json");
+      ResultStore store(rp_db);
+      const std::vector<SweepSpec> sweeps = store.sweeps();
+      if (sweeps.empty()) throw InputError(rp_db + ": no sweep in this store");
+      const SweepSpec* spec = nullptr;
+      std::string names;
+      for (const auto& s : sweeps) {
+        names += (names.empty() ? "" : ", ") + s.name;
+        if (s.name == rp_sweep) spec = &s;
+      }
+      if (rp_sweep.empty() && sweeps.size() == 1) spec = &sweeps.front();
+      if (!spec)
+        throw InputError(rp_sweep.empty() ? rp_db + ": several sweeps (" + names + "): choose one with --sweep"
+                                          : "--sweep '" + rp_sweep + "': not in " + rp_db + " (" + names + ")");
+      const auto rows = store.designs(spec->name);
+      auto write = [](const std::string& path, const std::string& text) {
+        std::ofstream out(path, std::ios::binary);
+        if (!out) throw InputError(path + ": cannot write");
+        out << text;
+        if (!out) throw InputError(path + ": write failed");
+        std::fprintf(stderr, "parallax: wrote %s\n", path.c_str());
+      };
+      if (!rp_csv.empty()) {
+        std::ostringstream o;
+        write_designs_csv(rows, o);
+        write(rp_csv, o.str());
+      }
+      if (!rp_frames_csv.empty()) {
+        std::ostringstream o;
+        write_frames_csv(rows, o);
+        write(rp_frames_csv, o.str());
+      }
+      if (!rp_json.empty()) write(rp_json, report_json(rows));
+      if (!rp_html.empty()) {
+        ReportOptions ro;
+        ro.dataset = rp_dataset;
+        ro.frame = rp_frame;
+        ro.details = rp_details;
+        write(rp_html, html_report(*spec, rows, ro));
       }
       return 0;
     }

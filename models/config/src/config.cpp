@@ -293,6 +293,7 @@ PipelineConfig parse_config(const std::string& text, const std::string& source) 
     std::string value;
     if (kv.second.IsSequence()) {
       for (const auto& item : kv.second) value += (value.empty() ? "" : ",") + item.as<std::string>();
+      value = "[" + value + "]";  // a list stays a list: paths [0] is an angle, not a count
     } else if (kv.second.IsScalar()) {
       value = kv.second.as<std::string>();
     } else {

@@ -1,0 +1,56 @@
+// Reports of a sweep (`parallax report`): CSV and JSON with one row per design and per frame,
+// and a self-contained HTML page (inline CSS, JS and SVG, images as data URIs: nothing is
+// fetched when it is viewed). `run` and `sim` write the per-design section as a page of its own.
+// docs/reports.md.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "parallax/explore/sweep.hpp"
+#include "parallax/resources/model.hpp"
+#include "parallax/sim/cycle.hpp"
+
+namespace parallax::explore {
+
+// Column order of the design CSV: hash, sweep, status, reason, every configuration field (in
+// the configuration's own order), then the metrics (metric_columns(), then any other key
+// alphabetically). The frame CSV: hash, frame, then the accuracy metrics.
+std::vector<std::string> metric_columns();
+void write_designs_csv(const std::vector<ResultStore::Row>& rows, std::ostream& out);
+void write_frames_csv(const std::vector<ResultStore::Row>& rows, std::ostream& out);
+std::string report_json(const std::vector<ResultStore::Row>& rows);
+
+// Everything the per-design section shows; images may be empty (no dataset given).
+struct DesignSection {
+  std::string title;
+  std::string config_yaml;
+  std::string command;  // how to reproduce it
+  cv::Mat left_grey, disparity_colour, gt_colour, error_map;  // 8-bit grey / BGR
+  std::string frame_id;
+  std::map<std::string, double> metrics;
+  sim::CycleReport cycle;  // empty stages: not simulated
+  res::Estimate resources;
+  const res::Device* device = nullptr;
+};
+// Fills the images of a section by running the design on one frame of a dataset ("" = first).
+void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const std::string& dataset,
+                      const std::string& frame);
+// The picture of where a disparity is right (green: within 3 px of the ground truth), wrong
+// (red) or unscored (black: no ground truth or no prediction).
+cv::Mat error_map(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const cv::Mat& gt_px, const cv::Mat& gt_mask);
+
+std::string design_section_html(const DesignSection& s);
+std::string standalone_page(const std::string& title, const std::string& body_html);
+
+struct ReportOptions {
+  std::string dataset;  // to render the per-design images; "" = none
+  std::string frame;    // frame of the images ("" = the first with ground truth)
+  int details = 6;      // designs on the front that get a section
+};
+std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt);
+
+}  // namespace parallax::explore
