@@ -221,9 +221,10 @@ std::string svg_scatter(const std::string& id, const std::string& title, const s
 // Horizontal stacked bars: one row per label, segments (value, colour, name).
 std::string svg_bars(const std::string& id, const std::string& title,
                      const std::vector<std::pair<std::string, std::vector<std::pair<double, std::string>>>>& rows,
-                     const std::vector<std::string>& legend, double max_value, const std::string& unit) {
+                     const std::vector<std::pair<std::string, std::string>>& legend, double max_value,
+                     const std::string& unit) {
   const double W = 560, L = 130, R = 20, row_h = 20, T = 30;
-  const double H = T + row_h * double(rows.size()) + 40;
+  const double H = T + row_h * double(rows.size()) + 52;
   std::ostringstream o;
   o << "<svg class=\"plot\" id=\"" << id << "\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
     << "\"><text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" class=\"t\">" << html_escape(title) << "</text>";
@@ -242,12 +243,12 @@ std::string svg_bars(const std::string& id, const std::string& title,
     y += row_h;
   }
   double lx = L;
-  for (std::size_t i = 0; i < legend.size(); ++i) {
-    o << "<rect x=\"" << lx << "\" y=\"" << y + 10 << "\" width=\"10\" height=\"10\" fill=\"" << kPalette[i % 8]
-      << "\"/><text x=\"" << lx + 14 << "\" y=\"" << y + 19 << "\" class=\"k\">" << html_escape(legend[i]) << "</text>";
-    lx += 14 + 8.0 * double(legend[i].size()) + 16;
+  for (const auto& item : legend) {
+    o << "<rect x=\"" << lx << "\" y=\"" << y + 8 << "\" width=\"10\" height=\"10\" fill=\"" << item.second
+      << "\"/><text x=\"" << lx + 14 << "\" y=\"" << y + 17 << "\" class=\"k\">" << html_escape(item.first) << "</text>";
+    lx += 14 + 6.0 * double(item.first.size()) + 16;
   }
-  o << "<text x=\"" << W - R << "\" y=\"" << y + 19 << "\" text-anchor=\"end\" class=\"k\">full width = " << number(max_value)
+  o << "<text x=\"" << W - R << "\" y=\"" << y + 36 << "\" text-anchor=\"end\" class=\"k\">full width = " << number(max_value)
     << " " << html_escape(unit) << "</text></svg>";
   return o.str();
 }
@@ -398,15 +399,16 @@ std::string design_section_html(const DesignSection& s) {
     }
     o << "<div class=\"plots\">"
       << svg_bars(id + "-cycles", "cycles per stage (last pixel at cycle " + std::to_string(s.cycle.last_pixel_cycle) + ")",
-                  rows, {"busy", "waiting for input", "waiting for space"}, mx, "cycles");
+                  rows, {{"busy", kPalette[0]}, {"waiting for input", kPalette[1]}, {"waiting for space", kPalette[3]}}, mx,
+                  "cycles");
     std::vector<std::pair<std::string, std::vector<std::pair<double, std::string>>>> fifos;
     double fmx = 0;
     for (const auto& f : s.cycle.fifos) {
       fifos.push_back({f.name, {{double(f.high_water), kPalette[2]}, {double(std::max<int64_t>(0, f.depth - f.high_water)), "#ddd"}}});
       fmx = std::max(fmx, double(std::max(f.depth, f.high_water)));
     }
-    o << svg_bars(id + "-fifos", "FIFO occupancy: high-water mark of the depth", fifos, {"high water", "", "unused depth"}, fmx,
-                  "tokens")
+    o << svg_bars(id + "-fifos", "FIFO occupancy: high-water mark of the depth", fifos,
+                  {{"high water", kPalette[2]}, {"unused depth", "#ddd"}}, fmx, "tokens")
       << "</div>";
   }
   if (s.device) {

@@ -172,6 +172,24 @@ cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<st
 }
 
 
+// The command as typed, for "reproduce with".
+std::string command_line(int argc, char** argv) {
+  std::string s = "parallax";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    s += " " + (a.find_first_of(" '\"") == std::string::npos ? a : "'" + a + "'");
+  }
+  return s;
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw InputError(path + ": cannot write");
+  out << text;
+  if (!out) throw InputError(path + ": write failed");
+  std::fprintf(stderr, "parallax: wrote %s\n", path.c_str());
+}
+
 // Resources, utilisation and power of a design at its processed size (models/resources).
 struct ResourceReport {
   res::Estimate estimate;
@@ -242,6 +260,8 @@ int main(int argc, char** argv) {
   run->add_option("--colour", run_colour, "Colour-coded picture (default: OUT with _colour.png)");
   run->add_option("--gt", run_gt, "Ground truth (KITTI 16-bit PNG, full image or ROI size) to score against");
   run->add_flag("--json", run_json, "Print a JSON object (metrics when --gt is given)");
+  std::string run_html;
+  run->add_option("--html", run_html, "Write a self-contained HTML page of this design on this pair (images, timing, resources)");
 
   // eval
   ConfigArgs eval_cfg;
@@ -336,6 +356,8 @@ int main(int argc, char** argv) {
   simc->add_flag("--coupled", sim_coupled,
                  "Fire the kernels' datapath inside the schedule at the design's PU (slower; same report and "
                  "output, which by default come from the control-path schedule and the func run)");
+  std::string sim_html;
+  simc->add_option("--html", sim_html, "Write a self-contained HTML page of this design (timing, FIFOs, resources, images)");
   simc->add_option("--device", sim_device, "Device for utilisation and fit (" + res::device_names() + ")")
       ->capture_default_str();
   simc->add_flag("--every-firing", sim_every_firing,
@@ -438,6 +460,7 @@ int main(int argc, char** argv) {
       sim::FuncPipeline pipe;
       const DisparityMap d = run_design(cfg, l, r, pipe);
       write_kitti_disparity(run_out, d.disparity_px, d.valid_mask);
+      DesignSection run_section;
       std::string colour = run_colour;
       if (colour.empty()) {
         fs::path p(run_out);
@@ -466,6 +489,25 @@ int main(int argc, char** argv) {
         }
         const FrameRow row = make_frame_row("pair", count_frame(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask));
         j.update(metrics_json(row.metrics));
+        if (!run_html.empty()) {
+          run_section.gt_colour = colourize_disparity(gt.disparity_px, gt.valid_mask, double(cfg.disparities));
+          run_section.error_map = error_map(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask);
+          for (const auto& kv : named_metrics(row.metrics)) run_section.metrics[kv.first] = kv.second;
+        }
+      }
+      if (!run_html.empty()) {
+        run_section.title = cfg.name + " on " + run_left;
+        run_section.config_yaml = config::to_yaml(cfg);
+        run_section.command = command_line(argc, argv);
+        run_section.left_grey = l.clone();
+        run_section.frame_id = fs::path(run_left).filename().string();
+        run_section.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities));
+        if (!run_section.metrics.count("density_pct")) run_section.metrics["density_pct"] = j["density_pct"].get<double>();
+        sim::GreyImage blank{l.cols, l.rows, std::vector<uint8_t>(std::size_t(l.total()), 0)};
+        run_section.cycle = sim::run_timing(blank, blank, cfg.stereo_params(l.cols, l.rows), cycle_options(cfg, cfg.clock_mhz));
+        run_section.resources = res::estimate(res::design_inventory(cfg, l.cols, l.rows));
+        run_section.device = res::find_device("XCZU3EG");
+        write_text_file(run_html, standalone_page("Parallax: " + run_section.title, design_section_html(run_section)));
       }
       if (run_json) {
         std::cout << j.dump(2) << "\n";
@@ -648,6 +690,30 @@ int main(int argc, char** argv) {
       print_notes(notes);
       const auto& c = res.cycle;
       const ResourceReport rr = resource_report(cfg, l.cols, l.rows, *device, clock, res.frame_interval_ms);
+      if (!sim_html.empty()) {
+        DesignSection s;
+        s.title = cfg.name + " at " + std::to_string(clock) + " MHz" + (sim_left.empty() ? " (test pattern)" : " on " + sim_left);
+        s.config_yaml = config::to_yaml(cfg);
+        s.command = command_line(argc, argv);
+        s.left_grey = l.clone();
+        cv::Mat disp(l.rows, l.cols, CV_32FC1), valid(l.rows, l.cols, CV_8UC1);
+        for (int i = 0; i < l.rows * l.cols; ++i) {
+          const uint16_t code = res.cycle.codes.code[std::size_t(i)];
+          const bool ok = code != uint16_t(cfg.disparities);
+          disp.at<float>(i / l.cols, i % l.cols) = ok ? float(code) : 0.0f;
+          valid.at<uint8_t>(i / l.cols, i % l.cols) = ok ? 255 : 0;
+        }
+        s.disparity_colour = colourize_disparity(disp, valid, double(cfg.disparities));
+        s.metrics = {{"latency_ms", res.latency_ms}, {"frame_interval_ms", res.frame_interval_ms}, {"fps", res.fps},
+                     {"cycles_per_frame", double(res.cycle.cycles_per_frame)}, {"bram18k", double(rr.estimate.total.bram18k)},
+                     {"lut", double(rr.estimate.total.lut)}, {"ff", double(rr.estimate.total.ff)},
+                     {"dsp", double(rr.estimate.total.dsp)}, {"fits_device", rr.util.fits ? 1.0 : 0.0},
+                     {"power_w", rr.power.total_w}, {"energy_mj_per_frame", rr.power.energy_mj_per_frame}};
+        s.cycle = res.cycle;
+        s.resources = rr.estimate;
+        s.device = device;
+        write_text_file(sim_html, standalone_page("Parallax: " + s.title, design_section_html(s)));
+      }
       if (sim_json) {
         json j;
         j["config"] = cfg.name;
