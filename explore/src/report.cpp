@@ -425,7 +425,12 @@ std::string design_section_html(const DesignSection& s) {
         << st.usage.ff << "</td><td>" << st.usage.dsp << "</td></tr>";
     o << "</table>";
   }
-  o << "<h4>Configuration</h4><pre>" << html_escape(s.config_yaml) << "</pre>";
+  {
+    const std::vector<uchar> yaml(s.config_yaml.begin(), s.config_yaml.end());
+    o << "<h4>Configuration</h4><p><a download=\"" << html_escape(s.config_file.empty() ? "design.yaml" : s.config_file)
+      << "\" href=\"data:text/yaml;base64," << base64(yaml) << "\">save as " << html_escape(s.config_file.empty() ? "design.yaml" : s.config_file)
+      << "</a></p><pre>" << html_escape(s.config_yaml) << "</pre>";
+  }
   if (!s.command.empty()) o << "<p>Reproduce:</p><pre>" << html_escape(s.command) << "</pre>";
   o << "</section>";
   return o.str();
@@ -508,9 +513,10 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
     s.title = r.hash + ": " + field(r, "name");
     s.config_yaml = r.config_yaml;
     s.metrics = r.metrics;
-    s.command = "parallax run --config design-" + r.hash + ".yaml --left LEFT.png --right RIGHT.png --out d.png\n"
-                "parallax sim --config design-" + r.hash + ".yaml --device " + spec.device +
-                "\n(design-" + r.hash + ".yaml: the configuration above)";
+    s.config_file = "design-" + r.hash + ".yaml";
+    s.command = "parallax sweep --base " + s.config_file + " --dataset DATASET --frames '" + spec.frames + "' --gt " + spec.gt +
+                " --db check.db   # accuracy, timing and resources as stored\n"
+                "parallax sim --config " + s.config_file + " --device " + spec.device + " --html " + r.hash + ".html";
     try {
       const config::PipelineConfig cfg = config::parse_config(r.config_yaml, "design " + r.hash);
       const RoiSize roi = roi_for(cfg);

@@ -28,6 +28,7 @@ std::string report_json(const std::vector<ResultStore::Row>& rows);
 struct DesignSection {
   std::string title;
   std::string config_yaml;
+  std::string config_file;  // name the page offers to save the configuration as
   std::string command;  // how to reproduce it
   cv::Mat left_grey, disparity_colour, gt_colour, error_map;  // 8-bit grey / BGR
   std::string frame_id;
