@@ -262,7 +262,7 @@ tr.front td{background:#fff8dc}.plots{display:flex;flex-wrap:wrap;gap:12px}
 svg.plot text{font-size:12px}svg.plot text.k{font-size:10px;fill:#444}svg.plot text.t{font-weight:600}
 figure{display:inline-block;margin:6px}figure img{max-width:360px;image-rendering:pixelated;border:1px solid #ccc}
 figcaption{font-size:12px;color:#555}pre{background:#f7f7f7;padding:8px;overflow:auto;font-size:12px}
-.kv td{text-align:left}.scroll{max-height:520px;overflow:auto;border:1px solid #eee}#filter{margin:8px 0;padding:4px;width:320px}
+.kv td{text-align:left}td.reason{max-width:420px;white-space:nowrap;overflow:hidden;text-overflow:ellipsis}.scroll{max-height:520px;overflow:auto;border:1px solid #eee}#filter{margin:8px 0;padding:4px;width:320px}
 )CSS";
 
 const char* kScript = R"JS(
@@ -500,7 +500,7 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
       const double v = metric(r, c);
       o << "<td>" << (std::isnan(v) ? "" : number(std::round(v * 100) / 100)) << "</td>";
     }
-    o << "<td class=\"s\">" << html_escape(r.reason) << "</td></tr>";
+    o << "<td class=\"s reason\" title=\"" << html_escape(r.reason) << "\">" << html_escape(r.reason) << "</td></tr>";
   }
   o << "</tbody></table></div><p>Rows on the Pareto front are highlighted. CSV and JSON of the same data: "
        "<code>parallax report --db ... --csv designs.csv --json designs.json</code>.</p></section>";
