@@ -1,5 +1,8 @@
 // parallax: the command-line front end. Every command has --help; user errors (bad files, bad
 // configurations) print one clear message naming the file or field and exit with status 2.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -23,6 +26,7 @@
 #include <vector>
 
 #include "parallax/config/config.hpp"
+#include "parallax/explore/avoid.hpp"
 #include "parallax/explore/bench.hpp"
 #include "parallax/explore/report.hpp"
 #include "parallax/explore/sweep.hpp"
@@ -171,6 +175,40 @@ cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<st
   return grey;
 }
 
+
+// MAVLink output: a file (binary frames back to back) or udp:HOST:PORT; nothing when empty.
+class MavlinkSink {
+ public:
+  explicit MavlinkSink(const std::string& where) {
+    if (where.empty()) return;
+    if (where.rfind("udp:", 0) == 0) {
+      const auto colon = where.rfind(':');
+      const std::string host = where.substr(4, colon - 4);
+      const int port = std::atoi(where.substr(colon + 1).c_str());
+      fd_ = socket(AF_INET, SOCK_DGRAM, 0);
+      addr_.sin_family = AF_INET;
+      addr_.sin_port = htons(uint16_t(port));
+      if (fd_ < 0 || port <= 0 || inet_pton(AF_INET, host.c_str(), &addr_.sin_addr) != 1)
+        throw InputError("--mavlink-out '" + where + "': expected udp:IPv4:PORT");
+      return;
+    }
+    file_.open(where, std::ios::binary);
+    if (!file_) throw InputError("--mavlink-out '" + where + "': cannot write");
+  }
+  ~MavlinkSink() {
+    if (fd_ >= 0) close(fd_);
+  }
+  void send(const std::vector<uint8_t>& frame) {
+    if (file_.is_open()) file_.write(reinterpret_cast<const char*>(frame.data()), std::streamsize(frame.size()));
+    if (fd_ >= 0)
+      (void)sendto(fd_, frame.data(), frame.size(), 0, reinterpret_cast<const sockaddr*>(&addr_), sizeof addr_);
+  }
+
+ private:
+  std::ofstream file_;
+  int fd_ = -1;
+  sockaddr_in addr_{};
+};
 
 // The command as typed, for "reproduce with".
 std::string command_line(int argc, char** argv) {
@@ -425,6 +463,19 @@ int main(int argc, char** argv) {
   reportc->add_option("--dataset", rp_dataset, "Dataset to render the front designs' images from (optional)");
   reportc->add_option("--frame", rp_frame, "Frame of those images (default: the first with ground truth)");
   reportc->add_option("--details", rp_details, "Front designs with a full section")->capture_default_str()->check(CLI::Range(0, 1000));
+
+  // avoid
+  ConfigArgs av_cfg;
+  std::string av_dataset, av_frames, av_gt = "noc", av_calib, av_mavlink;
+  bool av_json = false;
+  auto* avoidc = app.add_subcommand("avoid", "Obstacle detection and avoidance on the design's disparity maps, scored against the same stage on the ground truth");
+  add_config_options(avoidc, av_cfg, true);
+  avoidc->add_option("--dataset", av_dataset, "Dataset folder (KITTI 2015/2012)")->required();
+  avoidc->add_option("--frames", av_frames, "Frame filter, e.g. 0-9,15 (default: all with ground truth)");
+  avoidc->add_option("--gt", av_gt, "Ground truth: noc or occ")->capture_default_str();
+  avoidc->add_option("--calib", av_calib, "Rig calibration: KITTI calib file (P_rect_02/03 or P2/P3) or OpenCV YAML (default: KITTI 2015's)");
+  avoidc->add_option("--mavlink-out", av_mavlink, "Write MAVLink 2 (HEARTBEAT + velocity setpoint per frame) to a file or udp:HOST:PORT");
+  avoidc->add_flag("--json", av_json, "Print JSON");
 
   // fit-resources
   std::string fit_points = "models/data/published_points.yaml", fit_root = ".", fit_write;
@@ -965,6 +1016,82 @@ int main(int argc, char** argv) {
         ro.frame = rp_frame;
         ro.details = rp_details;
         write(rp_html, html_report(*spec, rows, ro));
+      }
+      return 0;
+    }
+    if (*avoidc) {
+      const config::PipelineConfig cfg = load_config_args(av_cfg);
+      if (av_gt != "noc" && av_gt != "occ") throw InputError("--gt '" + av_gt + "': expected noc or occ");
+      const Dataset ds = open_dataset(av_dataset);
+      const auto refs = list_frames(ds, av_gt == "occ" ? GtKind::occ : GtKind::noc, av_frames);
+      if (refs.empty()) throw InputError(av_dataset + ": no frame with ground truth matches '" + av_frames + "'");
+      MavlinkSink mav(av_mavlink);
+      sim::FuncPipeline pipe;
+      AvoidScore total;
+      int agree = 0, frames = 0;
+      AvoidTimings t_sum;
+      json per_frame = json::array();
+      uint8_t seq = 0;
+      for (const auto& ref : refs) {
+        Frame f = load_frame(ref);
+        const Roi roi = resolve_roi(roi_for(cfg), f.left.cols, f.left.rows);
+        const cv::Mat l = crop_to_roi(f.left, roi), r = crop_to_roi(f.right, roi);
+        Rig rig;
+        if (!av_calib.empty()) {
+          rig = load_rig(av_calib, roi.x0, roi.y0);
+        } else {  // KITTI 2015's left colour camera (P_rect_02)
+          rig.focal_px = 721.5377;
+          rig.baseline_m = 0.5327;
+          rig.cx_px = 609.5593 - roi.x0;
+          rig.cy_px = 172.854 - roi.y0;
+        }
+        const DisparityMap d = run_design(cfg, l.clone(), r.clone(), pipe);
+        const AvoidResult mine = avoid(d.disparity_px, d.valid_mask, cfg.disparities, rig);
+        const AvoidResult ref_res = avoid(crop_to_roi(f.gt_disparity_px, roi), crop_to_roi(f.gt_mask, roi), cfg.disparities, rig);
+        const AvoidScore s = score_avoidance(mine, ref_res);
+        total.predicted += s.predicted;
+        total.reference += s.reference;
+        total.matched += s.matched;
+        total.range_error_sum_m += s.range_error_sum_m;
+        agree += s.same_decision ? 1 : 0;
+        ++frames;
+        t_sum.uv_maps_ms += mine.timings.uv_maps_ms;
+        t_sum.filtering_ms += mine.timings.filtering_ms;
+        t_sum.contours_ms += mine.timings.contours_ms;
+        t_sum.planning_ms += mine.timings.planning_ms;
+        mav.send(mavlink_heartbeat(seq++, 1, 191));
+        mav.send(mavlink_velocity_setpoint(seq++, 1, 191, uint32_t(frames * 100), mine.velocity_mps));
+        per_frame.push_back({{"frame", f.id}, {"obstacles", s.predicted}, {"reference_obstacles", s.reference},
+                             {"matched", s.matched}, {"decision", to_string(mine.manoeuvre)},
+                             {"reference_decision", to_string(ref_res.manoeuvre)},
+                             {"nearest_range_m", mine.obstacles.empty() ? 0.0 : mine.obstacles.front().range_m},
+                             {"velocity_mps", {mine.velocity_mps.x(), mine.velocity_mps.y(), mine.velocity_mps.z()}}});
+      }
+      const double precision = total.predicted ? 100.0 * total.matched / total.predicted : 0.0;
+      const double recall = total.reference ? 100.0 * total.matched / total.reference : 0.0;
+      const double range_err = total.matched ? total.range_error_sum_m / total.matched : 0.0;
+      const double agreement = frames ? 100.0 * agree / frames : 0.0;
+      const double ms = frames ? t_sum.total_ms() / frames : 0.0;
+      if (av_json) {
+        json j;
+        j["config"] = cfg.name;
+        j["frames"] = frames;
+        j["obstacle_precision"] = precision;
+        j["obstacle_recall"] = recall;
+        j["range_error_m"] = range_err;
+        j["decision_agreement_pct"] = agreement;
+        j["mean_ms_per_frame"] = ms;
+        j["ms_split"] = {{"uv_maps", t_sum.uv_maps_ms / frames}, {"filtering", t_sum.filtering_ms / frames},
+                         {"contours", t_sum.contours_ms / frames}, {"planning", t_sum.planning_ms / frames}};
+        j["per_frame"] = per_frame;
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::printf("%s on %d frames: obstacle_precision %.1f%%  obstacle_recall %.1f%%  range_error %.2f m  "
+                    "decision_agreement %.1f%%\n",
+                    cfg.name.c_str(), frames, precision, recall, range_err, agreement);
+        std::printf("avoidance stage: %.2f ms per frame (U/V maps %.2f, ground + filtering %.2f, contours %.2f, planning %.3f)\n", ms,
+                    t_sum.uv_maps_ms / frames, t_sum.filtering_ms / frames, t_sum.contours_ms / frames,
+                    t_sum.planning_ms / frames);
       }
       return 0;
     }
