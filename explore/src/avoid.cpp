@@ -276,6 +276,37 @@ AvoidScore score_avoidance(const AvoidResult& design, const AvoidResult& ref) {
   return s;
 }
 
+Rig kitti_default_rig(int x0, int y0) {
+  Rig r;
+  r.focal_px = 721.5377;
+  r.baseline_m = 0.5327;
+  r.cx_px = 609.5593 - x0;
+  r.cy_px = 172.854 - y0;
+  return r;
+}
+
+void AvoidAccumulator::add(const cv::Mat& disp, const cv::Mat& valid, const cv::Mat& gt, const cv::Mat& gm, int max_d,
+                           const Rig& rig) {
+  const AvoidResult mine = avoid(disp, valid, max_d, rig);
+  const AvoidResult ref = avoid(gt, gm, max_d, rig);
+  const AvoidScore s = score_avoidance(mine, ref);
+  total_.predicted += s.predicted;
+  total_.reference += s.reference;
+  total_.matched += s.matched;
+  total_.range_error_sum_m += s.range_error_sum_m;
+  agree_ += s.same_decision ? 1 : 0;
+  ++frames_;
+  ms_ += mine.timings.total_ms();
+}
+
+std::vector<std::pair<std::string, double>> AvoidAccumulator::metrics() const {
+  return {{"obstacle_precision", total_.predicted ? 100.0 * total_.matched / total_.predicted : 0.0},
+          {"obstacle_recall", total_.reference ? 100.0 * total_.matched / total_.reference : 0.0},
+          {"range_error_m", total_.matched ? total_.range_error_sum_m / total_.matched : 0.0},
+          {"decision_agreement_pct", frames_ ? 100.0 * agree_ / frames_ : 0.0},
+          {"mean_ms_per_frame", frames_ ? ms_ / frames_ : 0.0}};
+}
+
 // --- MAVLink 2 ------------------------------------------------------------------------------
 
 uint16_t mavlink_crc(const uint8_t* data, std::size_t n, uint16_t crc) {

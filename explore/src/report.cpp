@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "parallax/explore/avoid.hpp"
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/disparity_io.hpp"
 #include "parallax/explore/evaluate.hpp"
@@ -284,7 +285,8 @@ const char* kScript = R"JS(
 std::vector<std::string> metric_columns() {
   return {"density_pct", "density_gt_pct", "correct_3px_pct", "d1_all_pct", "d1_all_filled_pct", "mean_abs_error_px",
           "frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "bram18k", "lut", "ff", "dsp",
-          "fits_device", "power_w", "energy_mj_per_frame"};
+          "fits_device", "power_w", "energy_mj_per_frame", "obstacle_precision", "obstacle_recall", "range_error_m",
+          "decision_agreement_pct", "mean_ms_per_frame"};
 }
 
 void write_designs_csv(const std::vector<ResultStore::Row>& rows, std::ostream& out) {
@@ -354,6 +356,41 @@ cv::Mat error_map(const cv::Mat& d, const cv::Mat& v, const cv::Mat& gt, const c
   return out;
 }
 
+void add_avoidance_images(DesignSection& s, const cv::Mat& disp, const cv::Mat& valid, int max_d, int x0, int y0) {
+  const AvoidResult a = avoid(disp, valid, max_d, kitti_default_rig(x0, y0));
+  auto grey = [](const cv::Mat& counts) {
+    cv::Mat f;
+    counts.convertTo(f, CV_32F);
+    cv::log(f + 1.0f, f);
+    double mx = 0;
+    cv::minMaxLoc(f, nullptr, &mx);
+    cv::Mat g;
+    f.convertTo(g, CV_8U, mx > 0 ? 255.0 / mx : 1.0);
+    cv::Mat bgr;
+    cv::cvtColor(g, bgr, cv::COLOR_GRAY2BGR);
+    return bgr;
+  };
+  const int su = 3, sv = 4;  // stretch the short disparity axes so that they can be seen
+  cv::Mat u = grey(a.u_map), v = grey(a.v_map);
+  cv::resize(u, u, cv::Size(u.cols, u.rows * su), 0, 0, cv::INTER_NEAREST);
+  cv::resize(v, v, cv::Size(v.cols * sv, v.rows), 0, 0, cv::INTER_NEAREST);
+  for (const auto& o : a.obstacles) {
+    cv::rectangle(u, cv::Rect(o.u_box.x, o.u_box.y * su, o.u_box.width, o.u_box.height * su), cv::Scalar(60, 200, 60), 1);
+    cv::RotatedRect e = o.ellipse;
+    e.center.y *= su;
+    e.size.height *= su;
+    if (e.size.width > 1 && e.size.height > 1) cv::ellipse(u, e, cv::Scalar(40, 40, 230), 1);
+    cv::rectangle(v, cv::Rect(o.v_box.x * sv, o.v_box.y, o.v_box.width * sv, o.v_box.height), cv::Scalar(60, 200, 60), 1);
+  }
+  if (a.ground_found)
+    cv::line(v, cv::Point(0, int(a.ground_offset)), cv::Point(v.cols, int(a.ground_slope * max_d + a.ground_offset)),
+             cv::Scalar(230, 120, 40), 1);
+  s.u_map_image = u;
+  s.v_map_image = v;
+  s.metrics["obstacles"] = double(a.obstacles.size());
+  if (!a.obstacles.empty()) s.metrics["nearest_obstacle_m"] = a.obstacles.front().range_m;
+}
+
 void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const std::string& dataset,
                       const std::string& frame) {
   const Dataset ds = open_dataset(dataset);
@@ -371,6 +408,7 @@ void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const
   s.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, max_d);
   s.gt_colour = colourize_disparity(gt, gm, max_d);
   s.error_map = error_map(d.disparity_px, d.valid_mask, gt, gm);
+  add_avoidance_images(s, d.disparity_px, d.valid_mask, cfg.disparities, r.x0, r.y0);
 }
 
 std::string design_section_html(const DesignSection& s) {
@@ -380,13 +418,16 @@ std::string design_section_html(const DesignSection& s) {
     o << "<table class=\"kv\">";
     for (const auto& k : metric_columns())
       if (s.metrics.count(k)) o << "<tr><td>" << k << "</td><td>" << number(s.metrics.at(k)) << "</td></tr>";
+    for (const char* k : {"obstacles", "nearest_obstacle_m"})
+      if (s.metrics.count(k)) o << "<tr><td>" << k << "</td><td>" << number(s.metrics.at(k)) << "</td></tr>";
     o << "</table>";
   }
   if (!s.left_grey.empty()) {
     o << "<div class=\"images\">" << img_tag(s.left_grey, "left image, frame " + s.frame_id)
       << img_tag(s.disparity_colour, "disparity (red near, blue far, black invalid)")
       << img_tag(s.gt_colour, "ground truth") << img_tag(s.error_map, "error: green within 3 px, red beyond, black unscored")
-      << "</div>";
+      << img_tag(s.u_map_image, "U map (disparity x column, stretched x3): obstacles boxed, ellipses red")
+      << img_tag(s.v_map_image, "V map (row x disparity, stretched x4): ground line blue, obstacles boxed") << "</div>";
   }
   const std::string id = "d" + std::to_string(std::hash<std::string>{}(s.title) % 1000000);
   if (!s.cycle.stages.empty()) {

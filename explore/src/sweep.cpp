@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "parallax/explore/avoid.hpp"
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/evaluate.hpp"
 #include "parallax/explore/simulate.hpp"
@@ -42,7 +43,7 @@ SweepSpec parse_sweep(const std::string& text, const std::string& source) {
   }
   if (!n.IsMap()) throw InputError(source + ": expected a mapping of sweep fields");
   SweepSpec s;
-  static const std::set<std::string> known = {"name", "base", "strategy", "samples", "seed", "generations", "axes",
+  static const std::set<std::string> known = {"name", "base", "strategy", "samples", "seed", "generations", "avoidance", "axes",
                                               "constraints", "objectives", "frames", "gt"};
   for (const auto& kv : n) {
     const std::string key = kv.first.as<std::string>();
@@ -60,6 +61,7 @@ SweepSpec parse_sweep(const std::string& text, const std::string& source) {
     if (n["samples"]) s.samples = n["samples"].as<int>();
     if (n["seed"]) s.seed = n["seed"].as<uint32_t>();
     if (n["generations"]) s.generations = n["generations"].as<int>();
+    if (n["avoidance"]) s.avoidance = n["avoidance"].as<bool>();
   } catch (const YAML::Exception&) {
     throw InputError(source + ": a scalar field has the wrong type (samples and seed are integers)");
   }
@@ -132,7 +134,7 @@ std::string sweep_to_yaml(const SweepSpec& s) {
   e << YAML::Key << "objectives" << YAML::Value << YAML::BeginSeq;
   for (const auto& o : s.objectives) e << (std::string(o.maximise ? "max " : "min ") + o.key);
   e << YAML::EndSeq << YAML::Key << "frames" << YAML::Value << s.frames << YAML::Key << "gt" << YAML::Value << s.gt
-    << YAML::EndMap;
+    << YAML::Key << "avoidance" << YAML::Value << s.avoidance << YAML::EndMap;
   return e.c_str();
 }
 
@@ -511,6 +513,18 @@ ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m
   eo.threads = 1;
   const EvalResult er = evaluate_design(m.config, dataset, eo);
   put_accuracy(row, er.frames);
+  if (spec.avoidance) {
+    AvoidAccumulator acc;
+    sim::FuncPipeline pipe;
+    for (const auto& ref : list_frames(dataset, eo.gt_kind, spec.frames)) {
+      const Frame f = load_frame(ref);
+      const Roi r = resolve_roi(roi_for(m.config), f.left.cols, f.left.rows);
+      const DisparityMap d = run_design(m.config, crop_to_roi(f.left, r).clone(), crop_to_roi(f.right, r).clone(), pipe);
+      acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, r), crop_to_roi(f.gt_mask, r),
+              m.config.disparities, kitti_default_rig(r.x0, r.y0));
+    }
+    for (const auto& kv : acc.metrics()) row.metrics[kv.first] = kv.second;
+  }
   finish_row(spec, m, row);
   return row;
 }
@@ -525,6 +539,7 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
   std::vector<ResultStore::Row> rows;
   for (const auto* m : group) rows.push_back(new_row(spec, *m));
   std::vector<std::vector<FrameRow>> frames(group.size());
+  std::vector<AvoidAccumulator> avoidance(group.size());
   sim::FuncPipeline pipe;
   sim::CostRecording rec;
   const RoiSize roi = roi_for(group.front()->config);
@@ -552,10 +567,13 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
           valid.at<uint8_t>(y, x) = c != invalid ? 255 : 0;
         }
       frames[k].push_back(make_frame_row(f.id, count_frame(disp, valid, gtd, gtm)));
+      if (spec.avoidance) avoidance[k].add(disp, valid, gtd, gtm, p.disparities, kitti_default_rig(r.x0, r.y0));
     }
   }
   for (std::size_t k = 0; k < group.size(); ++k) {
     put_accuracy(rows[k], frames[k]);
+    if (spec.avoidance)
+      for (const auto& kv : avoidance[k].metrics()) rows[k].metrics[kv.first] = kv.second;
     finish_row(spec, *group[k], rows[k]);
   }
   return rows;

@@ -269,6 +269,31 @@ TEST(SweepSharing, SharedCostsGiveTheSameResults) {
   EXPECT_EQ(by_hash(shared), by_hash(alone));
 }
 
+// With avoidance on, every design carries the avoidance stage's scores, shared or not.
+TEST(SweepRun, AvoidanceScoresBecomeMetrics) {
+  const fs::path d = fresh("avoid");
+  SweepSpec s = small_sweep();
+  s.avoidance = true;
+  explore::SweepRunOptions ro;
+  ro.dataset = kData;
+  ro.jobs = 2;
+  ResultStore shared((d / "a.db").string()), alone((d / "b.db").string());
+  explore::run_sweep(s, shared, ro);
+  ro.share_costs = false;
+  explore::run_sweep(s, alone, ro);
+  const auto rows = shared.designs();
+  ASSERT_EQ(rows.size(), 6u);
+  for (const auto& r : rows)
+    for (const char* k : {"obstacle_precision", "obstacle_recall", "range_error_m", "decision_agreement_pct", "mean_ms_per_frame"})
+      EXPECT_TRUE(r.metrics.count(k)) << k;
+  // Timing differs run to run; everything else is the same either way.
+  auto strip = [](std::map<std::string, std::map<std::string, double>> m) {
+    for (auto& kv : m) kv.second.erase("mean_ms_per_frame");
+    return m;
+  };
+  EXPECT_EQ(strip(by_hash(shared)), strip(by_hash(alone)));
+}
+
 // NSGA-II: seeded, only new designs cost an evaluation, and it finds the front of a small space
 // that the grid also enumerates.
 TEST(SweepNsga2, SeededAndFindsTheGridFront) {

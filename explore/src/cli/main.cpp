@@ -426,6 +426,8 @@ int main(int argc, char** argv) {
   sweepc->add_option("--generations", sw_generations, "Generations of nsga2 after the first population")->check(CLI::Range(1, 10000));
   sweepc->add_option("--seed", sw_seed, "Seed of random / lhs");
   sweepc->add_option("--name", sw_name, "Sweep name in the store (default: the file's, else 'sweep')");
+  bool sw_avoidance = false;
+  sweepc->add_flag("--avoidance", sw_avoidance, "Also score the avoidance stage on every design (obstacle_precision, ...)");
   std::string sw_shard;
   bool sw_mpi = false, sw_no_sharing = false;
   sweepc->add_flag("--no-sharing", sw_no_sharing,
@@ -553,6 +555,7 @@ int main(int argc, char** argv) {
         run_section.left_grey = l.clone();
         run_section.frame_id = fs::path(run_left).filename().string();
         run_section.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities));
+        add_avoidance_images(run_section, d.disparity_px, d.valid_mask, cfg.disparities, roi.x0, roi.y0);
         if (!run_section.metrics.count("density_pct")) run_section.metrics["density_pct"] = j["density_pct"].get<double>();
         sim::GreyImage blank{l.cols, l.rows, std::vector<uint8_t>(std::size_t(l.total()), 0)};
         run_section.cycle = sim::run_timing(blank, blank, cfg.stereo_params(l.cols, l.rows), cycle_options(cfg, cfg.clock_mhz));
@@ -858,6 +861,7 @@ int main(int argc, char** argv) {
       if (sw_generations > 0) spec.generations = sw_generations;
       if (sw_seed > 0) spec.seed = sw_seed;
       if (!sw_name.empty()) spec.name = sw_name;
+      if (sw_avoidance) spec.avoidance = true;
       SweepRunOptions ro;
       ro.dataset = sw_dataset;
       ro.jobs = sw_jobs;
@@ -1039,11 +1043,8 @@ int main(int argc, char** argv) {
         Rig rig;
         if (!av_calib.empty()) {
           rig = load_rig(av_calib, roi.x0, roi.y0);
-        } else {  // KITTI 2015's left colour camera (P_rect_02)
-          rig.focal_px = 721.5377;
-          rig.baseline_m = 0.5327;
-          rig.cx_px = 609.5593 - roi.x0;
-          rig.cy_px = 172.854 - roi.y0;
+        } else {
+          rig = kitti_default_rig(roi.x0, roi.y0);
         }
         const DisparityMap d = run_design(cfg, l.clone(), r.clone(), pipe);
         const AvoidResult mine = avoid(d.disparity_px, d.valid_mask, cfg.disparities, rig);

@@ -89,6 +89,24 @@ struct AvoidScore {
 };
 AvoidScore score_avoidance(const AvoidResult& design, const AvoidResult& reference);
 
+// KITTI 2015's left colour camera (P_rect_02) for a processed region whose origin in the full
+// image is (x0, y0): the default rig of the shipped data.
+Rig kitti_default_rig(int roi_x0_px, int roi_y0_px);
+
+// Scores of the avoidance stage over many frames: obstacle_precision, obstacle_recall (percent),
+// range_error_m, decision_agreement_pct, mean_ms_per_frame (of the design's stage).
+class AvoidAccumulator {
+ public:
+  void add(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const cv::Mat& gt_px, const cv::Mat& gt_mask,
+           int max_disparity, const Rig& rig);
+  std::vector<std::pair<std::string, double>> metrics() const;
+
+ private:
+  AvoidScore total_;
+  int agree_ = 0, frames_ = 0;
+  double ms_ = 0;
+};
+
 // --- MAVLink 2 ------------------------------------------------------------------------------
 // CRC-16/MCRF4XX (X.25) as MAVLink uses it: init 0xFFFF, reflected polynomial 0x1021.
 uint16_t mavlink_crc(const uint8_t* data, std::size_t n, uint16_t crc = 0xFFFF);

@@ -31,6 +31,7 @@ struct DesignSection {
   std::string config_file;  // name the page offers to save the configuration as
   std::string command;  // how to reproduce it
   cv::Mat left_grey, disparity_colour, gt_colour, error_map;  // 8-bit grey / BGR
+  cv::Mat u_map_image, v_map_image;                            // the avoidance stage, detections drawn
   std::string frame_id;
   std::map<std::string, double> metrics;
   sim::CycleReport cycle;  // empty stages: not simulated
@@ -43,6 +44,11 @@ void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const
 // The picture of where a disparity is right (green: within 3 px of the ground truth), wrong
 // (red) or unscored (black: no ground truth or no prediction).
 cv::Mat error_map(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const cv::Mat& gt_px, const cv::Mat& gt_mask);
+
+// Pictures of the avoidance stage's U map (obstacle boxes and ellipses) and V map (the ground
+// line and the obstacles' rows) for a disparity map.
+void add_avoidance_images(DesignSection& s, const cv::Mat& disparity_px, const cv::Mat& valid_mask, int max_disparity,
+                          int roi_x0_px, int roi_y0_px);
 
 std::string design_section_html(const DesignSection& s);
 std::string standalone_page(const std::string& title, const std::string& body_html);

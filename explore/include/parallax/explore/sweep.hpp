@@ -37,6 +37,7 @@ struct SweepSpec {
   std::vector<Objective> objectives = {{"correct_3px_pct", true}, {"density_pct", true}};
   // Evaluation.
   std::string frames;  // dataset frame filter ("" = all with ground truth)
+  bool avoidance = false;  // also score the avoidance stage (obstacle_precision, ..., docs/avoidance.md)
   std::string gt = "noc";
 };
 
