@@ -13,8 +13,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 PACKAGES=(build-essential cmake ninja-build pkg-config git
           libopencv-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
           libceres-dev libeigen3-dev libsqlite3-dev chromium)
-# Optional: the MPI mode of `parallax sweep` is built when these are present.
-OPTIONAL_PACKAGES=(libopenmpi-dev openmpi-bin)
+# Optional: the MPI mode of `parallax sweep` is built when OpenMPI is present; node and npm
+# fetch the independent MAVLink decoder the tests cross-check with.
+OPTIONAL_PACKAGES=(libopenmpi-dev openmpi-bin nodejs npm)
 PRESET="${PARALLAX_PRESET:-release}"
 JOBS="${PARALLAX_JOBS:-$(nproc)}"
 
@@ -45,9 +46,20 @@ optional_deps() {
     echo "setup: optional ${missing[*]} not installed; the MPI mode is left out" >&2
 }
 
+# The independent MAVLink decoder of the tests (node-mavlink from the npm registry); the test is
+# skipped when it cannot be installed.
+npm_deps() {
+  local dir=tests/explore/mavlink_node
+  [ -d "$dir/node_modules/node-mavlink" ] && return 0
+  command -v npm >/dev/null 2>&1 || return 0
+  (cd "$dir" && npm install --no-audit --no-fund --loglevel=error >/dev/null 2>&1) ||
+    echo "setup: npm install in $dir failed; the node-mavlink cross-check is skipped" >&2
+}
+
 build() {
   deps
   optional_deps
+  npm_deps
   cmake --preset "$PRESET" >/dev/null
   cmake --build --preset "$PRESET" -j "$JOBS"
 }

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "parallax/explore/avoid.hpp"
 #include "parallax/explore/dataset.hpp"
 
@@ -201,6 +203,44 @@ TEST(Mavlink, VelocitySetpointFrame) {
   bad[20] ^= 0x01;
   EXPECT_FALSE(decode(bad, 143, 53).crc_ok);
 }
+
+#if defined(PARALLAX_NODE) && defined(PARALLAX_MAVLINK_CHECK)
+// `parallax avoid --mavlink-out` on the shipped frames, decoded by node-mavlink (npm): every frame
+// valid (CRC with CRC_EXTRA), HEARTBEAT and SET_POSITION_TARGET_LOCAL_NED alternating, and the
+// velocities those of the planner's decisions.
+TEST(Mavlink, NodeMavlinkDecodesTheAvoidOutput) {
+  const std::string dir = PARALLAX_MAVLINK_CHECK;
+  if (!std::filesystem::exists(dir + "/node_modules/node-mavlink")) GTEST_SKIP() << "npm install in " << dir << " first";
+  const auto tmp = std::filesystem::temp_directory_path() / "parallax_mavlink_test";
+  std::filesystem::create_directories(tmp);
+  const std::string bin = (tmp / "out.mav").string(), js = (tmp / "avoid.json").string();
+  const std::string cmd = std::string(PARALLAX_CLI) + " avoid --config " + PARALLAX_CONFIG_DIR + "/ruf2018-census.yaml --dataset " +
+                          PARALLAX_DATA_DIR + "/kitti2015-640x360 --json --mavlink-out " + bin + " > " + js + " 2>/dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const std::string dec = (tmp / "decoded.json").string();
+  ASSERT_EQ(std::system((std::string(PARALLAX_NODE) + " " + dir + "/verify.js " + bin + " > " + dec).c_str()), 0);
+  std::ifstream a(js), b(dec);
+  const auto avoid_json = nlohmann::json::parse(a);
+  const auto decoded = nlohmann::json::parse(b);
+  EXPECT_EQ(decoded["invalid"].get<int>(), 0);
+  const auto& packets = decoded["packets"];
+  const auto& frames = avoid_json["per_frame"];
+  ASSERT_EQ(packets.size(), 2 * frames.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const auto& hb = packets[2 * i];
+    const auto& sp = packets[2 * i + 1];
+    EXPECT_EQ(hb["msgid"].get<int>(), 0);
+    EXPECT_EQ(sp["msgid"].get<int>(), 84);
+    EXPECT_EQ(sp["seq"].get<int>(), int(2 * i + 1));
+    EXPECT_EQ(sp["typeMask"].get<int>(), 0x0DC7);
+    EXPECT_EQ(sp["coordinateFrame"].get<int>(), 8);
+    const auto& v = frames[i]["velocity_mps"];
+    EXPECT_FLOAT_EQ(sp["vx"].get<float>(), v[0].get<float>());
+    EXPECT_FLOAT_EQ(sp["vy"].get<float>(), v[1].get<float>());
+    EXPECT_FLOAT_EQ(sp["vz"].get<float>(), v[2].get<float>());
+  }
+}
+#endif
 
 // --- rig files ---------------------------------------------------------------------------------
 
