@@ -15,7 +15,7 @@ PACKAGES=(build-essential cmake ninja-build pkg-config git
           libceres-dev libeigen3-dev libsqlite3-dev chromium)
 # Optional: the MPI mode of `parallax sweep` is built when OpenMPI is present; node and npm
 # fetch the independent MAVLink decoder the tests cross-check with.
-OPTIONAL_PACKAGES=(libopenmpi-dev openmpi-bin nodejs npm)
+OPTIONAL_PACKAGES=(libopenmpi-dev openmpi-bin)
 PRESET="${PARALLAX_PRESET:-release}"
 JOBS="${PARALLAX_JOBS:-$(nproc)}"
 
@@ -43,7 +43,7 @@ optional_deps() {
   echo "setup: installing optional ${missing[*]}" >&2
   $sudo apt-get update -qq >/dev/null 2>&1 || true
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null 2>&1 ||
-    echo "setup: optional ${missing[*]} not installed; the MPI mode is left out" >&2
+    echo "setup: optional ${missing[*]} not installed; what needs them is left out" >&2
 }
 
 # The independent MAVLink decoder of the tests (node-mavlink from the npm registry); the test is
@@ -51,7 +51,11 @@ optional_deps() {
 npm_deps() {
   local dir=tests/explore/mavlink_node
   [ -d "$dir/node_modules/node-mavlink" ] && return 0
-  command -v npm >/dev/null 2>&1 || return 0
+  if ! command -v npm >/dev/null 2>&1; then  # Debian's packages, when no node is installed at all
+    local sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null 2>&1 || return 0
+  fi
   (cd "$dir" && npm install --no-audit --no-fund --loglevel=error >/dev/null 2>&1) ||
     echo "setup: npm install in $dir failed; the node-mavlink cross-check is skipped" >&2
 }
