@@ -29,6 +29,7 @@
 #include "parallax/explore/avoid.hpp"
 #include "parallax/explore/bench.hpp"
 #include "parallax/explore/report.hpp"
+#include "parallax/explore/fly.hpp"
 #include "parallax/explore/scene.hpp"
 #include "parallax/explore/sweep.hpp"
 #include "parallax/resources/fit.hpp"
@@ -492,6 +493,21 @@ int main(int argc, char** argv) {
   scenec->add_option("--step-m", sc_step, "Distance between frames")->capture_default_str();
   scenec->add_option("--size", sc_width, "Image width (height = width x 9/16)")->capture_default_str()->check(CLI::Range(32, 4096));
   scenec->add_option("--out", sc_out, "Output folder (KITTI layout: training/image_2, image_3, disp_noc_0, disp_occ_0)")->required();
+
+  // fly
+  ConfigArgs fl_cfg;
+  std::string fl_scenario;
+  int fl_seeds = 3, fl_size = 320;
+  double fl_speed = 5.0;
+  bool fl_json = false, fl_find = false;
+  auto* flyc = app.add_subcommand("fly", "Closed-loop flights through synthetic scenes with the design's disparity, latency and frame rate");
+  add_config_options(flyc, fl_cfg, true);
+  flyc->add_option("--scenario", fl_scenario, "Scenario file, e.g. configs/scenarios/forest.yaml")->required();
+  flyc->add_option("--seeds", fl_seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(CLI::Range(1, 1000));
+  flyc->add_option("--speed-mps", fl_speed, "Cruise speed")->capture_default_str()->check(CLI::Range(0.1, 50.0));
+  flyc->add_option("--size", fl_size, "Rendered width (height x 9/16); the design's ROI follows")->capture_default_str()->check(CLI::Range(64, 1280));
+  flyc->add_flag("--find-max-speed", fl_find, "Search the highest speed without a collision over the seeds");
+  flyc->add_flag("--json", fl_json, "Print JSON");
 
   // fit-resources
   std::string fit_points = "models/data/published_points.yaml", fit_root = ".", fit_write;
@@ -1127,6 +1143,83 @@ int main(int argc, char** argv) {
                   "(f = %.1f px, B = %.4f m, camera 1.6 m above the ground)\n",
                   s.name.c_str(), sc_seed, scene.cylinders.size(), scene.boxes.size(), sc_frames, sc_width, sc_height,
                   sc_out.c_str(), rig.focal_px, rig.baseline_m);
+      return 0;
+    }
+    if (*flyc) {
+      const config::PipelineConfig cfg = load_config_args(fl_cfg);
+      const Scenario sc = load_scenario(fl_scenario);
+      FlightParams fp;
+      fp.width_px = fl_size;
+      auto run_speed = [&](double speed, json* per_seed) {
+        fp.speed_mps = speed;
+        struct Agg {
+          int ok = 0, collisions = 0;
+          double min_clear = 1e9, ratio = 0, time = 0;
+        } g;
+        for (int s = 1; s <= fl_seeds; ++s) {
+          const Scene scene = generate_scene(sc, uint32_t(s));
+          const FlightResult r = fly(cfg, scene, fp, uint32_t(s));
+          g.ok += r.reached_goal ? 1 : 0;
+          g.collisions += r.collided ? 1 : 0;
+          g.min_clear = std::min(g.min_clear, r.min_clearance_m);
+          if (r.reached_goal) {
+            g.ratio += r.path_length_m / scene.goal_z_m;
+            g.time += r.time_s;
+          }
+          if (per_seed)
+            per_seed->push_back({{"seed", s}, {"reached_goal", r.reached_goal}, {"collided", r.collided},
+                                 {"min_clearance_m", r.min_clearance_m}, {"time_s", r.time_s}, {"frames", r.frames}});
+          std::fprintf(stderr, "parallax: %s seed %d at %.1f m/s: %s (min clearance %.2f m, %d frames)\n", sc.name.c_str(), s,
+                       speed, r.collided ? "collision" : r.reached_goal ? "goal" : "time out", r.min_clearance_m, r.frames);
+        }
+        return g;
+      };
+      double interval_ms = 0, latency_ms = 0;
+      {
+        config::PipelineConfig c = cfg;
+        c.roi_full = false;
+        c.roi_width_px = fl_size;
+        c.roi_height_px = fl_size * 9 / 16;
+        design_timing(c, fl_size, fl_size * 9 / 16, interval_ms, latency_ms);
+      }
+      json j;
+      j["config"] = cfg.name;
+      j["scenario"] = sc.name;
+      j["seeds"] = fl_seeds;
+      j["frame_interval_ms"] = interval_ms;
+      j["latency_ms"] = latency_ms;
+      if (fl_find) {
+        double lo = 0.0, hi = 16.0;
+        for (int it = 0; it < 5; ++it) {
+          const double mid = (lo + hi) / 2;
+          (run_speed(mid, nullptr).collisions == 0 ? lo : hi) = mid;
+        }
+        const double frame_ms = std::max(interval_ms, 1000.0 / fp.camera_fps);
+        const double bound = stopping_distance_speed_bound(fp.max_accel_mps2, (latency_ms + frame_ms) / 1000.0, 12.0);
+        j["max_safe_speed_mps"] = lo;
+        j["stopping_distance_bound_mps"] = bound;
+        if (!fl_json)
+          std::printf("%s in %s over %d seeds: highest speed without a collision %.2f m/s (searched to 0.5 m/s); "
+                      "stopping-distance bound %.2f m/s (a %.1f m/s2, reaction %.1f ms = latency + frame, range 12 m)\n",
+                      cfg.name.c_str(), sc.name.c_str(), fl_seeds, lo, bound, fp.max_accel_mps2, latency_ms + frame_ms);
+      } else {
+        json per_seed = json::array();
+        const auto g = run_speed(fl_speed, &per_seed);
+        j["speed_mps"] = fl_speed;
+        j["success_rate"] = 100.0 * g.ok / fl_seeds;
+        j["collisions"] = g.collisions;
+        j["min_clearance_m"] = g.min_clear;
+        j["path_length_ratio"] = g.ok ? g.ratio / g.ok : 0.0;
+        j["time_to_goal_s"] = g.ok ? g.time / g.ok : 0.0;
+        j["per_seed"] = per_seed;
+        if (!fl_json)
+          std::printf("%s in %s at %.1f m/s over %d seeds: success_rate %.0f%%  collisions %d  min_clearance %.2f m  "
+                      "path_length_ratio %.3f  time_to_goal %.1f s  (frame %.1f ms, latency %.1f ms)\n",
+                      cfg.name.c_str(), sc.name.c_str(), fl_speed, fl_seeds, j["success_rate"].get<double>(), g.collisions,
+                      g.min_clear, j["path_length_ratio"].get<double>(), j["time_to_goal_s"].get<double>(), interval_ms,
+                      latency_ms);
+      }
+      if (fl_json) std::cout << j.dump(2) << "\n";
       return 0;
     }
     if (*fitc) {
