@@ -286,7 +286,8 @@ std::vector<std::string> metric_columns() {
   return {"density_pct", "density_gt_pct", "correct_3px_pct", "d1_all_pct", "d1_all_filled_pct", "mean_abs_error_px",
           "frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "bram18k", "lut", "ff", "dsp",
           "fits_device", "power_w", "energy_mj_per_frame", "obstacle_precision", "obstacle_recall", "range_error_m",
-          "decision_agreement_pct", "mean_ms_per_frame"};
+          "decision_agreement_pct", "mean_ms_per_frame", "flight_success_rate", "flight_collisions",
+          "flight_min_clearance_m", "flight_time_to_goal_s"};
 }
 
 void write_designs_csv(const std::vector<ResultStore::Row>& rows, std::ostream& out) {

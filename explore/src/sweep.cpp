@@ -24,6 +24,8 @@
 #include "parallax/explore/avoid.hpp"
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/evaluate.hpp"
+#include "parallax/explore/fly.hpp"
+#include "parallax/explore/scene.hpp"
 #include "parallax/explore/simulate.hpp"
 #include "parallax/resources/model.hpp"
 #include "parallax/sim/cycle.hpp"
@@ -43,7 +45,7 @@ SweepSpec parse_sweep(const std::string& text, const std::string& source) {
   }
   if (!n.IsMap()) throw InputError(source + ": expected a mapping of sweep fields");
   SweepSpec s;
-  static const std::set<std::string> known = {"name", "base", "strategy", "samples", "seed", "generations", "avoidance", "axes",
+  static const std::set<std::string> known = {"name", "base", "strategy", "samples", "seed", "generations", "avoidance", "flight", "axes",
                                               "constraints", "objectives", "frames", "gt"};
   for (const auto& kv : n) {
     const std::string key = kv.first.as<std::string>();
@@ -62,6 +64,14 @@ SweepSpec parse_sweep(const std::string& text, const std::string& source) {
     if (n["seed"]) s.seed = n["seed"].as<uint32_t>();
     if (n["generations"]) s.generations = n["generations"].as<int>();
     if (n["avoidance"]) s.avoidance = n["avoidance"].as<bool>();
+    if (n["flight"]) {
+      const YAML::Node f = n["flight"];
+      if (!f["scenario"]) throw InputError(source + ": field 'flight' needs 'scenario' (a file in configs/scenarios)");
+      s.flight_scenario = f["scenario"].as<std::string>();
+      if (f["seeds"]) s.flight_seeds = f["seeds"].as<int>();
+      if (f["speed_mps"]) s.flight_speed_mps = f["speed_mps"].as<double>();
+      if (f["size_px"]) s.flight_size_px = f["size_px"].as<int>();
+    }
   } catch (const YAML::Exception&) {
     throw InputError(source + ": a scalar field has the wrong type (samples and seed are integers)");
   }
@@ -134,7 +144,12 @@ std::string sweep_to_yaml(const SweepSpec& s) {
   e << YAML::Key << "objectives" << YAML::Value << YAML::BeginSeq;
   for (const auto& o : s.objectives) e << (std::string(o.maximise ? "max " : "min ") + o.key);
   e << YAML::EndSeq << YAML::Key << "frames" << YAML::Value << s.frames << YAML::Key << "gt" << YAML::Value << s.gt
-    << YAML::Key << "avoidance" << YAML::Value << s.avoidance << YAML::EndMap;
+    << YAML::Key << "avoidance" << YAML::Value << s.avoidance;
+  if (!s.flight_scenario.empty())
+    e << YAML::Key << "flight" << YAML::Value << YAML::BeginMap << YAML::Key << "scenario" << YAML::Value << s.flight_scenario
+      << YAML::Key << "seeds" << YAML::Value << s.flight_seeds << YAML::Key << "speed_mps" << YAML::Value
+      << s.flight_speed_mps << YAML::Key << "size_px" << YAML::Value << s.flight_size_px << YAML::EndMap;
+  e << YAML::EndMap;
   return e.c_str();
 }
 
@@ -449,9 +464,31 @@ namespace {
 
 constexpr const char* kModelVersion = "parallax-models/2026-11-23 (kernels, cycle schedule, resources)";
 
+// Flights of the design through the sweep's scenario (seeds 1..N).
+void add_flight_metrics(const SweepSpec& spec, const config::PipelineConfig& cfg, ResultStore::Row& row) {
+  const Scenario sc = load_scenario(spec.flight_scenario);
+  FlightParams fp;
+  fp.speed_mps = spec.flight_speed_mps;
+  fp.width_px = spec.flight_size_px;
+  int ok = 0, collisions = 0;
+  double min_clear = 1e9, time = 0;
+  for (int s = 1; s <= spec.flight_seeds; ++s) {
+    const FlightResult r = fly(cfg, generate_scene(sc, uint32_t(s)), fp, uint32_t(s));
+    ok += r.reached_goal ? 1 : 0;
+    collisions += r.collided ? 1 : 0;
+    min_clear = std::min(min_clear, r.min_clearance_m);
+    if (r.reached_goal) time += r.time_s;
+  }
+  row.metrics["flight_success_rate"] = 100.0 * ok / std::max(1, spec.flight_seeds);
+  row.metrics["flight_collisions"] = double(collisions);
+  row.metrics["flight_min_clearance_m"] = min_clear;
+  row.metrics["flight_time_to_goal_s"] = ok ? time / ok : 0.0;
+}
+
 // Timing (the schedule at the ROI size, once: it does not depend on the images) and resources
 // of a design whose accuracy metrics are in `row`.
 void finish_row(const SweepSpec& spec, const MaterialisedDesign& m, ResultStore::Row& row) {
+  if (!spec.flight_scenario.empty()) add_flight_metrics(spec, m.config, row);
   const config::PipelineConfig& cfg = m.config;
   const RoiSize roi = roi_for(cfg);
   const int w = roi.full ? 640 : roi.width_px, h = roi.full ? 360 : roi.height_px;

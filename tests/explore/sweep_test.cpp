@@ -294,6 +294,33 @@ TEST(SweepRun, AvoidanceScoresBecomeMetrics) {
   EXPECT_EQ(strip(by_hash(shared)), strip(by_hash(alone)));
 }
 
+// Flights as metrics (and so as objectives): one design, one seed of the single pole.
+TEST(SweepRun, FlightScoresBecomeMetrics) {
+  const fs::path d = fresh("flight");
+  SweepSpec s;
+  s.name = "fl";
+  s.base = kCensus;
+  s.frames = "1";
+  s.flight_scenario = std::string(PARALLAX_CONFIG_DIR) + "/scenarios/single-pole.yaml";
+  s.flight_seeds = 1;
+  s.flight_speed_mps = 4.0;
+  s.objectives = {{"flight_success_rate", true}, {"flight_min_clearance_m", true}};
+  ResultStore store((d / "f.db").string());
+  explore::SweepRunOptions ro;
+  ro.dataset = kData;
+  explore::run_sweep(s, store, ro);
+  const auto rows = store.designs();
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_DOUBLE_EQ(rows[0].metrics.at("flight_success_rate"), 100.0);
+  EXPECT_DOUBLE_EQ(rows[0].metrics.at("flight_collisions"), 0.0);
+  EXPECT_GT(rows[0].metrics.at("flight_min_clearance_m"), 0.0);
+  EXPECT_EQ(explore::pareto_front(s, rows).size(), 1u);
+  // The spec round-trips its flight.
+  const SweepSpec t = explore::parse_sweep(explore::sweep_to_yaml(s), "round trip");
+  EXPECT_EQ(t.flight_scenario, s.flight_scenario);
+  EXPECT_EQ(t.flight_seeds, 1);
+}
+
 // NSGA-II: seeded, only new designs cost an evaluation, and it finds the front of a small space
 // that the grid also enumerates.
 TEST(SweepNsga2, SeededAndFindsTheGridFront) {

@@ -429,6 +429,8 @@ int main(int argc, char** argv) {
   sweepc->add_option("--seed", sw_seed, "Seed of random / lhs");
   sweepc->add_option("--name", sw_name, "Sweep name in the store (default: the file's, else 'sweep')");
   bool sw_avoidance = false;
+  std::string sw_flight;
+  sweepc->add_option("--flight", sw_flight, "Also fly every design through this scenario (configs/scenarios/*.yaml), 3 seeds at 5 m/s");
   sweepc->add_flag("--avoidance", sw_avoidance, "Also score the avoidance stage on every design (obstacle_precision, ...)");
   std::string sw_shard;
   bool sw_mpi = false, sw_no_sharing = false;
@@ -892,6 +894,7 @@ int main(int argc, char** argv) {
       if (sw_seed > 0) spec.seed = sw_seed;
       if (!sw_name.empty()) spec.name = sw_name;
       if (sw_avoidance) spec.avoidance = true;
+      if (!sw_flight.empty()) spec.flight_scenario = sw_flight;
       SweepRunOptions ro;
       ro.dataset = sw_dataset;
       ro.jobs = sw_jobs;

@@ -38,6 +38,12 @@ struct SweepSpec {
   // Evaluation.
   std::string frames;  // dataset frame filter ("" = all with ground truth)
   bool avoidance = false;  // also score the avoidance stage (obstacle_precision, ..., docs/avoidance.md)
+  // Also fly each design through a scenario (docs/flight.md): flight_success_rate,
+  // flight_collisions, flight_min_clearance_m, flight_time_to_goal_s. Empty: no flights.
+  std::string flight_scenario;
+  int flight_seeds = 3;
+  double flight_speed_mps = 5.0;
+  int flight_size_px = 160;
   std::string gt = "noc";
 };
 
