@@ -15,6 +15,8 @@
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/disparity_io.hpp"
 #include "parallax/explore/evaluate.hpp"
+#include "parallax/explore/fly.hpp"
+#include "parallax/explore/scene.hpp"
 #include "parallax/explore/metrics.hpp"
 #include "parallax/explore/simulate.hpp"
 
@@ -392,6 +394,56 @@ void add_avoidance_images(DesignSection& s, const cv::Mat& disp, const cv::Mat& 
   if (!a.obstacles.empty()) s.metrics["nearest_obstacle_m"] = a.obstacles.front().range_m;
 }
 
+void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::string& scenario_path, double speed,
+                int size) {
+  const Scenario sc = load_scenario(scenario_path);
+  const Scene scene = generate_scene(sc, 1);
+  FlightParams fp;
+  fp.speed_mps = speed;
+  fp.width_px = size;
+  const FlightResult r = fly(cfg, scene, fp, 1);
+  // Top-down: x across, z up the page.
+  const double W = 300, H = 420, x0 = -10, x1 = 10, z1 = scene.goal_z_m + 2;
+  auto sx = [&](double x) { return (x - x0) / (x1 - x0) * W; };
+  auto sz = [&](double z) { return H - z / z1 * H; };
+  std::ostringstream o;
+  o << "<svg class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H + 20
+    << "\"><rect width=\"" << W << "\" height=\"" << H << "\" fill=\"#f6f6f0\" stroke=\"#999\"/>";
+  for (const auto& c : scene.cylinders)
+    o << "<circle cx=\"" << sx(c.x_m) << "\" cy=\"" << sz(c.z_m) << "\" r=\"" << std::max(1.5, c.radius_m / (x1 - x0) * W)
+      << "\" fill=\"#2e7d32\"/>";
+  for (const auto& b : scene.boxes)
+    o << "<rect x=\"" << sx(std::max(b.x0_m, x0)) << "\" y=\"" << sz(b.z1_m) << "\" width=\""
+      << sx(std::min(b.x1_m, x1)) - sx(std::max(b.x0_m, x0)) << "\" height=\"" << std::max(1.0, sz(b.z0_m) - sz(b.z1_m))
+      << "\" fill=\"#8d6e63\"/>";
+  o << "<polyline fill=\"none\" stroke=\"" << (r.collided ? "#d62728" : "#1f77b4") << "\" stroke-width=\"2\" points=\"";
+  for (const auto& p : r.trajectory) o << sx(p.x()) << "," << sz(p.z()) << " ";
+  o << "\"/><line x1=\"0\" x2=\"" << W << "\" y1=\"" << sz(scene.goal_z_m) << "\" y2=\"" << sz(scene.goal_z_m)
+    << "\" stroke=\"#444\" stroke-dasharray=\"4 3\"/><text x=\"4\" y=\"" << H + 15 << "\" class=\"k\">" << html_escape(sc.name)
+    << " at " << number(speed) << " m/s: " << (r.collided ? "collision" : r.reached_goal ? "goal" : "time out")
+    << ", min clearance " << number(std::round(r.min_clearance_m * 100) / 100) << " m</text></svg>";
+  s.flight_svg = o.str();
+  // Three frames of the flight: start, middle, end, with the design's disparity.
+  Rig rig;
+  rig.focal_px = 721.5377 * double(size) / 640.0;
+  rig.baseline_m = 0.5327;
+  rig.cx_px = (size - 1) / 2.0;
+  rig.cy_px = (size * 9 / 16 - 1) / 2.0;
+  config::PipelineConfig c = cfg;
+  c.roi_full = false;
+  c.roi_width_px = size;
+  c.roi_height_px = size * 9 / 16;
+  sim::FuncPipeline pipe;
+  for (std::size_t k : {std::size_t(0), r.trajectory.size() / 2, r.trajectory.size() ? r.trajectory.size() - 1 : 0}) {
+    if (r.trajectory.empty()) break;
+    const StereoFrame f = render(scene, rig, size, size * 9 / 16, r.trajectory[k]);
+    const DisparityMap d = run_design(c, f.left, f.right, pipe);
+    s.flight_frames.push_back({f.left, "flight frame " + std::to_string(k)});
+    s.flight_frames.push_back({colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities)),
+                               "its disparity, frame " + std::to_string(k)});
+  }
+}
+
 void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const std::string& dataset,
                       const std::string& frame) {
   const Dataset ds = open_dataset(dataset);
@@ -429,6 +481,11 @@ std::string design_section_html(const DesignSection& s) {
       << img_tag(s.gt_colour, "ground truth") << img_tag(s.error_map, "error: green within 3 px, red beyond, black unscored")
       << img_tag(s.u_map_image, "U map (disparity x column, stretched x3): obstacles boxed, ellipses red")
       << img_tag(s.v_map_image, "V map (row x disparity, stretched x4): ground line blue, obstacles boxed") << "</div>";
+  }
+  if (!s.flight_svg.empty()) {
+    o << "<h4>Flight</h4><div class=\"plots\">" << s.flight_svg << "</div><div class=\"images\">";
+    for (const auto& f : s.flight_frames) o << img_tag(f.first, f.second);
+    o << "</div>";
   }
   const std::string id = "d" + std::to_string(std::hash<std::string>{}(s.title) % 1000000);
   if (!s.cycle.stages.empty()) {
@@ -568,6 +625,7 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
       s.resources = res::estimate(res::design_inventory(cfg, w, h));
       s.device = res::find_device(spec.device);
       if (!opt.dataset.empty()) add_frame_images(s, cfg, opt.dataset, opt.frame);
+      if (!spec.flight_scenario.empty()) add_flight(s, cfg, spec.flight_scenario, spec.flight_speed_mps, spec.flight_size_px);
     } catch (const std::exception& e) {
       s.title += " (" + std::string(e.what()) + ")";
     }

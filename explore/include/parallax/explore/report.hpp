@@ -32,6 +32,8 @@ struct DesignSection {
   std::string command;  // how to reproduce it
   cv::Mat left_grey, disparity_colour, gt_colour, error_map;  // 8-bit grey / BGR
   cv::Mat u_map_image, v_map_image;                            // the avoidance stage, detections drawn
+  std::string flight_svg;                                      // top-down flight (empty: none)
+  std::vector<std::pair<cv::Mat, std::string>> flight_frames;  // pictures of the flight
   std::string frame_id;
   std::map<std::string, double> metrics;
   sim::CycleReport cycle;  // empty stages: not simulated
@@ -49,6 +51,10 @@ cv::Mat error_map(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const 
 // line and the obstacles' rows) for a disparity map.
 void add_avoidance_images(DesignSection& s, const cv::Mat& disparity_px, const cv::Mat& valid_mask, int max_disparity,
                           int roi_x0_px, int roi_y0_px);
+
+// Flies the design through a scenario (seed 1) and adds the top-down trajectory and a few frames.
+void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::string& scenario_path, double speed_mps,
+                int size_px);
 
 std::string design_section_html(const DesignSection& s);
 std::string standalone_page(const std::string& title, const std::string& body_html);
