@@ -285,18 +285,22 @@ Rig kitti_default_rig(int x0, int y0) {
   return r;
 }
 
-void AvoidAccumulator::add(const cv::Mat& disp, const cv::Mat& valid, const cv::Mat& gt, const cv::Mat& gm, int max_d,
-                           const Rig& rig) {
-  const AvoidResult mine = avoid(disp, valid, max_d, rig);
-  const AvoidResult ref = avoid(gt, gm, max_d, rig);
-  const AvoidScore s = score_avoidance(mine, ref);
+AvoidScore AvoidAccumulator::add(const cv::Mat& disp, const cv::Mat& valid, const cv::Mat& gt, const cv::Mat& gm, int max_d,
+                                 const Rig& rig) {
+  last_design_ = avoid(disp, valid, max_d, rig);
+  last_reference_ = avoid(gt, gm, max_d, rig);
+  const AvoidScore s = score_avoidance(last_design_, last_reference_);
   total_.predicted += s.predicted;
   total_.reference += s.reference;
   total_.matched += s.matched;
   total_.range_error_sum_m += s.range_error_sum_m;
   agree_ += s.same_decision ? 1 : 0;
   ++frames_;
-  ms_ += mine.timings.total_ms();
+  timing_sum_.uv_maps_ms += last_design_.timings.uv_maps_ms;
+  timing_sum_.filtering_ms += last_design_.timings.filtering_ms;
+  timing_sum_.contours_ms += last_design_.timings.contours_ms;
+  timing_sum_.planning_ms += last_design_.timings.planning_ms;
+  return s;
 }
 
 std::vector<std::pair<std::string, double>> AvoidAccumulator::metrics() const {
@@ -304,7 +308,7 @@ std::vector<std::pair<std::string, double>> AvoidAccumulator::metrics() const {
           {"obstacle_recall", total_.reference ? 100.0 * total_.matched / total_.reference : 0.0},
           {"range_error_m", total_.matched ? total_.range_error_sum_m / total_.matched : 0.0},
           {"decision_agreement_pct", frames_ ? 100.0 * agree_ / frames_ : 0.0},
-          {"mean_ms_per_frame", frames_ ? ms_ / frames_ : 0.0}};
+          {"mean_ms_per_frame", frames_ ? timing_sum_.total_ms() / frames_ : 0.0}};
 }
 
 // --- MAVLink 2 ------------------------------------------------------------------------------

@@ -622,17 +622,21 @@ class Engine {
     };
   }
 
-  std::function<bool()> wta_pump(NodeT& n, Fifo<SumTok>& in, Fifo<kern::DispCode>& out) {
-    return [this, &n, &in, &out] {
+  // A stage with one input and one output stream (WTA/LR, median): fires while its plan can be
+  // met; the timing run executes the control path only.
+  template <class Stage, class In, class Out>
+  std::function<bool()> io_pump(NodeT& n, Stage& st, Fifo<In>& in, Fifo<Out>& out) {
+    return [&n, &st, &in, &out] {
       bool fired = false;
       if (n.still_blocked()) return false;
-      while (!wta_.done()) {
-        const kern::WtaPlan pl = wta_.plan();
+      while (!st.done()) {
+        const auto pl = st.plan();
+        if (!pl.read && !pl.write) break;
         if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] {
               if constexpr (kData) {
-                wta_.fire(pl, in, out);
+                st.fire(pl, in, out);
               } else {
-                wta_.step(pl);
+                st.step(pl);
                 if (pl.read) in.skip_read();
                 if (pl.write) out.skip_write();
               }
@@ -643,28 +647,9 @@ class Engine {
       return fired;
     };
   }
-
+  std::function<bool()> wta_pump(NodeT& n, Fifo<SumTok>& in, Fifo<kern::DispCode>& out) { return io_pump(n, wta_, in, out); }
   std::function<bool()> median_pump(NodeT& n, Fifo<kern::DispCode>& in, Fifo<kern::DispCode>& out) {
-    return [this, &n, &in, &out] {
-      bool fired = false;
-      if (n.still_blocked()) return false;
-      while (!median_.done()) {
-        const kern::MedianPlan pl = median_.plan();
-        if (!pl.read && !pl.write) break;
-        if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] {
-              if constexpr (kData) {
-                median_.fire(pl, in, out);
-              } else {
-                median_.step(pl);
-                if (pl.read) in.skip_read();
-                if (pl.write) out.skip_write();
-              }
-            }))
-          break;
-        fired = true;
-      }
-      return fired;
-    };
+    return io_pump(n, median_, in, out);
   }
 
   // The sink takes one code per cycle; `reverse` restores raster order after the backward pass.

@@ -1064,68 +1064,45 @@ int main(int argc, char** argv) {
       if (refs.empty()) throw InputError(av_dataset + ": no frame with ground truth matches '" + av_frames + "'");
       MavlinkSink mav(av_mavlink);
       sim::FuncPipeline pipe;
-      AvoidScore total;
-      int agree = 0, frames = 0;
-      AvoidTimings t_sum;
+      AvoidAccumulator acc;
       json per_frame = json::array();
       uint8_t seq = 0;
       for (const auto& ref : refs) {
         Frame f = load_frame(ref);
         const Roi roi = resolve_roi(roi_for(cfg), f.left.cols, f.left.rows);
-        const cv::Mat l = crop_to_roi(f.left, roi), r = crop_to_roi(f.right, roi);
-        Rig rig;
-        if (!av_calib.empty()) {
-          rig = load_rig(av_calib, roi.x0, roi.y0);
-        } else {
-          rig = kitti_default_rig(roi.x0, roi.y0);
-        }
-        const DisparityMap d = run_design(cfg, l.clone(), r.clone(), pipe);
-        const AvoidResult mine = avoid(d.disparity_px, d.valid_mask, cfg.disparities, rig);
-        const AvoidResult ref_res = avoid(crop_to_roi(f.gt_disparity_px, roi), crop_to_roi(f.gt_mask, roi), cfg.disparities, rig);
-        const AvoidScore s = score_avoidance(mine, ref_res);
-        total.predicted += s.predicted;
-        total.reference += s.reference;
-        total.matched += s.matched;
-        total.range_error_sum_m += s.range_error_sum_m;
-        agree += s.same_decision ? 1 : 0;
-        ++frames;
-        t_sum.uv_maps_ms += mine.timings.uv_maps_ms;
-        t_sum.filtering_ms += mine.timings.filtering_ms;
-        t_sum.contours_ms += mine.timings.contours_ms;
-        t_sum.planning_ms += mine.timings.planning_ms;
+        const Rig rig = av_calib.empty() ? kitti_default_rig(roi.x0, roi.y0) : load_rig(av_calib, roi.x0, roi.y0);
+        const DisparityMap d = run_design(cfg, crop_to_roi(f.left, roi).clone(), crop_to_roi(f.right, roi).clone(), pipe);
+        const AvoidScore s = acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, roi),
+                                     crop_to_roi(f.gt_mask, roi), cfg.disparities, rig);
+        const AvoidResult& mine = acc.last_design();
         mav.send(mavlink_heartbeat(seq++, 1, 191));
-        mav.send(mavlink_velocity_setpoint(seq++, 1, 191, uint32_t(frames * 100), mine.velocity_mps));
+        mav.send(mavlink_velocity_setpoint(seq++, 1, 191, uint32_t(acc.frames() * 100), mine.velocity_mps));
         per_frame.push_back({{"frame", f.id}, {"obstacles", s.predicted}, {"reference_obstacles", s.reference},
                              {"matched", s.matched}, {"decision", to_string(mine.manoeuvre)},
-                             {"reference_decision", to_string(ref_res.manoeuvre)},
+                             {"reference_decision", to_string(acc.last_reference().manoeuvre)},
                              {"nearest_range_m", mine.obstacles.empty() ? 0.0 : mine.obstacles.front().range_m},
                              {"velocity_mps", {mine.velocity_mps.x(), mine.velocity_mps.y(), mine.velocity_mps.z()}}});
       }
-      const double precision = total.predicted ? 100.0 * total.matched / total.predicted : 0.0;
-      const double recall = total.reference ? 100.0 * total.matched / total.reference : 0.0;
-      const double range_err = total.matched ? total.range_error_sum_m / total.matched : 0.0;
-      const double agreement = frames ? 100.0 * agree / frames : 0.0;
-      const double ms = frames ? t_sum.total_ms() / frames : 0.0;
+      std::map<std::string, double> m;
+      for (const auto& kv : acc.metrics()) m[kv.first] = kv.second;
+      const AvoidTimings& t = acc.timing_sum();
+      const double n = double(acc.frames());
       if (av_json) {
         json j;
         j["config"] = cfg.name;
-        j["frames"] = frames;
-        j["obstacle_precision"] = precision;
-        j["obstacle_recall"] = recall;
-        j["range_error_m"] = range_err;
-        j["decision_agreement_pct"] = agreement;
-        j["mean_ms_per_frame"] = ms;
-        j["ms_split"] = {{"uv_maps", t_sum.uv_maps_ms / frames}, {"filtering", t_sum.filtering_ms / frames},
-                         {"contours", t_sum.contours_ms / frames}, {"planning", t_sum.planning_ms / frames}};
+        j["frames"] = acc.frames();
+        for (const auto& kv : m) j[kv.first] = kv.second;
+        j["ms_split"] = {{"uv_maps", t.uv_maps_ms / n}, {"filtering", t.filtering_ms / n},
+                         {"contours", t.contours_ms / n}, {"planning", t.planning_ms / n}};
         j["per_frame"] = per_frame;
         std::cout << j.dump(2) << "\n";
       } else {
         std::printf("%s on %d frames: obstacle_precision %.1f%%  obstacle_recall %.1f%%  range_error %.2f m  "
                     "decision_agreement %.1f%%\n",
-                    cfg.name.c_str(), frames, precision, recall, range_err, agreement);
-        std::printf("avoidance stage: %.2f ms per frame (U/V maps %.2f, ground + filtering %.2f, contours %.2f, planning %.3f)\n", ms,
-                    t_sum.uv_maps_ms / frames, t_sum.filtering_ms / frames, t_sum.contours_ms / frames,
-                    t_sum.planning_ms / frames);
+                    cfg.name.c_str(), acc.frames(), m["obstacle_precision"], m["obstacle_recall"], m["range_error_m"],
+                    m["decision_agreement_pct"]);
+        std::printf("avoidance stage: %.2f ms per frame (U/V maps %.2f, ground + filtering %.2f, contours %.2f, planning %.3f)\n",
+                    m["mean_ms_per_frame"], t.uv_maps_ms / n, t.filtering_ms / n, t.contours_ms / n, t.planning_ms / n);
       }
       return 0;
     }

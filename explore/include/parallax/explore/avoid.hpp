@@ -97,14 +97,21 @@ Rig kitti_default_rig(int roi_x0_px, int roi_y0_px);
 // range_error_m, decision_agreement_pct, mean_ms_per_frame (of the design's stage).
 class AvoidAccumulator {
  public:
-  void add(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const cv::Mat& gt_px, const cv::Mat& gt_mask,
-           int max_disparity, const Rig& rig);
+  // Runs the stage on both maps of one frame, scores the design's against the ground truth's,
+  // and returns that frame's score; last_design()/last_reference() keep the two results.
+  AvoidScore add(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const cv::Mat& gt_px, const cv::Mat& gt_mask,
+                 int max_disparity, const Rig& rig);
   std::vector<std::pair<std::string, double>> metrics() const;
+  const AvoidResult& last_design() const { return last_design_; }
+  const AvoidResult& last_reference() const { return last_reference_; }
+  const AvoidTimings& timing_sum() const { return timing_sum_; }  // of the design's stage
+  int frames() const { return frames_; }
 
  private:
   AvoidScore total_;
   int agree_ = 0, frames_ = 0;
-  double ms_ = 0;
+  AvoidTimings timing_sum_;
+  AvoidResult last_design_, last_reference_;
 };
 
 // --- MAVLink 2 ------------------------------------------------------------------------------
