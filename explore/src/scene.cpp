@@ -7,6 +7,8 @@
 #include <limits>
 #include <random>
 
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -150,7 +152,37 @@ Hit cast(const Scene& sc, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
 
 }  // namespace
 
-StereoFrame render(const Scene& sc, const Rig& rig, int w, int hgt, const Eigen::Vector3d& cam) {
+void write_rectification_maps(const Rig& rig, int w, int h, double k1, const std::string& path) {
+  const cv::Mat K = (cv::Mat_<double>(3, 3) << rig.focal_px, 0, rig.cx_px, 0, rig.focal_px, rig.cy_px, 0, 0, 1);
+  const cv::Mat dist = (cv::Mat_<double>(1, 5) << k1, 0, 0, 0, 0);
+  cv::Mat mx, my;
+  cv::initUndistortRectifyMap(K, dist, cv::Mat::eye(3, 3, CV_64F), K, cv::Size(w, h), CV_32FC1, mx, my);
+  cv::FileStorage fs(path, cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw InputError(path + ": cannot write");
+  fs << "map_x" << mx << "map_y" << my;
+}
+
+StereoFrame render(const Scene& sc, const Rig& rig, int w, int hgt, const Eigen::Vector3d& cam, double k1) {
+  if (k1 != 0.0) {
+    // The truth of the rectified pair, then the images through distorting lenses.
+    StereoFrame f = render(sc, rig, w, hgt, cam, 0.0);
+    const Eigen::Vector3d right_cam = cam + Eigen::Vector3d(rig.baseline_m, 0, 0);
+    for (int v = 0; v < hgt; ++v)
+      for (int u = 0; u < w; ++u) {
+        const double xd = (u - rig.cx_px) / rig.focal_px, yd = (v - rig.cy_px) / rig.focal_px;
+        double x = xd, y = yd;
+        for (int it = 0; it < 8; ++it) {  // invert x_d = x (1 + k1 r^2)
+          const double s = 1.0 + k1 * (x * x + y * y);
+          x = xd / s;
+          y = yd / s;
+        }
+        const Eigen::Vector3d dir(x, y, 1.0);
+        const Hit hl = cast(sc, cam, dir), hr = cast(sc, right_cam, dir);
+        f.left.at<uint8_t>(v, u) = std::isfinite(hl.t) ? uint8_t(std::lround(hl.shade)) : 200;
+        f.right.at<uint8_t>(v, u) = std::isfinite(hr.t) ? uint8_t(std::lround(hr.shade)) : 200;
+      }
+    return f;
+  }
   StereoFrame f;
   f.left = cv::Mat(hgt, w, CV_8U, cv::Scalar(200));
   f.right = cv::Mat(hgt, w, CV_8U, cv::Scalar(200));

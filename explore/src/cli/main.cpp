@@ -495,6 +495,9 @@ int main(int argc, char** argv) {
   scenec->add_option("--step-m", sc_step, "Distance between frames")->capture_default_str();
   scenec->add_option("--size", sc_width, "Image width (height = width x 9/16)")->capture_default_str()->check(CLI::Range(32, 4096));
   scenec->add_option("--out", sc_out, "Output folder (KITTI layout: training/image_2, image_3, disp_noc_0, disp_occ_0)")->required();
+  double sc_k1 = 0.0;
+  scenec->add_option("--distortion-k1", sc_k1, "Radial lens distortion: images distorted, OUT/maps_left.yml and maps_right.yml rectify them")
+      ->check(CLI::Range(-0.5, 0.5));
 
   // fly
   ConfigArgs fl_cfg;
@@ -1117,8 +1120,15 @@ int main(int argc, char** argv) {
       rig.cy_px = (sc_height - 1) / 2.0;
       std::vector<StereoFrame> frames;
       for (int i = 0; i < sc_frames; ++i)
-        frames.push_back(render(scene, rig, sc_width, sc_height, Eigen::Vector3d(0, -1.6, i * sc_step)));
+        frames.push_back(render(scene, rig, sc_width, sc_height, Eigen::Vector3d(0, -1.6, i * sc_step), sc_k1));
       export_kitti(frames, sc_out);
+      if (sc_k1 != 0.0) {
+        for (const char* side : {"maps_left.yml", "maps_right.yml"})
+          write_rectification_maps(rig, sc_width, sc_height, sc_k1, (fs::path(sc_out) / side).string());
+        std::printf("distortion k1 = %g: rectify with --set rectify=bilinear --set rectify_maps_left=%s/maps_left.yml "
+                    "--set rectify_maps_right=%s/maps_right.yml\n",
+                    sc_k1, sc_out.c_str(), sc_out.c_str());
+      }
       std::printf("%s (seed %u): %zu poles/trees, %zu boxes; %d frames of %dx%d written to %s/training "
                   "(f = %.1f px, B = %.4f m, camera 1.6 m above the ground)\n",
                   s.name.c_str(), sc_seed, scene.cylinders.size(), scene.boxes.size(), sc_frames, sc_width, sc_height,

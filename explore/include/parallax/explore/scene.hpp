@@ -49,7 +49,15 @@ struct StereoFrame {
   cv::Mat noc_mask;           // CV_8U: valid and visible from the right camera
 };
 // Renders the rig (image size, f, B, c) with its left camera at `camera_m` (world frame).
-StereoFrame render(const Scene& scene, const Rig& rig, int width_px, int height_px, const Eigen::Vector3d& camera_m);
+// radial_k1 != 0: the images are those of lenses with radial distortion k1 (x_d = x (1 + k1 r^2)
+// in normalised coordinates); the disparity stays that of the rectified, undistorted pair, which
+// rectification_maps() recovers.
+StereoFrame render(const Scene& scene, const Rig& rig, int width_px, int height_px, const Eigen::Vector3d& camera_m,
+                   double radial_k1 = 0.0);
+// The remap tables (for every rectified pixel, its source position in the distorted image) of
+// such lenses, as cv::initUndistortRectifyMap writes them; saved as OpenCV YAML with map_x/map_y,
+// the format the rectify stage's configuration reads (rectify_maps_left/right).
+void write_rectification_maps(const Rig& rig, int width_px, int height_px, double radial_k1, const std::string& path);
 
 // Writes frames as KITTI 2015 training data: image_2, image_3, disp_noc_0, disp_occ_0.
 void export_kitti(const std::vector<StereoFrame>& frames, const std::string& dir);
