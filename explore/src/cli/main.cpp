@@ -512,6 +512,9 @@ int main(int argc, char** argv) {
   flyc->add_option("--speed-mps", fl_speed, "Cruise speed")->capture_default_str()->check(CLI::Range(0.1, 50.0));
   flyc->add_option("--size", fl_size, "Rendered width (height x 9/16); the design's ROI follows")->capture_default_str()->check(CLI::Range(64, 1280));
   flyc->add_flag("--find-max-speed", fl_find, "Search the highest speed without a collision over the seeds");
+  double fl_noise = 0.0, fl_limit = 40.0;
+  flyc->add_option("--noise-grey", fl_noise, "Sensor noise: Gaussian sigma added to the grey levels")->capture_default_str()->check(CLI::Range(0.0, 50.0));
+  flyc->add_option("--time-limit-s", fl_limit, "Flight time limit")->capture_default_str()->check(CLI::Range(1.0, 3600.0));
   flyc->add_flag("--json", fl_json, "Print JSON");
 
   // fit-resources
@@ -1140,6 +1143,8 @@ int main(int argc, char** argv) {
       const Scenario sc = load_scenario(fl_scenario);
       FlightParams fp;
       fp.width_px = fl_size;
+      fp.disparity_noise_px = fl_noise;
+      fp.time_limit_s = fl_limit;
       auto run_speed = [&](double speed, json* per_seed) {
         fp.speed_mps = speed;
         struct Agg {
