@@ -30,6 +30,7 @@
 #include "parallax/explore/bench.hpp"
 #include "parallax/explore/report.hpp"
 #include "parallax/explore/fly.hpp"
+#include "parallax/explore/hls_report.hpp"
 #include "parallax/explore/scene.hpp"
 #include "parallax/explore/sweep.hpp"
 #include "parallax/resources/fit.hpp"
@@ -516,6 +517,15 @@ int main(int argc, char** argv) {
   flyc->add_option("--noise-grey", fl_noise, "Sensor noise: Gaussian sigma added to the grey levels")->capture_default_str()->check(CLI::Range(0.0, 50.0));
   flyc->add_option("--time-limit-s", fl_limit, "Flight time limit")->capture_default_str()->check(CLI::Range(1.0, 3600.0));
   flyc->add_flag("--json", fl_json, "Print JSON");
+
+  // import-hls
+  std::string ih_report, ih_config, ih_write;
+  bool ih_json = false;
+  auto* importc = app.add_subcommand("import-hls", "Read a Vitis HLS csynth.xml back: latency, II per loop, resources; calibrate a configuration");
+  importc->add_option("--report", ih_report, "csynth.xml of a synthesis run")->required();
+  importc->add_option("--config", ih_config, "Configuration to calibrate (ii_<stage>, latency_<stage> from the loops)");
+  importc->add_option("--write-config", ih_write, "Write the calibrated configuration here");
+  importc->add_flag("--json", ih_json, "Print JSON");
 
   // fit-resources
   std::string fit_points = "models/data/published_points.yaml", fit_root = ".", fit_write;
@@ -1215,6 +1225,47 @@ int main(int argc, char** argv) {
                       latency_ms);
       }
       if (fl_json) std::cout << j.dump(2) << "\n";
+      return 0;
+    }
+    if (*importc) {
+      const HlsReport rep = read_csynth_xml(ih_report);
+      std::vector<std::string> set;
+      config::PipelineConfig cfg;
+      if (!ih_config.empty()) {
+        cfg = config::load_config(ih_config);
+        set = calibrate_from_hls(cfg, rep);
+      } else if (!ih_write.empty()) {
+        throw InputError("--write-config needs --config");
+      }
+      if (ih_json) {
+        json j;
+        j["part"] = rep.part;
+        j["top"] = rep.top;
+        j["target_clock_ns"] = rep.target_clock_ns;
+        j["estimated_clock_ns"] = rep.estimated_clock_ns;
+        j["latency_cycles"] = {{"best", rep.best_latency_cycles}, {"worst", rep.worst_latency_cycles}};
+        j["interval_cycles"] = {{"min", rep.interval_min_cycles}, {"max", rep.interval_max_cycles}};
+        j["loops"] = json::array();
+        for (const auto& l : rep.loops)
+          j["loops"].push_back({{"name", l.name}, {"trip_count", l.trip_count}, {"latency_cycles", l.latency_cycles},
+                                {"ii", l.pipeline_ii}, {"depth", l.pipeline_depth}});
+        j["resources"] = rep.resources;
+        j["available"] = rep.available;
+        j["calibrated"] = set;
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::printf("%s on %s (Vitis HLS %s): clock %.2f ns target, %.3f ns estimated; latency %lld-%lld cycles, interval %lld\n",
+                    rep.top.c_str(), rep.part.c_str(), rep.version.c_str(), rep.target_clock_ns, rep.estimated_clock_ns,
+                    (long long)rep.best_latency_cycles, (long long)rep.worst_latency_cycles, (long long)rep.interval_max_cycles);
+        for (const auto& l : rep.loops)
+          std::printf("  loop %-20s trip %lld  II %d  depth %d  latency %lld\n", l.name.c_str(), (long long)l.trip_count,
+                      l.pipeline_ii, l.pipeline_depth, (long long)l.latency_cycles);
+        for (const auto& kv : rep.resources)
+          std::printf("  %-9s %lld of %lld\n", kv.first.c_str(), (long long)kv.second,
+                      (long long)(rep.available.count(kv.first) ? rep.available.at(kv.first) : 0));
+        for (const auto& s : set) std::printf("  calibrated %s\n", s.c_str());
+      }
+      if (!ih_write.empty()) write_text_file(ih_write, config::to_yaml(cfg));
       return 0;
     }
     if (*fitc) {

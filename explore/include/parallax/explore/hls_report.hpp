@@ -1,0 +1,37 @@
+// Reading Vitis HLS synthesis reports back (`parallax import-hls`, docs/hls.md): csynth.xml's
+// clock, overall latency and interval, per-loop II and depth, and resources, turned into the
+// calibration fields the cycle model uses (ii_<stage>, latency_<stage>).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "parallax/config/config.hpp"
+
+namespace parallax::explore {
+
+struct HlsLoop {
+  std::string name;
+  int64_t trip_count = -1, latency_cycles = -1, iteration_latency = -1;
+  int pipeline_ii = -1, pipeline_depth = -1;  // -1: not pipelined / not reported
+};
+
+struct HlsReport {
+  std::string part, top, version;
+  double target_clock_ns = 0, estimated_clock_ns = 0;
+  int64_t best_latency_cycles = -1, worst_latency_cycles = -1, interval_min_cycles = -1, interval_max_cycles = -1;
+  std::vector<HlsLoop> loops;
+  std::map<std::string, int64_t> resources, available;  // BRAM_18K, DSP, FF, LUT, URAM
+};
+
+// Throws InputError naming the file and the element when the XML is not a csynth report.
+HlsReport read_csynth_xml(const std::string& path);
+
+// Sets ii_<stage> and latency_<stage> for every loop named after a stage of the cycle model
+// (`<stage>_loop` or `<stage>` ...: the longest stage name that prefixes the loop's name).
+// Returns the fields set, "key=value".
+std::vector<std::string> calibrate_from_hls(config::PipelineConfig& cfg, const HlsReport& r);
+
+}  // namespace parallax::explore

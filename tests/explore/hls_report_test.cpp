@@ -1,0 +1,67 @@
+// unit + reject: reading a Vitis HLS csynth.xml (a sample in the documented schema) and turning
+// its loops into the cycle model's calibration.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "parallax/explore/dataset.hpp"
+#include "parallax/explore/hls_report.hpp"
+#include "parallax/explore/simulate.hpp"
+#include "parallax/sim/cycle.hpp"
+
+namespace parallax::test {
+namespace {
+
+using namespace parallax::explore;
+const std::string kSample = PARALLAX_TEST_DATA "/csynth_sample.xml";
+
+TEST(HlsReport, ReadsTheCsynthSchema) {
+  const HlsReport r = read_csynth_xml(kSample);
+  EXPECT_EQ(r.part, "xczu3eg-sbva484-1-e");
+  EXPECT_EQ(r.top, "parallax_top");
+  EXPECT_DOUBLE_EQ(r.target_clock_ns, 5.0);
+  EXPECT_DOUBLE_EQ(r.estimated_clock_ns, 3.65);
+  EXPECT_EQ(r.worst_latency_cycles, 4631240);
+  EXPECT_EQ(r.interval_max_cycles, 4608003);
+  ASSERT_EQ(r.loops.size(), 4u);
+  EXPECT_EQ(r.loops[1].name, "aggregate_loop");
+  EXPECT_EQ(r.loops[1].pipeline_ii, 2);
+  EXPECT_EQ(r.loops[3].pipeline_ii, -1);  // not pipelined
+  EXPECT_EQ(r.resources.at("BRAM_18K"), 134);
+  EXPECT_EQ(r.resources.at("LUT"), 25871);
+  EXPECT_EQ(r.available.at("DSP"), 360);
+}
+
+TEST(HlsReport, LoopsCalibrateTheCycleModel) {
+  config::PipelineConfig cfg = config::load_config(std::string(PARALLAX_CONFIG_DIR) + "/ruf2018-census.yaml");
+  const auto set = calibrate_from_hls(cfg, read_csynth_xml(kSample));
+  EXPECT_EQ(cfg.stage_ii.at("aggregate"), 2);
+  EXPECT_EQ(cfg.stage_latency.at("aggregate"), 9);
+  EXPECT_EQ(cfg.stage_latency.at("cost"), 8);
+  EXPECT_EQ(cfg.stage_ii.count("init_rows"), 0u);
+  EXPECT_EQ(set.size(), 6u);
+  // The calibrated configuration round-trips and the cycle model runs with its figures.
+  const config::PipelineConfig back = config::parse_config(config::to_yaml(cfg), "calibrated");
+  EXPECT_EQ(back.stage_latency.at("aggregate"), 9);
+  const sim::CycleOptions o = cycle_options(back, back.clock_mhz);
+  EXPECT_EQ(o.timing.at("aggregate").latency_cycles, 9);
+}
+
+TEST(HlsReport, NotACsynthReportIsNamed) {
+  const auto dir = std::filesystem::temp_directory_path() / "parallax_hls_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "bad.xml") << "<html><body/></html>";
+  std::ofstream(dir / "broken.xml") << "<profile><Perf";
+  for (const char* f : {"bad.xml", "broken.xml", "missing.xml"}) {
+    try {
+      read_csynth_xml((dir / f).string());
+      FAIL() << f;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace parallax::test
