@@ -15,9 +15,8 @@
 namespace parallax::explore {
 namespace fs = std::filesystem;
 
-namespace {
-
 sim::GreyImage to_grey_image(const cv::Mat& m) {
+  CV_Assert(m.type() == CV_8UC1);
   sim::GreyImage g;
   g.width_px = m.cols;
   g.height_px = m.rows;
@@ -26,7 +25,23 @@ sim::GreyImage to_grey_image(const cv::Mat& m) {
   return g;
 }
 
-}  // namespace
+DisparityMap to_disparity_map(const sim::DisparityCodes& codes) {
+  DisparityMap out;
+  out.disparity_px = cv::Mat(codes.height_px, codes.width_px, CV_32FC1);
+  out.valid_mask = cv::Mat(codes.height_px, codes.width_px, CV_8UC1);
+  const uint16_t invalid = uint16_t(codes.disparities);  // docs/algorithm.md §5
+  for (int y = 0; y < codes.height_px; ++y) {
+    float* d = out.disparity_px.ptr<float>(y);
+    uint8_t* v = out.valid_mask.ptr<uint8_t>(y);
+    const uint16_t* c = codes.code.data() + std::size_t(y) * std::size_t(codes.width_px);
+    for (int x = 0; x < codes.width_px; ++x) {
+      const bool ok = c[x] != invalid;
+      d[x] = ok ? float(c[x]) : 0.0f;
+      v[x] = ok ? 255 : 0;
+    }
+  }
+  return out;
+}
 
 RoiSize roi_for(const config::PipelineConfig& cfg) {
   RoiSize r;
@@ -40,22 +55,7 @@ DisparityMap run_design(const config::PipelineConfig& cfg, const cv::Mat& left, 
                         sim::FuncPipeline& pipeline, const sim::FuncOptions& options) {
   CV_Assert(left.type() == CV_8UC1 && right.type() == CV_8UC1 && left.size() == right.size());
   const kern::StereoParams p = cfg.stereo_params(left.cols, left.rows);
-  const sim::DisparityCodes codes = pipeline.run(to_grey_image(left), to_grey_image(right), p, options);
-  DisparityMap out;
-  out.disparity_px = cv::Mat(left.rows, left.cols, CV_32FC1);
-  out.valid_mask = cv::Mat(left.rows, left.cols, CV_8UC1);
-  const uint16_t invalid = uint16_t(kern::invalid_code(p));
-  for (int y = 0; y < left.rows; ++y) {
-    float* d = out.disparity_px.ptr<float>(y);
-    uint8_t* v = out.valid_mask.ptr<uint8_t>(y);
-    const uint16_t* c = codes.code.data() + std::size_t(y) * left.cols;
-    for (int x = 0; x < left.cols; ++x) {
-      const bool ok = c[x] != invalid;
-      d[x] = ok ? float(c[x]) : 0.0f;
-      v[x] = ok ? 255 : 0;
-    }
-  }
-  return out;
+  return to_disparity_map(pipeline.run(to_grey_image(left), to_grey_image(right), p, options));
 }
 
 Baseline parse_baseline(const std::string& name) {

@@ -10,17 +10,6 @@
 
 namespace parallax::explore {
 
-namespace {
-sim::GreyImage grey(const cv::Mat& m) {
-  sim::GreyImage g;
-  g.width_px = m.cols;
-  g.height_px = m.rows;
-  g.px.resize(std::size_t(m.cols) * m.rows);
-  for (int y = 0; y < m.rows; ++y) std::copy_n(m.ptr<uint8_t>(y), m.cols, g.px.data() + std::size_t(y) * m.cols);
-  return g;
-}
-}  // namespace
-
 sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz) {
   sim::CycleOptions o;
   o.clock_hz = double(clock_mhz) * 1e6;
@@ -86,7 +75,7 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
   opt.vcd_from = so.vcd_from;
   opt.vcd_to = so.vcd_to;
   const kern::StereoParams p = cfg.stereo_params(left.cols, left.rows);
-  const sim::GreyImage l = grey(left), r = grey(right);
+  const sim::GreyImage l = to_grey_image(left), r = to_grey_image(right);
   RectifyMaps maps;
   if (cfg.rectify != "none") {
     maps = load_rectify_maps(cfg);

@@ -585,26 +585,13 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
     const Roi r = resolve_roi(roi, f.left.cols, f.left.rows);
     const cv::Mat l = crop_to_roi(f.left, r), rr = crop_to_roi(f.right, r);
     const cv::Mat gtd = crop_to_roi(f.gt_disparity_px, r), gtm = crop_to_roi(f.gt_mask, r);
-    sim::GreyImage gl{l.cols, l.rows, std::vector<uint8_t>(std::size_t(l.total()))},
-        gr{rr.cols, rr.rows, std::vector<uint8_t>(std::size_t(rr.total()))};
-    for (int y = 0; y < l.rows; ++y) {
-      std::copy(l.ptr<uint8_t>(y), l.ptr<uint8_t>(y) + l.cols, gl.px.data() + std::size_t(y) * std::size_t(l.cols));
-      std::copy(rr.ptr<uint8_t>(y), rr.ptr<uint8_t>(y) + rr.cols, gr.px.data() + std::size_t(y) * std::size_t(rr.cols));
-    }
-    pipe.record_costs(gl, gr, group.front()->config.stereo_params(l.cols, l.rows), rec);
+    pipe.record_costs(to_grey_image(l), to_grey_image(rr), group.front()->config.stereo_params(l.cols, l.rows), rec);
     for (std::size_t k = 0; k < group.size(); ++k) {
       const kern::StereoParams p = group[k]->config.stereo_params(l.cols, l.rows);
-      const sim::DisparityCodes codes = pipe.run_from_costs(rec, p);
-      cv::Mat disp(l.rows, l.cols, CV_32FC1), valid(l.rows, l.cols, CV_8UC1);
-      const uint16_t invalid = uint16_t(kern::invalid_code(p));
-      for (int y = 0; y < l.rows; ++y)
-        for (int x = 0; x < l.cols; ++x) {
-          const uint16_t c = codes.code[std::size_t(y) * std::size_t(l.cols) + std::size_t(x)];
-          disp.at<float>(y, x) = c != invalid ? float(c) : 0.0f;
-          valid.at<uint8_t>(y, x) = c != invalid ? 255 : 0;
-        }
-      frames[k].push_back(make_frame_row(f.id, count_frame(disp, valid, gtd, gtm)));
-      if (spec.avoidance) avoidance[k].add(disp, valid, gtd, gtm, p.disparities, kitti_default_rig(r.x0, r.y0));
+      const DisparityMap d = to_disparity_map(pipe.run_from_costs(rec, p));
+      frames[k].push_back(make_frame_row(f.id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm)));
+      if (spec.avoidance)
+        avoidance[k].add(d.disparity_px, d.valid_mask, gtd, gtm, p.disparities, kitti_default_rig(r.x0, r.y0));
     }
   }
   for (std::size_t k = 0; k < group.size(); ++k) {

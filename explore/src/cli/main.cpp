@@ -778,15 +778,7 @@ int main(int argc, char** argv) {
                                         << config::to_yaml(cfg);
       }
       if (!sim_out.empty()) {
-        DisparityMap d;
-        d.disparity_px = cv::Mat(l.rows, l.cols, CV_32FC1);
-        d.valid_mask = cv::Mat(l.rows, l.cols, CV_8UC1);
-        for (int i = 0; i < l.rows * l.cols; ++i) {
-          const uint16_t c = res.cycle.codes.code[std::size_t(i)];
-          const bool ok = c != uint16_t(cfg.disparities);
-          d.disparity_px.at<float>(i / l.cols, i % l.cols) = ok ? float(c) : 0.0f;
-          d.valid_mask.at<uint8_t>(i / l.cols, i % l.cols) = ok ? 255 : 0;
-        }
+        const DisparityMap d = to_disparity_map(res.cycle.codes);
         write_kitti_disparity(sim_out, d.disparity_px, d.valid_mask);
       }
       print_notes(notes);
@@ -798,14 +790,8 @@ int main(int argc, char** argv) {
         s.config_yaml = config::to_yaml(cfg);
         s.command = command_line(argc, argv);
         s.left_grey = l.clone();
-        cv::Mat disp(l.rows, l.cols, CV_32FC1), valid(l.rows, l.cols, CV_8UC1);
-        for (int i = 0; i < l.rows * l.cols; ++i) {
-          const uint16_t code = res.cycle.codes.code[std::size_t(i)];
-          const bool ok = code != uint16_t(cfg.disparities);
-          disp.at<float>(i / l.cols, i % l.cols) = ok ? float(code) : 0.0f;
-          valid.at<uint8_t>(i / l.cols, i % l.cols) = ok ? 255 : 0;
-        }
-        s.disparity_colour = colourize_disparity(disp, valid, double(cfg.disparities));
+        const DisparityMap d = to_disparity_map(res.cycle.codes);
+        s.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities));
         s.metrics = {{"latency_ms", res.latency_ms}, {"frame_interval_ms", res.frame_interval_ms}, {"fps", res.fps},
                      {"cycles_per_frame", double(res.cycle.cycles_per_frame)}, {"bram18k", double(rr.estimate.total.bram18k)},
                      {"lut", double(rr.estimate.total.lut)}, {"ff", double(rr.estimate.total.ff)},

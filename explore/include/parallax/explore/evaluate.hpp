@@ -32,6 +32,11 @@ RectifyMaps load_rectify_maps(const config::PipelineConfig& cfg);
 void rectify_pair(const config::PipelineConfig& cfg, const RectifyMaps& maps, cv::Mat& left, cv::Mat& right,
                   int64_t* window_misses);
 
+// A CV_8UC1 image as the kernels' input.
+sim::GreyImage to_grey_image(const cv::Mat& grey);
+// Disparity codes as a disparity in px with its validity mask (the invalid code D becomes mask 0).
+DisparityMap to_disparity_map(const sim::DisparityCodes& codes);
+
 // Runs the design's kernels (func run) on one grey pair of equal size; returns the disparity in
 // px with its validity mask (invalid codes become mask 0).
 DisparityMap run_design(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
