@@ -13,11 +13,7 @@
 namespace parallax::explore {
 
 void design_timing(const config::PipelineConfig& cfg, int w, int h, double& interval_ms, double& latency_ms) {
-  sim::GreyImage blank{w, h, std::vector<uint8_t>(std::size_t(w) * std::size_t(h), 0)};
-  SimulationResult sr;
-  sr.clock_mhz = cfg.clock_mhz;
-  sr.cycle = sim::run_timing(blank, blank, cfg.stereo_params(w, h), cycle_options(cfg, cfg.clock_mhz));
-  system_figures(cfg, sr);
+  const SimulationResult sr = simulate_timing(cfg, w, h);
   interval_ms = sr.frame_interval_ms;
   latency_ms = sr.latency_ms;
 }
@@ -34,11 +30,7 @@ FlightResult fly(const config::PipelineConfig& cfg_in, const Scene& scene, const
   cfg.roi_height_px = h;
   double interval_ms = 0, latency_ms = 0;
   design_timing(cfg, w, h, interval_ms, latency_ms);
-  Rig rig;
-  rig.focal_px = 721.5377 * double(w) / 640.0;
-  rig.baseline_m = 0.5327;
-  rig.cx_px = (w - 1) / 2.0;
-  rig.cy_px = (h - 1) / 2.0;
+  const Rig rig = scene_rig(w, h);
   AvoidParams ap;
   ap.cruise_mps = fp.speed_mps;
   ap.sidestep_mps = std::max(1.5, 0.6 * fp.speed_mps);

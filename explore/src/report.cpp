@@ -424,11 +424,7 @@ void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::
     << ", min clearance " << number(std::round(r.min_clearance_m * 100) / 100) << " m</text></svg>";
   s.flight_svg = o.str();
   // Three frames of the flight: start, middle, end, with the design's disparity.
-  Rig rig;
-  rig.focal_px = 721.5377 * double(size) / 640.0;
-  rig.baseline_m = 0.5327;
-  rig.cx_px = (size - 1) / 2.0;
-  rig.cy_px = (size * 9 / 16 - 1) / 2.0;
+  const Rig rig = scene_rig(size, size * 9 / 16);
   config::PipelineConfig c = cfg;
   c.roi_full = false;
   c.roi_width_px = size;
@@ -618,10 +614,9 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
                 "parallax sim --config " + s.config_file + " --device " + spec.device + " --html " + r.hash + ".html";
     try {
       const config::PipelineConfig cfg = config::parse_config(r.config_yaml, "design " + r.hash);
-      const RoiSize roi = roi_for(cfg);
-      const int w = roi.full ? 640 : roi.width_px, h = roi.full ? 360 : roi.height_px;
-      sim::GreyImage blank{w, h, std::vector<uint8_t>(std::size_t(w) * std::size_t(h), 0)};
-      s.cycle = sim::run_timing(blank, blank, cfg.stereo_params(w, h), cycle_options(cfg, cfg.clock_mhz));
+      int w = 0, h = 0;
+      design_size(cfg, w, h);
+      s.cycle = simulate_timing(cfg, w, h).cycle;
       s.resources = res::estimate(res::design_inventory(cfg, w, h));
       s.device = res::find_device(spec.device);
       if (!opt.dataset.empty()) add_frame_images(s, cfg, opt.dataset, opt.frame);

@@ -152,6 +152,15 @@ Hit cast(const Scene& sc, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
 
 }  // namespace
 
+Rig scene_rig(int w, int h) {
+  Rig r;
+  r.focal_px = 721.5377 * double(w) / 640.0;
+  r.baseline_m = 0.5327;
+  r.cx_px = (w - 1) / 2.0;
+  r.cy_px = (h - 1) / 2.0;
+  return r;
+}
+
 void write_rectification_maps(const Rig& rig, int w, int h, double k1, const std::string& path) {
   const cv::Mat K = (cv::Mat_<double>(3, 3) << rig.focal_px, 0, rig.cx_px, 0, rig.focal_px, rig.cy_px, 0, 0, 1);
   const cv::Mat dist = (cv::Mat_<double>(1, 5) << k1, 0, 0, 0, 0);

@@ -102,6 +102,20 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
   return res;
 }
 
+SimulationResult simulate_timing(const config::PipelineConfig& cfg, int w, int h) {
+  const sim::GreyImage blank{w, h, std::vector<uint8_t>(std::size_t(w) * std::size_t(h), 0)};
+  SimulationResult sr;
+  sr.clock_mhz = cfg.clock_mhz;
+  sr.cycle = sim::run_timing(blank, blank, cfg.stereo_params(w, h), cycle_options(cfg, cfg.clock_mhz));
+  if (!sr.cycle.deadlock) system_figures(cfg, sr);
+  return sr;
+}
+
+void design_size(const config::PipelineConfig& cfg, int& w, int& h) {
+  w = cfg.roi_full ? 640 : cfg.roi_width_px;
+  h = cfg.roi_full ? 360 : cfg.roi_height_px;
+}
+
 std::string calibrate(config::PipelineConfig& cfg, const SimulationResult& r, double latency_ms, double fps) {
   std::string what;
   const double model_without_host = r.latency_ms - cfg.host_latency_ms;

@@ -490,17 +490,13 @@ void add_flight_metrics(const SweepSpec& spec, const config::PipelineConfig& cfg
 void finish_row(const SweepSpec& spec, const MaterialisedDesign& m, ResultStore::Row& row) {
   if (!spec.flight_scenario.empty()) add_flight_metrics(spec, m.config, row);
   const config::PipelineConfig& cfg = m.config;
-  const RoiSize roi = roi_for(cfg);
-  const int w = roi.full ? 640 : roi.width_px, h = roi.full ? 360 : roi.height_px;
-  sim::GreyImage blank{w, h, std::vector<uint8_t>(std::size_t(w) * std::size_t(h), 0)};
-  SimulationResult sr;
-  sr.clock_mhz = cfg.clock_mhz;
-  sr.cycle = sim::run_timing(blank, blank, cfg.stereo_params(w, h), cycle_options(cfg, cfg.clock_mhz));
+  int w = 0, h = 0;
+  design_size(cfg, w, h);
+  const SimulationResult sr = simulate_timing(cfg, w, h);
   if (sr.cycle.deadlock) {
     row.status = "error";
     row.reason = "cycle model: " + sr.cycle.deadlock_message;
   } else {
-    system_figures(cfg, sr);
     row.metrics["latency_ms"] = sr.latency_ms;
     row.metrics["frame_interval_ms"] = sr.frame_interval_ms;
     row.metrics["fps"] = sr.fps;

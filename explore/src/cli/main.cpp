@@ -213,6 +213,20 @@ class MavlinkSink {
   sockaddr_in addr_{};
 };
 
+// The sweep of a store that --sweep names, or its only one; InputError naming the store otherwise.
+SweepSpec choose_sweep(ResultStore& store, const std::string& db, const std::string& name) {
+  const std::vector<SweepSpec> sweeps = store.sweeps();
+  if (sweeps.empty()) throw InputError(db + ": no sweep in this store");
+  std::string names;
+  for (const auto& s : sweeps) {
+    names += (names.empty() ? "" : ", ") + s.name;
+    if (s.name == name) return s;
+  }
+  if (name.empty() && sweeps.size() == 1) return sweeps.front();
+  throw InputError(name.empty() ? db + ": several sweeps (" + names + "): choose one with --sweep"
+                                : "--sweep '" + name + "': not in " + db + " (" + names + ")");
+}
+
 // The command as typed, for "reproduce with".
 std::string command_line(int argc, char** argv) {
   std::string s = "parallax";
@@ -605,8 +619,7 @@ int main(int argc, char** argv) {
         run_section.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities));
         add_avoidance_images(run_section, d.disparity_px, d.valid_mask, cfg.disparities, roi.x0, roi.y0);
         if (!run_section.metrics.count("density_pct")) run_section.metrics["density_pct"] = j["density_pct"].get<double>();
-        sim::GreyImage blank{l.cols, l.rows, std::vector<uint8_t>(std::size_t(l.total()), 0)};
-        run_section.cycle = sim::run_timing(blank, blank, cfg.stereo_params(l.cols, l.rows), cycle_options(cfg, cfg.clock_mhz));
+        run_section.cycle = simulate_timing(cfg, l.cols, l.rows).cycle;
         run_section.resources = res::estimate(res::design_inventory(cfg, l.cols, l.rows));
         run_section.device = res::find_device("XCZU3EG");
         write_text_file(run_html, standalone_page("Parallax: " + run_section.title, design_section_html(run_section)));
@@ -973,18 +986,8 @@ int main(int argc, char** argv) {
     }
     if (*paretoc) {
       ResultStore store(pa_db);
-      const std::vector<SweepSpec> sweeps = store.sweeps();
-      if (sweeps.empty()) throw InputError(pa_db + ": no sweep in this store");
-      const SweepSpec* spec = nullptr;
-      std::string names;
-      for (const auto& s : sweeps) {
-        names += (names.empty() ? "" : ", ") + s.name;
-        if (s.name == pa_sweep) spec = &s;
-      }
-      if (pa_sweep.empty() && sweeps.size() == 1) spec = &sweeps.front();
-      if (!spec)
-        throw InputError(pa_sweep.empty() ? pa_db + ": several sweeps (" + names + "): choose one with --sweep"
-                                          : "--sweep '" + pa_sweep + "': not in " + pa_db + " (" + names + ")");
+      const SweepSpec chosen = choose_sweep(store, pa_db, pa_sweep);
+      const SweepSpec* spec = &chosen;
       const auto rows = store.designs(spec->name);
       const auto front = pareto_front(*spec, rows);
       if (pa_json) {
@@ -1018,18 +1021,8 @@ int main(int argc, char** argv) {
       if (rp_html.empty() && rp_csv.empty() && rp_frames_csv.empty() && rp_json.empty())
         throw InputError("report: nothing to write; give --html, --csv, --frames-csv or --json");
       ResultStore store(rp_db);
-      const std::vector<SweepSpec> sweeps = store.sweeps();
-      if (sweeps.empty()) throw InputError(rp_db + ": no sweep in this store");
-      const SweepSpec* spec = nullptr;
-      std::string names;
-      for (const auto& s : sweeps) {
-        names += (names.empty() ? "" : ", ") + s.name;
-        if (s.name == rp_sweep) spec = &s;
-      }
-      if (rp_sweep.empty() && sweeps.size() == 1) spec = &sweeps.front();
-      if (!spec)
-        throw InputError(rp_sweep.empty() ? rp_db + ": several sweeps (" + names + "): choose one with --sweep"
-                                          : "--sweep '" + rp_sweep + "': not in " + rp_db + " (" + names + ")");
+      const SweepSpec chosen = choose_sweep(store, rp_db, rp_sweep);
+      const SweepSpec* spec = &chosen;
       const auto rows = store.designs(spec->name);
       auto write = [](const std::string& path, const std::string& text) {
         std::ofstream out(path, std::ios::binary);
@@ -1112,11 +1105,7 @@ int main(int argc, char** argv) {
       const Scenario s = load_scenario(sc_scenario);
       const Scene scene = generate_scene(s, sc_seed);
       sc_height = sc_width * 9 / 16;
-      Rig rig;
-      rig.focal_px = 721.5377 * double(sc_width) / 640.0;  // KITTI 2015 focal length at 640 px, scaled
-      rig.baseline_m = 0.5327;
-      rig.cx_px = (sc_width - 1) / 2.0;
-      rig.cy_px = (sc_height - 1) / 2.0;
+      const Rig rig = scene_rig(sc_width, sc_height);
       std::vector<StereoFrame> frames;
       for (int i = 0; i < sc_frames; ++i)
         frames.push_back(render(scene, rig, sc_width, sc_height, Eigen::Vector3d(0, -1.6, i * sc_step), sc_k1));

@@ -48,6 +48,10 @@ struct StereoFrame {
   cv::Mat valid_mask;         // CV_8U: 255 where a surface was hit (the sky is invalid)
   cv::Mat noc_mask;           // CV_8U: valid and visible from the right camera
 };
+// The rig of the synthetic scenes: KITTI 2015's focal length at 640 px scaled to the width, its
+// baseline, the principal point at the image centre. (The camera flies 1.6 m above the ground.)
+Rig scene_rig(int width_px, int height_px);
+
 // Renders the rig (image size, f, B, c) with its left camera at `camera_m` (world frame).
 // radial_k1 != 0: the images are those of lenses with radial distortion k1 (x_d = x (1 + k1 r^2)
 // in normalised coordinates); the disparity stays that of the rectified, undistorted pair, which

@@ -43,6 +43,13 @@ struct SimulateOptions {
 SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
                           const SimulateOptions& so);
 
+// The design's timing at a processed size without the codes: the cycle model's schedule
+// (sim::run_timing; it does not depend on the images) and the system figures. What sweeps,
+// flights and reports need once per design.
+SimulationResult simulate_timing(const config::PipelineConfig& cfg, int width_px, int height_px);
+// The processed size of a design: its ROI, or 640 x 360 when it processes whole images.
+void design_size(const config::PipelineConfig& cfg, int& width_px, int& height_px);
+
 // Fills the system figures of `res` (latencies, host copies, frame interval, fps) from its cycle
 // report and the configuration's host model; cheap, so calibration recomputes them in place.
 void system_figures(const config::PipelineConfig& cfg, SimulationResult& res);
