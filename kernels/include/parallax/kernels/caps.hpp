@@ -8,11 +8,16 @@
 namespace parallax {
 namespace kern {
 
-template <int MAX_W, int MAX_D, int LANES>
+// MAX_W: widest row; MAX_D: most disparities; LANES: largest PU one firing can carry;
+// WINDOW_ROWS: line-buffer rows of the cost stage (>= the matching window's height);
+// MEDIAN_ROWS: line-buffer rows of the median (>= its k; 1 when the median is off).
+template <int MAX_W, int MAX_D, int LANES, int WINDOW_ROWS = kMaxWindow, int MEDIAN_ROWS = kMaxMedian>
 struct Caps {
   static constexpr int max_width_px = MAX_W;
   static constexpr int max_disparities = MAX_D;
-  static constexpr int lanes = LANES;  // largest PU one firing can carry
+  static constexpr int lanes = LANES;
+  static constexpr int window_rows = WINDOW_ROWS;
+  static constexpr int median_rows = MEDIAN_ROWS;
 };
 
 // Right-image codes and pending left disparities are kept in rings indexed by column modulo

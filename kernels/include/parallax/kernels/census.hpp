@@ -15,6 +15,9 @@ template <class Caps>
 class CensusMatcher {
  public:
   void configure(const StereoParams& p) {
+#ifdef PX_HLS_CENSUS_CODES_PARTITION
+    PX_PRAGMA(PX_HLS_CENSUS_CODES_PARTITION)
+#endif
     w_ = p.window_w;
     h_ = p.window_h;
     cost_max_ = uint16_t(cost_max(p));

@@ -18,6 +18,11 @@
 #define PX_PRAGMA(x)
 #endif
 
+// Storage directives of one exported design: the HLS export's configuration header defines
+// PX_HLS_<MEMORY>_<WHAT> as pragma strings (ARRAY_PARTITION, BIND_STORAGE) for the kernels'
+// member arrays, which the kernels place in configure(), where the arrays are in scope. Software
+// builds leave them undefined, and each use sits in an #ifdef.
+
 // Inlining hint for small per-firing helpers (software builds; HLS inlines small functions itself).
 #if defined(__GNUC__) && !defined(__SYNTHESIS__)
 #define PX_INLINE inline __attribute__((always_inline))

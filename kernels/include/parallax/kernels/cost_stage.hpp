@@ -21,7 +21,7 @@ template <class Caps, class Matcher>
 class CostStage {
  public:
   typedef Lanes<uint16_t, Caps::lanes> Token;
-  static constexpr int kRows = kMaxWindow;  // line-buffer slots: the window's rows
+  static constexpr int kRows = Caps::window_rows;  // line-buffer slots: the window's rows
 
   void configure(const StereoParams& p) {
     p_ = p;

@@ -18,6 +18,12 @@ class LineBuffer {
   // rows: slots in use (<= SLOTS), at least the window's height. Contract: the caller writes
   // only when input_allowed() says so.
   void configure(int width_px, int height_px, int rows) {
+#ifdef PX_HLS_LINE_BUFFER_PARTITION
+    PX_PRAGMA(PX_HLS_LINE_BUFFER_PARTITION)
+#endif
+#ifdef PX_HLS_LINE_BUFFER_STORAGE
+    PX_PRAGMA(PX_HLS_LINE_BUFFER_STORAGE)
+#endif
     width_px_ = width_px;
     height_px_ = height_px;
     rows_ = rows;

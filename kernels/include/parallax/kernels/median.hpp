@@ -19,7 +19,7 @@ struct MedianPlan {
 template <class Caps>
 class Median {
  public:
-  static constexpr int kRows = kMaxMedian;  // line-buffer slots: the window's k rows
+  static constexpr int kRows = Caps::median_rows;  // line-buffer slots: the window's k rows
 
   void configure(const StereoParams& p) {
     k_ = p.median >= 3 ? p.median : 1;

@@ -63,10 +63,19 @@ struct RectifyParams {
   int buffer_rows;  // R: line-buffer rows
 };
 
-// Number of bits needed to store v (>= 1).
-constexpr int bits_for(uint64_t v) { return v <= 1 ? 1 : 1 + bits_for(v >> 1); }
+// Number of bits needed to store v (>= 1). Loops, not recursion, because HLS rejects recursive
+// calls; unlabelled, because C++14 forbids labels in constexpr functions.
+constexpr int bits_for(uint64_t v) {
+  int n = 1;
+  for (; v > 1; v >>= 1) ++n;
+  return n;
+}
 
-constexpr int popcount_u32(unsigned v) { return v == 0 ? 0 : int(v & 1u) + popcount_u32(v >> 1); }
+constexpr int popcount_u32(unsigned v) {
+  int n = 0;
+  for (; v != 0; v >>= 1) n += int(v & 1u);
+  return n;
+}
 
 inline int path_count(const StereoParams& p) { return popcount_u32(p.path_mask); }
 

@@ -51,6 +51,15 @@ class SgmAggregate {
   // kinds: StreamPathKind bits; add_forward: add F from a second input; tee_cost: copy the
   // costs to a second output.
   void configure(const StereoParams& p, unsigned kinds, bool add_forward, bool tee_cost) {
+#ifdef PX_HLS_SGM_ROW_PARTITION
+    PX_PRAGMA(PX_HLS_SGM_ROW_PARTITION)
+#endif
+#ifdef PX_HLS_SGM_ROW_STORAGE
+    PX_PRAGMA(PX_HLS_SGM_ROW_STORAGE)
+#endif
+#ifdef PX_HLS_SGM_HOLD_PARTITION
+    PX_PRAGMA(PX_HLS_SGM_HOLD_PARTITION)
+#endif
     p_ = p;
     add_forward_ = add_forward;
     tee_cost_ = tee_cost;
