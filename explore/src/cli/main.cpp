@@ -30,6 +30,7 @@
 #include "parallax/explore/bench.hpp"
 #include "parallax/explore/report.hpp"
 #include "parallax/explore/fly.hpp"
+#include "parallax/explore/hls_export.hpp"
 #include "parallax/explore/hls_report.hpp"
 #include "parallax/explore/scene.hpp"
 #include "parallax/explore/sweep.hpp"
@@ -176,6 +177,28 @@ cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<st
     throw InputError(path + ": " + role + " image has " + std::to_string(raw.channels()) + " channels");
   }
   return grey;
+}
+
+// The design's input pair: the given files cropped to its ROI, or (no files) a seeded test
+// pattern of its ROI size. `what` is set to a description of the pair for messages and files.
+void load_pair_or_pattern(const config::PipelineConfig& cfg, const std::string& left_path, const std::string& right_path,
+                          std::vector<std::string>& notes, cv::Mat& l, cv::Mat& r, std::string& what) {
+  if (left_path.empty() != right_path.empty()) throw InputError("--left and --right go together");
+  if (!left_path.empty()) {
+    const cv::Mat left = load_grey_file(left_path, "left", notes), right = load_grey_file(right_path, "right", notes);
+    if (left.size() != right.size()) throw InputError(right_path + ": size differs from the left image " + left_path);
+    const Roi roi = resolve_roi(roi_for(cfg), left.cols, left.rows);
+    l = crop_to_roi(left, roi).clone();
+    r = crop_to_roi(right, roi).clone();
+    what = left_path + " and " + right_path;
+    if (roi.width_px != left.cols || roi.height_px != left.rows)
+      what += " (centred " + std::to_string(roi.width_px) + "x" + std::to_string(roi.height_px) + " crop)";
+    return;
+  }
+  if (cfg.roi_full) throw InputError("--left/--right are needed when the config's roi is 'full'");
+  test_pattern(cfg.roi_width_px, cfg.roi_height_px, cfg.disparities, 1, l, r);
+  what = "a generated " + std::to_string(l.cols) + "x" + std::to_string(l.rows) + " test pattern (seed 1)";
+  notes.push_back("no pair given: used " + what);
 }
 
 
@@ -532,6 +555,26 @@ int main(int argc, char** argv) {
   flyc->add_option("--time-limit-s", fl_limit, "Flight time limit")->capture_default_str()->check(CLI::Range(1.0, 3600.0));
   flyc->add_flag("--json", fl_json, "Print JSON");
 
+  // export-hls
+  ConfigArgs ex_cfg;
+  std::string ex_db, ex_design, ex_out, ex_part = "xczu3eg-sbva484-1-e", ex_left, ex_right;
+  double ex_clock = 0;
+  bool ex_json = false;
+  auto* exportc = app.add_subcommand(
+      "export-hls",
+      "Write a Vitis HLS project of a design: DATAFLOW top, C testbench with the simulator's golden output, "
+      "run_hls.tcl, hls_config.cfg, and a Makefile whose `make csim` needs only g++");
+  add_config_options(exportc, ex_cfg, false);
+  exportc->add_option("--db", ex_db, "Results store of a sweep; with --design, export one of its designs");
+  exportc->add_option("--design", ex_design, "Design hash in --db (or a unique prefix of at least 4 hex digits)");
+  exportc->add_option("--out", ex_out, "Project folder (new, empty, or written by an earlier export)")->required();
+  exportc->add_option("--part", ex_part, "FPGA part of the synthesis run")->capture_default_str();
+  exportc->add_option("--clock-mhz", ex_clock, "Synthesis clock in MHz (default: the design's clock_mhz)")
+      ->check(CLI::Range(1.0, 2000.0));
+  exportc->add_option("--left", ex_left, "Left image of the testbench, cropped to the design's ROI (default: a generated test pattern)");
+  exportc->add_option("--right", ex_right, "Right image of the testbench");
+  exportc->add_flag("--json", ex_json, "Print JSON");
+
   // import-hls
   std::string ih_report, ih_config, ih_write;
   bool ih_json = false;
@@ -736,19 +779,8 @@ int main(int argc, char** argv) {
       if (!device) throw InputError("--device '" + sim_device + "': unknown device; known: " + res::device_names());
       cv::Mat l, r;
       std::vector<std::string> notes;
-      if (sim_left.empty() != sim_right.empty()) throw InputError("--left and --right go together");
-      if (!sim_left.empty()) {
-        const cv::Mat left = load_grey_file(sim_left, "left", notes), right = load_grey_file(sim_right, "right", notes);
-        if (left.size() != right.size()) throw InputError(sim_right + ": size differs from the left image " + sim_left);
-        const Roi roi = resolve_roi(roi_for(cfg), left.cols, left.rows);
-        l = crop_to_roi(left, roi).clone();
-        r = crop_to_roi(right, roi).clone();
-      } else {
-        if (cfg.roi_full) throw InputError("--left/--right are needed when the config's roi is 'full'");
-        test_pattern(cfg.roi_width_px, cfg.roi_height_px, cfg.disparities, 1, l, r);
-        notes.push_back("no pair given: simulated a generated " + std::to_string(l.cols) + "x" + std::to_string(l.rows) +
-                        " test pattern");
-      }
+      std::string pair_what;
+      load_pair_or_pattern(cfg, sim_left, sim_right, notes, l, r, pair_what);
       int64_t vcd_from = 0, vcd_to = 20000;
       if (!sim_vcd_cycles.empty()) {
         const auto colon = sim_vcd_cycles.find(':');
@@ -1200,6 +1232,79 @@ int main(int argc, char** argv) {
                       latency_ms);
       }
       if (fl_json) std::cout << j.dump(2) << "\n";
+      return 0;
+    }
+    if (*exportc) {
+      if (ex_cfg.path.empty() == ex_db.empty())
+        throw InputError("export-hls: give either --config CFG or --db FILE --design ID");
+      if (!ex_db.empty() && ex_design.empty()) throw InputError("export-hls: --db needs --design ID");
+      if (!ex_cfg.path.empty() && !ex_design.empty()) throw InputError("export-hls: --design belongs to --db");
+      config::PipelineConfig cfg;
+      std::string origin;
+      if (!ex_cfg.path.empty()) {
+        cfg = load_config_args(ex_cfg);
+        origin = ex_cfg.path;
+        for (const auto& s : ex_cfg.sets) origin += " --set " + s;
+      } else {
+        if (!fs::exists(ex_db)) throw InputError(ex_db + ": results store not found");
+        if (ex_design.size() < 4) throw InputError("--design '" + ex_design + "': give at least 4 hex digits of the hash");
+        ResultStore store(ex_db);
+        std::vector<ResultStore::Row> hits;
+        for (auto& row : store.designs())
+          if (row.hash.rfind(ex_design, 0) == 0) hits.push_back(std::move(row));
+        if (hits.empty()) throw InputError(ex_db + ": no design whose hash starts with '" + ex_design + "' (see parallax pareto)");
+        if (hits.size() > 1)
+          throw InputError(ex_db + ": " + std::to_string(hits.size()) + " designs start with '" + ex_design + "'; give more digits");
+        if (hits[0].status == "invalid") throw InputError(ex_db + ": design " + hits[0].hash + " is invalid: " + hits[0].reason);
+        cfg = config::parse_config(hits[0].config_yaml, ex_db + " design " + hits[0].hash);
+        origin = ex_db + " design " + hits[0].hash;
+        const auto errs = config::validate(cfg);
+        if (!errs.empty()) throw InputError(origin + ": field '" + errs.front().field + "': " + errs.front().message);
+      }
+      std::vector<std::string> notes;
+      cv::Mat l, r;
+      std::string pair_what;
+      load_pair_or_pattern(cfg, ex_left, ex_right, notes, l, r, pair_what);
+      for (const auto& n : notes) std::fprintf(stderr, "parallax: note: %s\n", n.c_str());
+      ExportOptions eo;
+      eo.part = ex_part;
+      eo.clock_mhz = ex_clock;
+      if (!ex_json) std::fprintf(stderr, "parallax: simulating %s (FIFO sizing, timing, golden output)...\n", cfg.name.c_str());
+      hlsx::ExportRequest req;
+      std::vector<hlsx::GeneratedFile> files;
+      try {
+        req = prepare_export(cfg, l, r, origin, pair_what, eo);
+        files = hlsx::generate_project(req);
+        hlsx::write_project(files, ex_out);
+      } catch (const hlsx::ExportError& e) {
+        throw InputError(e.what());
+      }
+      const auto& pr = req.prediction;
+      if (ex_json) {
+        json j;
+        j["out"] = ex_out;
+        j["design"] = cfg.name;
+        j["part"] = req.part;
+        j["clock_mhz"] = req.clock_mhz;
+        j["files"] = json::array();
+        for (const auto& f : files) j["files"].push_back(f.path);
+        j["fifos"] = json::array();
+        for (const auto& f : req.fifos)
+          j["fifos"].push_back({{"name", f.name}, {"depth", f.depth}, {"stall_free", f.stall_free}, {"why", f.why}});
+        j["prediction"] = {{"last_pixel_cycle", pr.last_pixel_cycle}, {"fpga_latency_ms", pr.fpga_latency_ms},
+                           {"cycles_per_frame", pr.cycles_per_frame}, {"fps", pr.fps}, {"device", pr.device},
+                           {"bram18k", pr.bram18k}, {"lut", pr.lut}, {"ff", pr.ff}, {"dsp", pr.dsp}, {"fits", pr.fits}};
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::printf("wrote %zu files to %s: Vitis HLS project of %s for %s at %g MHz\n", files.size(), ex_out.c_str(),
+                    cfg.name.c_str(), req.part.c_str(), req.clock_mhz);
+        std::printf("  FIFO depths:");
+        for (const auto& f : req.fifos) std::printf(" %s=%lld", f.name.c_str(), (long long)f.depth);
+        std::printf("\n  predicted: FPGA latency %.2f ms (%lld cycles), %.1f fps; %lld BRAM_18K, %lld LUT, %lld FF, %lld DSP on %s\n",
+                    pr.fpga_latency_ms, (long long)pr.last_pixel_cycle, pr.fps, (long long)pr.bram18k, (long long)pr.lut,
+                    (long long)pr.ff, (long long)pr.dsp, pr.device.c_str());
+        std::printf("  next: cd %s && make csim   (g++ alone; bit-exact check against the simulator)\n", ex_out.c_str());
+      }
       return 0;
     }
     if (*importc) {

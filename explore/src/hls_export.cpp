@@ -1,0 +1,115 @@
+#include "parallax/explore/hls_export.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "parallax/explore/simulate.hpp"
+#include "parallax/resources/devices.hpp"
+#include "parallax/resources/model.hpp"
+
+namespace parallax::explore {
+
+std::string device_for_part(const std::string& part) {
+  std::string upper;
+  for (char c : part) upper += char(std::toupper(static_cast<unsigned char>(c)));
+  std::string best;
+  for (const auto& d : res::devices())
+    if (upper.rfind(d.name, 0) == 0 && d.name.size() > best.size()) best = d.name;
+  return best;
+}
+
+hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const cv::Mat& left, const cv::Mat& right,
+                                   const std::string& origin, const std::string& pair_source, const ExportOptions& opt) {
+  const auto problems = hlsx::export_problems(cfg_in);
+  if (!problems.empty()) throw hlsx::ExportError("design '" + cfg_in.name + "' cannot be exported: " + problems.front());
+  hlsx::ExportRequest r;
+  r.config = cfg_in;
+  r.origin = origin;
+  r.part = opt.part;
+  r.clock_mhz = opt.clock_mhz > 0 ? opt.clock_mhz : double(cfg_in.clock_mhz);
+  const int sim_clock = int(std::lround(r.clock_mhz));
+  r.width_px = left.cols;
+  r.height_px = left.rows;
+
+  // 1. Size the FIFOs: the configured depths, then unbounded.
+  SimulateOptions so;
+  so.clock_mhz = sim_clock;
+  so.size_fifos = true;
+  const SimulationResult sized = simulate(cfg_in, left, right, so);
+  if (sized.cycle.deadlock)
+    throw hlsx::ExportError("design '" + cfg_in.name + "' deadlocks with its configured FIFO depths: " +
+                            sized.cycle.deadlock_message);
+  config::PipelineConfig cfg = cfg_in;
+  for (const std::string& name : hlsx::export_fifo_names()) {
+    hlsx::ExportFifo f;
+    f.name = name;
+    const auto conf = cfg_in.fifo_depths.find(name);
+    const int64_t configured = conf != cfg_in.fifo_depths.end() ? conf->second : cfg_in.fifo_depth;
+    const auto sf = sized.stall_free_depths.find(name);
+    f.stall_free = sf != sized.stall_free_depths.end() ? sf->second : -1;
+    if (f.stall_free >= 0 && f.stall_free <= opt.max_fifo_depth) {
+      f.depth = std::max<int64_t>(2, f.stall_free);
+      f.why = f.depth == f.stall_free ? "stall-free depth" : "stall-free depth " + std::to_string(f.stall_free) + ", at least 2";
+    } else {
+      f.depth = std::max<int64_t>(2, configured);
+      f.why = f.stall_free < 0 ? "not sized; configured depth"
+                               : "backlog behind a faster producer; configured depth kept";
+    }
+    cfg.fifo_depths[name] = int(f.depth);
+    r.fifos.push_back(f);
+  }
+
+  // 2. The design with those depths: timing and the golden output.
+  so.size_fifos = false;
+  const SimulationResult res = simulate(cfg, left, right, so);
+  if (res.cycle.deadlock)
+    throw hlsx::ExportError("design '" + cfg.name + "' deadlocks with the sized FIFO depths: " + res.cycle.deadlock_message);
+  auto& pr = r.prediction;
+  pr.clock_mhz = r.clock_mhz;
+  pr.first_pixel_cycle = res.cycle.first_pixel_cycle - res.cycle.first_input_cycle;
+  pr.last_pixel_cycle = res.cycle.last_pixel_cycle - res.cycle.first_input_cycle;
+  pr.unbounded_last_pixel_cycle = sized.unbounded_last_pixel_cycle;
+  pr.cycles_per_frame = res.cycle.cycles_per_frame;
+  pr.bottleneck = res.cycle.bottleneck;
+  pr.fpga_latency_ms = double(pr.last_pixel_cycle) / (r.clock_mhz * 1e3);
+  pr.fps = pr.cycles_per_frame > 0 ? r.clock_mhz * 1e6 / double(pr.cycles_per_frame) : 0.0;
+  const int64_t extra = pr.last_pixel_cycle - (sized.unbounded_last_pixel_cycle - sized.cycle.first_input_cycle);
+  for (auto& f : r.fifos)
+    if (f.why.rfind("backlog", 0) == 0)
+      f.why += " (the whole design: " + std::to_string(extra) + " cycles later than with unbounded FIFOs)";
+  r.golden = res.cycle.codes.code;
+  r.golden_source = "the Parallax cycle model (parallax sim), bit-identical to its func run and golden model";
+  r.pair_source = pair_source;
+  r.left.assign(left.datastart, left.dataend);
+  r.right.assign(right.datastart, right.dataend);
+  if (!left.isContinuous() || !right.isContinuous() || r.left.size() != std::size_t(left.total()))
+    throw hlsx::ExportError("export: the pair must be continuous 8-bit images");
+
+  // 3. Resources on the part's device.
+  const res::Estimate est = res::estimate(res::design_inventory(cfg, r.width_px, r.height_px));
+  pr.bram18k = est.total.bram18k;
+  pr.lut = est.total.lut;
+  pr.ff = est.total.ff;
+  pr.dsp = est.total.dsp;
+  pr.uram = est.total.uram;
+  for (const auto& s : est.stages)
+    pr.stages.push_back({s.stage, s.usage.bram18k, s.usage.lut, s.usage.ff, s.usage.dsp});
+  pr.device = device_for_part(r.part);
+  if (const res::Device* d = pr.device.empty() ? nullptr : res::find_device(pr.device)) {
+    const res::Utilisation u = res::utilisation(est.total, *d);
+    pr.bram18k_pct = u.bram18k_pct;
+    pr.lut_pct = u.lut_pct;
+    pr.ff_pct = u.ff_pct;
+    pr.dsp_pct = u.dsp_pct;
+    pr.fits = u.fits;
+  } else {
+    pr.device = r.part + " (not in the device table: no utilisation)";
+  }
+  // The exported configuration carries the sized depths and the synthesis clock.
+  r.config = cfg;
+  r.config.clock_mhz = sim_clock;
+  return r;
+}
+
+}  // namespace parallax::explore

@@ -1,0 +1,312 @@
+// The HLS export: fills the templates of hls/templates/ for one design and copies the kernels.
+#include "parallax/hls/export.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "embedded.hpp"
+#include "parallax/kernels/params.hpp"
+#include "parallax/resources/model.hpp"
+
+namespace parallax::hlsx {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kTestbenchFrames = 2;
+constexpr const char* kMarker = ".parallax-export";
+
+// Replaces every @KEY@ (KEY: upper-case letters, digits, '_', starting with a letter) by its
+// value. A key without a value is a defect of the generator, reported with the template's name.
+std::string fill(const std::string& name, const std::string& text, const std::map<std::string, std::string>& values) {
+  std::string out;
+  out.reserve(text.size() + 1024);
+  std::size_t i = 0;
+  while (i < text.size()) {
+    if (text[i] == '@' && i + 1 < text.size() && std::isupper(static_cast<unsigned char>(text[i + 1]))) {
+      std::size_t j = i + 1;
+      while (j < text.size() && (std::isupper(static_cast<unsigned char>(text[j])) ||
+                                 std::isdigit(static_cast<unsigned char>(text[j])) || text[j] == '_'))
+        ++j;
+      if (j < text.size() && text[j] == '@') {
+        const std::string key = text.substr(i + 1, j - i - 1);
+        const auto it = values.find(key);
+        if (it == values.end()) throw std::logic_error("hls export: template " + name + " uses @" + key + "@, which has no value");
+        out += it->second;
+        i = j + 1;
+        continue;
+      }
+    }
+    out += text[i++];
+  }
+  return out;
+}
+
+const std::string& template_text(const std::string& name) {
+  static std::map<std::string, std::string> cache;
+  auto it = cache.find(name);
+  if (it != cache.end()) return it->second;
+  for (const auto& t : detail::templates())
+    if (name == t.name) return cache.emplace(name, *t.text).first->second;
+  throw std::logic_error("hls export: no template " + name);
+}
+
+std::string identifier(const std::string& s) {
+  std::string out;
+  for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0]))) out = "d_" + out;
+  return out;
+}
+
+// left_px -> kDepthLeftPx
+std::string depth_constant(const std::string& fifo) {
+  std::string out = "kDepth";
+  bool upper = true;
+  for (char c : fifo) {
+    if (c == '_') {
+      upper = true;
+      continue;
+    }
+    out += upper ? char(std::toupper(static_cast<unsigned char>(c))) : c;
+    upper = false;
+  }
+  return out;
+}
+
+std::string fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+// The storage a memory of the resource model maps to, as a BIND_STORAGE impl of a RAM / a FIFO.
+std::string ram_impl(res::Storage s) { return s == res::Storage::bram ? "bram" : "lutram"; }
+std::string fifo_impl(res::Storage s) {
+  switch (s) {
+    case res::Storage::bram: return "bram";
+    case res::Storage::lutram: return "lutram";
+    default: return "srl";
+  }
+}
+
+const res::MemoryItem* find_memory(const res::Inventory& inv, const std::string& stage, const std::string& name) {
+  for (const auto& m : inv.memories)
+    if (m.stage == stage && m.name == name) return &m;
+  return nullptr;
+}
+
+std::string pgm(int width_px, int height_px, int maxval, const uint16_t* px16, const uint8_t* px8) {
+  std::string out = "P5\n" + std::to_string(width_px) + " " + std::to_string(height_px) + "\n" + std::to_string(maxval) + "\n";
+  const std::size_t n = std::size_t(width_px) * std::size_t(height_px);
+  out.reserve(out.size() + n * (maxval >= 256 ? 2 : 1));
+  for (std::size_t i = 0; i < n; ++i) {
+    const unsigned v = px16 ? px16[i] : px8[i];
+    if (maxval >= 256) out += char((v >> 8) & 0xFFu);
+    out += char(v & 0xFFu);
+  }
+  return out;
+}
+
+void check_request(const ExportRequest& r) {
+  const auto problems = export_problems(r.config);
+  if (!problems.empty()) throw ExportError("design '" + r.config.name + "' cannot be exported: " + problems.front());
+  const auto errors = config::validate(r.config);
+  if (!errors.empty()) throw ExportError("design '" + r.config.name + "': field '" + errors.front().field + "': " + errors.front().message);
+  const std::size_t n = std::size_t(r.width_px) * std::size_t(r.height_px);
+  if (r.width_px < 1 || r.height_px < 1) throw ExportError("export: the design's size is empty");
+  if (r.left.size() != n || r.right.size() != n || r.golden.size() != n)
+    throw ExportError("export: the testbench pair and golden output must all be " + std::to_string(r.width_px) + "x" +
+                      std::to_string(r.height_px));
+  for (uint16_t c : r.golden)
+    if (c > r.config.disparities) throw ExportError("export: a golden code exceeds the invalid code D");
+  std::set<std::string> names;
+  for (const auto& f : r.fifos) {
+    if (f.depth < 1) throw ExportError("export: FIFO " + f.name + " needs a depth of at least 1");
+    names.insert(f.name);
+  }
+  const auto& want = export_fifo_names();
+  if (names != std::set<std::string>(want.begin(), want.end()) || r.fifos.size() != want.size())
+    throw ExportError("export: one depth per FIFO of the top is needed (left_px, right_px, cost, sum, disp_lr, disp_out)");
+  if (!(r.clock_mhz > 0)) throw ExportError("export: the clock must be positive");
+}
+
+}  // namespace
+
+std::vector<std::string> export_problems(const config::PipelineConfig& c) {
+  std::vector<std::string> p;
+  if ((c.path_mask & kern::kBackwardPaths) != 0)
+    p.push_back("paths " + config::paths_to_string(c.path_mask) +
+                " need the second pass through a DDR frame buffer, which the export does not generate yet "
+                "(export a one-pass path set: any of 0, 45, 90, 135)");
+  if (c.rectify != "none")
+    p.push_back("rectify '" + c.rectify + "' needs its remap tables through a memory interface, which the export "
+                "does not generate yet (set rectify: none and rectify in front of the IP)");
+  return p;
+}
+
+const std::vector<std::string>& export_fifo_names() {
+  static const std::vector<std::string> names = {"left_px", "right_px", "cost", "sum", "disp_lr", "disp_out"};
+  return names;
+}
+
+std::string clock_period_ns(double clock_mhz) { return fixed(1000.0 / clock_mhz, 3); }
+
+std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
+  check_request(r);
+  const config::PipelineConfig& c = r.config;
+  const kern::StereoParams p = c.stereo_params(r.width_px, r.height_px);
+  const ExportPrediction& pr = r.prediction;
+  const res::Inventory inv = res::design_inventory(c, r.width_px, r.height_px);
+
+  std::map<std::string, std::string> v;
+  v["NAME"] = c.name;
+  v["NAME_ID"] = identifier(c.name);
+  v["ORIGIN"] = r.origin;
+  v["PART"] = r.part;
+  v["CLOCK_MHZ"] = fixed(r.clock_mhz, r.clock_mhz == std::floor(r.clock_mhz) ? 0 : 3);
+  v["PERIOD_NS"] = clock_period_ns(r.clock_mhz);
+  v["WIDTH"] = std::to_string(r.width_px);
+  v["HEIGHT"] = std::to_string(r.height_px);
+  const bool census = p.cost == kern::kCostCensus;
+  v["COST_ENUM"] = census ? "kCostCensus" : "kCostSad";
+  v["COST_HEADER"] = census ? "census.hpp" : "sad.hpp";
+  v["COST_STAGE"] = census ? "CensusCostStage" : "SadCostStage";
+  v["COST_NAME"] = census ? "Census" : "SAD";
+  v["WINDOW_W"] = std::to_string(p.window_w);
+  v["WINDOW_H"] = std::to_string(p.window_h);
+  v["DISPARITIES"] = std::to_string(p.disparities);
+  v["DISPARITIES_MINUS_1"] = std::to_string(p.disparities - 1);
+  v["PARALLEL_UNITS"] = std::to_string(p.parallel_units);
+  v["PATH_MASK"] = std::to_string(p.path_mask);
+  v["PATHS"] = config::paths_to_string(p.path_mask);
+  v["LR_CHECK"] = p.lr_check ? "true" : "false";
+  v["LR_CHECK_TEXT"] = p.lr_check ? "on" : "off";
+  v["MEDIAN"] = std::to_string(p.median >= 3 ? p.median : 0);
+  v["MEDIAN_ROWS"] = std::to_string(p.median >= 3 ? p.median : 1);
+  v["MEDIAN_TEXT"] = p.median >= 3 ? std::to_string(p.median) + "x" + std::to_string(p.median) : "off";
+  v["COST_MAX"] = std::to_string(kern::cost_max(p));
+  v["COST_BITS"] = std::to_string(kern::cost_bits(p));
+  v["PENALTY_BITS"] = std::to_string(kern::penalty_bits(p));
+  v["PATH_BITS"] = std::to_string(kern::path_bits(p));
+  v["AGGREGATE_BITS"] = std::to_string(kern::aggregate_bits(p));
+  v["DISPARITY_BITS"] = std::to_string(kern::disparity_bits(p));
+  v["OUT_BITS"] = std::to_string(((kern::disparity_bits(p) + 7) / 8) * 8);
+  v["AGG_WORD"] = kern::aggregate_bits(p) <= 16 ? "uint16_t" : "uint32_t";
+  v["P1"] = std::to_string(p.p1);
+  v["P2"] = std::to_string(p.p2);
+  v["LR_TOLERANCE"] = std::to_string(p.lr_tolerance);
+  v["FRAMES"] = std::to_string(kTestbenchFrames);
+  v["ROW_PACKING"] = std::to_string(c.row_packing);
+
+  // Storage directives from the resource model's mapping.
+  const res::MemoryItem* lb = find_memory(inv, "cost", "left_line_buffer");
+  v["LINE_BUFFER_IMPL"] = lb ? ram_impl(lb->per_copy.storage) : "bram";
+  const res::MemoryItem* row = nullptr;
+  for (const char* n : {"row_path_up", "row_path_left", "row_path_right"})
+    if (!row) row = find_memory(inv, "aggregate", n);
+  v["ROW_IMPL"] = row ? ram_impl(row->per_copy.storage) : "bram";
+  v["ROW_MEMORIES"] = std::to_string(row ? std::max(1, row->copies) : 1);
+
+  // FIFOs: depth constants, stream declarations, README rows (in pipeline order).
+  std::string depths, streams, fifo_rows;
+  for (const std::string& name : export_fifo_names()) {
+    const ExportFifo& f = *std::find_if(r.fifos.begin(), r.fifos.end(), [&](const ExportFifo& x) { return x.name == name; });
+    const std::string k = depth_constant(name);
+    depths += "constexpr int " + k + " = " + std::to_string(f.depth) + ";\n";
+    const std::string type = name == "left_px" || name == "right_px" ? "uint8_t"
+                             : name == "cost"                         ? "CostToken"
+                             : name == "sum"                          ? "SumToken"
+                                                                      : "kern::DispCode";
+    const res::MemoryItem* m = find_memory(inv, "fifos", name);
+    const res::MemoryMapping mapping =
+        res::map_memory(res::MemoryKind::fifo, f.depth, m ? m->width_bits : 8, false);
+    streams += "  hls::stream<" + type + "> " + name + "(\"" + name + "\");\n";
+    streams += "#pragma HLS STREAM variable=" + name + " depth=" + std::to_string(f.depth) + "\n";
+    streams += "#pragma HLS BIND_STORAGE variable=" + name + " type=fifo impl=" + fifo_impl(mapping.storage) + "\n";
+    fifo_rows += "| `" + name + "` | " + std::to_string(f.depth) + " | " +
+                 (f.stall_free >= 0 ? std::to_string(f.stall_free) : std::string("not sized")) + " | " + f.why + " |\n";
+  }
+  v["FIFO_DEPTHS"] = depths;
+  v["STREAM_DECLARATIONS"] = streams;
+  v["FIFO_ROWS"] = fifo_rows;
+
+  std::string headers;
+  for (const auto& f : detail::copied_files())
+    if (std::strncmp(f.name, "src/", 4) == 0) headers += std::string(headers.empty() ? "" : " ") + f.name;
+  v["KERNEL_HEADERS"] = headers;
+
+  // README: provenance and predictions.
+  v["PAIR_SOURCE"] = r.pair_source;
+  v["GOLDEN_SOURCE"] = r.golden_source;
+  v["FIRST_PIXEL_CYCLE"] = std::to_string(pr.first_pixel_cycle);
+  v["LAST_PIXEL_CYCLE"] = std::to_string(pr.last_pixel_cycle);
+  v["FPGA_LATENCY_MS"] = fixed(pr.fpga_latency_ms, 2);
+  v["CYCLES_PER_FRAME"] = std::to_string(pr.cycles_per_frame);
+  v["BOTTLENECK"] = pr.bottleneck.empty() ? "-" : pr.bottleneck;
+  v["FPS"] = fixed(pr.fps, 1);
+  v["DEVICE"] = pr.device;
+  std::string rows;
+  for (const auto& s : pr.stages)
+    rows += "| " + s.name + " | " + std::to_string(s.bram18k) + " | " + std::to_string(s.lut) + " | " + std::to_string(s.ff) +
+            " | " + std::to_string(s.dsp) + " |\n";
+  v["RESOURCE_ROWS"] = rows;
+  v["BRAM"] = std::to_string(pr.bram18k);
+  v["LUT"] = std::to_string(pr.lut);
+  v["FF"] = std::to_string(pr.ff);
+  v["DSP"] = std::to_string(pr.dsp);
+  v["BRAM_PCT"] = fixed(pr.bram18k_pct, 1);
+  v["LUT_PCT"] = fixed(pr.lut_pct, 1);
+  v["FF_PCT"] = fixed(pr.ff_pct, 1);
+  v["DSP_PCT"] = fixed(pr.dsp_pct, 1);
+  v["FITS"] = pr.fits ? "yes" : "no";
+
+  std::vector<GeneratedFile> files;
+  auto add = [&](const std::string& path, const std::string& tmpl) { files.push_back({path, fill(tmpl, template_text(tmpl), v), false}); };
+  add("src/parallax_config.hpp", "parallax_config.hpp");
+  add("src/parallax_top.hpp", "parallax_top.hpp");
+  add("src/parallax_top.cpp", "parallax_top.cpp");
+  add("tb/parallax_tb.cpp", "parallax_tb.cpp");
+  add("Makefile", "Makefile");
+  add("run_hls.tcl", "run_hls.tcl");
+  add("hls_config.cfg", "hls_config.cfg");
+  add("README.md", "README.md");
+  files.push_back({"design.yaml", "# Exported by parallax export-hls from " + r.origin + "\n" + config::to_yaml(c), false});
+  for (const auto& f : detail::copied_files()) files.push_back({f.name, *f.text, false});
+  files.push_back({"tb/left.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.left.data()), true});
+  files.push_back({"tb/right.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.right.data()), true});
+  files.push_back({"tb/golden_disparity.pgm", pgm(r.width_px, r.height_px, c.disparities, r.golden.data(), nullptr), true});
+  return files;
+}
+
+void write_project(const std::vector<GeneratedFile>& files, const std::string& dir) {
+  std::error_code ec;
+  const fs::path root(dir);
+  if (fs::exists(root, ec)) {
+    if (!fs::is_directory(root, ec)) throw ExportError(dir + ": exists and is not a folder");
+    const bool empty = fs::directory_iterator(root, ec) == fs::directory_iterator();
+    if (!empty && !fs::exists(root / kMarker, ec))
+      throw ExportError(dir + ": folder is not empty and was not written by parallax export-hls; choose another --out");
+  }
+  for (const auto& f : files) {
+    const fs::path path = root / f.path;
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) throw ExportError(path.parent_path().string() + ": cannot create folder: " + ec.message());
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(f.content.data(), std::streamsize(f.content.size()));
+    out.close();
+    if (!out) throw ExportError(path.string() + ": cannot write: " + std::strerror(errno));
+  }
+  std::ofstream marker(root / kMarker, std::ios::trunc);
+  marker << "Written by parallax export-hls; a later export may overwrite this folder.\n";
+  if (!marker) throw ExportError((root / kMarker).string() + ": cannot write");
+}
+
+}  // namespace parallax::hlsx
