@@ -45,7 +45,7 @@ const std::string kCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
 
 TEST(Cli, HelpOnEveryCommand) {
   for (const char* c : {"run", "eval", "score", "baseline", "config", "crop-dataset", "sim", "bench", "fit-resources",
-                        "sweep", "pareto", "merge", "report", "avoid", "scene", "fly", "import-hls"}) {
+                        "sweep", "pareto", "merge", "report", "avoid", "scene", "fly", "import-hls", "export-hls"}) {
     const CliRun r = run_cli(std::string(c) + " --help");
     EXPECT_EQ(r.status, 0) << c;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << c;

@@ -1,0 +1,107 @@
+// The HLS export's generated sources against golden files (PARALLAX_REGENERATE=1 rewrites them),
+// the copies of the kernels, and the export's refusals.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "export_util.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using parallax::test::export_design;
+using parallax::test::fresh_dir;
+using parallax::test::read_file;
+using parallax::test::shell;
+
+const fs::path kSource = PARALLAX_SOURCE_DIR;
+
+// The files the export generates (the rest are copies, checked below, and binary data).
+const char* const kGenerated[] = {"src/parallax_config.hpp", "src/parallax_top.hpp", "src/parallax_top.cpp",
+                                  "tb/parallax_tb.cpp",      "Makefile",             "run_hls.tcl",
+                                  "hls_config.cfg",          "README.md",            "design.yaml"};
+
+TEST(HlsExport, GeneratedSourcesMatchGoldenFiles) {
+  const fs::path out = fresh_dir("golden");
+  const auto r = export_design("configs/ruf2018-census.yaml", out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const fs::path golden = kSource / "tests/hls/golden/ruf2018-census";
+  const char* regen = std::getenv("PARALLAX_REGENERATE");
+  if (regen && std::string(regen) == "1") {
+    for (const char* f : kGenerated) {
+      fs::create_directories((golden / f).parent_path());
+      fs::copy_file(out / f, golden / f, fs::copy_options::overwrite_existing);
+    }
+    GTEST_SKIP() << "PARALLAX_REGENERATE=1: rewrote " << golden;
+  }
+  for (const char* f : kGenerated) {
+    ASSERT_TRUE(fs::exists(golden / f)) << golden / f << " missing; run with PARALLAX_REGENERATE=1 once";
+    EXPECT_EQ(read_file(out / f), read_file(golden / f))
+        << f << " differs from its golden file; if the change is intended, rerun with PARALLAX_REGENERATE=1 and "
+        << "review the diff of tests/hls/golden";
+  }
+  fs::remove_all(out);
+}
+
+TEST(HlsExport, KernelsAndCompatHeadersAreExactCopies) {
+  const fs::path out = fresh_dir("copies");
+  const auto r = export_design("configs/ruf2018-sad.yaml", out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  int kernels = 0;
+  for (const auto& e : fs::directory_iterator(kSource / "kernels/include/parallax/kernels")) {
+    EXPECT_EQ(read_file(out / "src/parallax/kernels" / e.path().filename()), read_file(e.path())) << e.path();
+    ++kernels;
+  }
+  EXPECT_GE(kernels, 10);
+  for (const char* h : {"ap_int.h", "ap_axi_sdata.h", "hls_stream.h"})
+    EXPECT_EQ(read_file(out / "compat" / h), read_file(kSource / "hls/compat" / h)) << h;
+  // The SAD preset picks the SAD stage and its penalty registers.
+  const std::string top = read_file(out / "src/parallax_top.cpp"), cfg = read_file(out / "src/parallax_config.hpp");
+  EXPECT_NE(top.find("kern::SadCostStage<DesignCaps>"), std::string::npos);
+  EXPECT_NE(cfg.find("constexpr unsigned kDefaultP2 = 800;"), std::string::npos);
+  EXPECT_NE(cfg.find("constexpr int kPenaltyBits = 10;"), std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST(HlsExport, RefusesEightPathsAndRectification) {
+  const fs::path out = fresh_dir("refuse");
+  auto r = export_design("configs/ruf2018-census.yaml", out, "--set paths=8");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("second pass"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(HlsExport, RefusesAForeignFolderAndKeepsItsFiles) {
+  const fs::path out = fresh_dir("foreign");
+  fs::create_directories(out);
+  { std::ofstream(out / "notes.txt") << "mine"; }
+  const auto r = export_design("configs/ruf2018-census.yaml", out);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("not empty"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(out / "notes.txt"), "mine");
+  EXPECT_FALSE(fs::exists(out / "Makefile"));
+  // An earlier export's folder is overwritten.
+  fs::remove_all(out);
+  ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out).status, 0);
+  const auto again = export_design("configs/ruf2018-census.yaml", out);
+  EXPECT_EQ(again.status, 0) << again.output;
+  fs::remove_all(out);
+}
+
+TEST(HlsExport, NeedsExactlyOneSource) {
+  const fs::path out = fresh_dir("source");
+  const std::string cli = PARALLAX_CLI;
+  auto none = shell(cli + " export-hls --out " + out.string());
+  EXPECT_EQ(none.status, 2) << none.output;
+  EXPECT_NE(none.output.find("either --config"), std::string::npos) << none.output;
+  auto both = shell(cli + " export-hls --config " + (kSource / "configs/ruf2018-census.yaml").string() +
+                    " --db x.db --design abcd --out " + out.string());
+  EXPECT_EQ(both.status, 2) << both.output;
+  auto missing = shell(cli + " export-hls --db /nonexistent/x.db --design abcd --out " + out.string());
+  EXPECT_EQ(missing.status, 2) << missing.output;
+  EXPECT_NE(missing.output.find("/nonexistent/x.db"), std::string::npos) << missing.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
