@@ -6,6 +6,8 @@
 #include <filesystem>
 
 #include "export_util.hpp"
+#include "parallax/config/config.hpp"
+#include "parallax/explore/sweep.hpp"
 
 namespace {
 
@@ -102,6 +104,47 @@ TEST(HlsExport, NeedsExactlyOneSource) {
   EXPECT_EQ(missing.status, 2) << missing.output;
   EXPECT_NE(missing.output.find("/nonexistent/x.db"), std::string::npos) << missing.output;
   EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+
+namespace {
+
+// A design picked from a results store by a hash prefix exports like its configuration.
+TEST(HlsExport, ExportsADesignOfAResultsStore) {
+  const fs::path dir = fresh_dir("db");
+  fs::create_directories(dir);
+  const std::string db = (dir / "sweep.db").string();
+  {
+    parallax::explore::ResultStore store(db);
+    parallax::config::PipelineConfig c = parallax::config::load_config((kSource / "configs/ruf2018-census.yaml").string());
+    c.name = "from-store";
+    c.p2 = 48;
+    parallax::explore::ResultStore::Row row;
+    row.hash = "0123456789abcdef";
+    row.sweep = "test";
+    row.config_yaml = parallax::config::to_yaml(c);
+    row.status = "ok";
+    store.put_design(row);
+    row.hash = "0123ffffffffffff";
+    row.status = "invalid";
+    row.reason = "field 'p1': too big";
+    store.put_design(row);
+  }
+  const std::string cli = std::string("cd ") + PARALLAX_SOURCE_DIR + " && " + PARALLAX_CLI + " export-hls --db " + db;
+  auto ambiguous = shell(cli + " --design 0123 --out " + (dir / "a").string());
+  EXPECT_EQ(ambiguous.status, 2) << ambiguous.output;
+  EXPECT_NE(ambiguous.output.find("2 designs start with '0123'"), std::string::npos) << ambiguous.output;
+  auto invalid = shell(cli + " --design 0123f --out " + (dir / "b").string());
+  EXPECT_EQ(invalid.status, 2) << invalid.output;
+  EXPECT_NE(invalid.output.find("too big"), std::string::npos) << invalid.output;
+  auto ok = shell(cli + " --design 01234567 --out " + (dir / "c").string());
+  ASSERT_EQ(ok.status, 0) << ok.output;
+  const std::string cfg = read_file(dir / "c/src/parallax_config.hpp");
+  EXPECT_NE(cfg.find("Design from-store"), std::string::npos);
+  EXPECT_NE(cfg.find("design 0123456789abcdef"), std::string::npos);
+  EXPECT_NE(cfg.find("constexpr unsigned kDefaultP2 = 48;"), std::string::npos);
+  fs::remove_all(dir);
 }
 
 }  // namespace
