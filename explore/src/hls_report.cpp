@@ -2,10 +2,13 @@
 #include "parallax/explore/hls_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <pugixml.hpp>
 
 #include "parallax/explore/dataset.hpp"
+#include "parallax/explore/simulate.hpp"
+#include "parallax/resources/model.hpp"
 
 namespace parallax::explore {
 
@@ -91,6 +94,45 @@ std::vector<std::string> calibrate_from_hls(config::PipelineConfig& cfg, const H
     }
   }
   return set;
+}
+
+}  // namespace parallax::explore
+
+namespace parallax::explore {
+
+std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& cfg_in, const HlsReport& r, int w, int h) {
+  config::PipelineConfig cfg = cfg_in;
+  if (r.target_clock_ns > 0) cfg.clock_mhz = std::max(1, int(std::lround(1000.0 / r.target_clock_ns)));
+  const SimulationResult sim = simulate_timing(cfg, w, h);
+  const sim::TimingModel timing = [&] {
+    sim::TimingModel t = sim::default_timing(cfg.stereo_params(w, h));
+    for (const auto& kv : cycle_options(cfg, cfg.clock_mhz).timing) t[kv.first] = kv.second;
+    return t;
+  }();
+  std::vector<ModelVsSynthesis> rows;
+  const double latency = sim.cycle.deadlock ? -1.0 : double(sim.cycle.last_pixel_cycle - sim.cycle.first_input_cycle);
+  rows.push_back({"latency (cycles)", latency, double(r.worst_latency_cycles),
+                  "model: last output pixel after the first input pixel at " + std::to_string(cfg.clock_mhz) + " MHz"});
+  rows.push_back({"interval (cycles)", sim.cycle.deadlock ? -1.0 : double(sim.cycle.cycles_per_frame),
+                  double(r.interval_max_cycles), "model: cycles per frame in steady state"});
+  for (const auto& l : r.loops) {
+    std::string stage;
+    for (const auto& kv : timing)
+      if (l.name.rfind(kv.first, 0) == 0 && kv.first.size() > stage.size()) stage = kv.first;
+    if (stage.empty()) continue;
+    const sim::StageTiming& t = timing.at(stage);
+    if (l.pipeline_ii > 0) rows.push_back({"II " + l.name, double(t.ii_cycles), double(l.pipeline_ii), "stage " + stage});
+    const int64_t depth = l.pipeline_depth > 0 ? l.pipeline_depth : l.iteration_latency;
+    if (depth > 0) rows.push_back({"depth " + l.name, double(t.latency_cycles), double(depth), "stage " + stage});
+  }
+  const res::Estimate est = res::estimate(res::design_inventory(cfg, w, h));
+  const std::pair<const char*, int64_t> model_res[] = {
+      {"BRAM_18K", est.total.bram18k}, {"LUT", est.total.lut}, {"FF", est.total.ff}, {"DSP", est.total.dsp}};
+  for (const auto& m : model_res) {
+    const auto it = r.resources.find(m.first);
+    rows.push_back({m.first, double(m.second), it != r.resources.end() ? double(it->second) : -1.0, "resource model"});
+  }
+  return rows;
 }
 
 }  // namespace parallax::explore

@@ -520,6 +520,17 @@ std::string design_section_html(const DesignSection& s) {
         << st.usage.ff << "</td><td>" << st.usage.dsp << "</td></tr>";
     o << "</table>";
   }
+  if (!s.synthesis.empty()) {
+    o << "<h4>Model and synthesis</h4><table class=\"kv synthesis\"><tr><th class=\"s\">figure</th><th>model</th>"
+         "<th>synthesis</th><th>synthesis / model</th><th class=\"s\">note</th></tr>";
+    for (const auto& row : s.synthesis) {
+      const bool both = row.model > 0 && row.synthesis >= 0;
+      o << "<tr><td class=\"s\">" << html_escape(row.figure) << "</td><td>" << (row.model >= 0 ? number(row.model) : "-")
+        << "</td><td>" << (row.synthesis >= 0 ? number(row.synthesis) : "-") << "</td><td>"
+        << (both ? number(row.synthesis / row.model) : "-") << "</td><td class=\"s\">" << html_escape(row.note) << "</td></tr>";
+    }
+    o << "</table>";
+  }
   {
     const std::vector<uchar> yaml(s.config_yaml.begin(), s.config_yaml.end());
     o << "<h4>Configuration</h4><p><a download=\"" << html_escape(s.config_file.empty() ? "design.yaml" : s.config_file)

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/hls_report.hpp"
@@ -61,6 +62,33 @@ TEST(HlsReport, NotACsynthReportIsNamed) {
       EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
     }
   }
+}
+
+}  // namespace
+}  // namespace parallax::test
+
+namespace parallax::test {
+namespace {
+
+// The models' figures beside the report's: the same design's cycle model and resource model, at
+// the report's clock; a loop is matched to its stage by name.
+TEST(HlsReport, ComparesModelAndSynthesisSideBySide) {
+  const explore::HlsReport r = explore::read_csynth_xml(kSample);
+  config::PipelineConfig cfg = config::load_config(PARALLAX_CONFIG_DIR "/ruf2018-census.yaml");
+  cfg.clock_mhz = 100;  // the report's 5 ns wins
+  const auto rows = explore::compare_with_model(cfg, r, 640, 360);
+  std::map<std::string, explore::ModelVsSynthesis> by;
+  for (const auto& row : rows) by[row.figure] = row;
+  ASSERT_TRUE(by.count("latency (cycles)"));
+  const explore::SimulationResult sim = explore::simulate_timing(config::load_config(PARALLAX_CONFIG_DIR "/ruf2018-census.yaml"), 640, 360);
+  EXPECT_EQ(by["latency (cycles)"].model, double(sim.cycle.last_pixel_cycle - sim.cycle.first_input_cycle));
+  EXPECT_NE(by["latency (cycles)"].note.find("200 MHz"), std::string::npos);
+  EXPECT_EQ(by["latency (cycles)"].synthesis, 4631240.0);
+  EXPECT_EQ(by["II aggregate_loop"].synthesis, 2.0);
+  EXPECT_EQ(by["II aggregate_loop"].note, "stage aggregate");
+  EXPECT_EQ(by.count("II init_rows"), 0u);  // no stage of that name
+  EXPECT_EQ(by["BRAM_18K"].synthesis, 134.0);
+  EXPECT_EQ(by["BRAM_18K"].model, 138.0);
 }
 
 }  // namespace

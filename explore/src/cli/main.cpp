@@ -583,6 +583,8 @@ int main(int argc, char** argv) {
   importc->add_option("--config", ih_config, "Configuration to calibrate (ii_<stage>, latency_<stage> from the loops)");
   importc->add_option("--write-config", ih_write, "Write the calibrated configuration here");
   importc->add_flag("--json", ih_json, "Print JSON");
+  std::string ih_html;
+  importc->add_option("--html", ih_html, "With --config: write a page with the model's and the synthesis figures side by side");
 
   // fit-resources
   std::string fit_points = "models/data/published_points.yaml", fit_root = ".", fit_write;
@@ -1310,13 +1312,18 @@ int main(int argc, char** argv) {
     if (*importc) {
       const HlsReport rep = read_csynth_xml(ih_report);
       std::vector<std::string> set;
+      std::vector<ModelVsSynthesis> comparison;
+      int ih_w = 0, ih_h = 0;
       config::PipelineConfig cfg;
       if (!ih_config.empty()) {
         cfg = config::load_config(ih_config);
+        design_size(cfg, ih_w, ih_h);
+        comparison = compare_with_model(cfg, rep, ih_w, ih_h);
         set = calibrate_from_hls(cfg, rep);
       } else if (!ih_write.empty()) {
         throw InputError("--write-config needs --config");
       }
+      if (!ih_html.empty() && ih_config.empty()) throw InputError("--html needs --config");
       if (ih_json) {
         json j;
         j["part"] = rep.part;
@@ -1332,6 +1339,9 @@ int main(int argc, char** argv) {
         j["resources"] = rep.resources;
         j["available"] = rep.available;
         j["calibrated"] = set;
+        j["comparison"] = json::array();
+        for (const auto& c : comparison)
+          j["comparison"].push_back({{"figure", c.figure}, {"model", c.model}, {"synthesis", c.synthesis}, {"note", c.note}});
         std::cout << j.dump(2) << "\n";
       } else {
         std::printf("%s on %s (Vitis HLS %s): clock %.2f ns target, %.3f ns estimated; latency %lld-%lld cycles, interval %lld\n",
@@ -1344,6 +1354,26 @@ int main(int argc, char** argv) {
           std::printf("  %-9s %lld of %lld\n", kv.first.c_str(), (long long)kv.second,
                       (long long)(rep.available.count(kv.first) ? rep.available.at(kv.first) : 0));
         for (const auto& s : set) std::printf("  calibrated %s\n", s.c_str());
+        if (!comparison.empty()) {
+          std::printf("\n%-28s %14s %14s %10s\n", "model vs synthesis", "model", "synthesis", "syn/model");
+          for (const auto& c : comparison) {
+            std::printf("%-28s %14.0f %14.0f", c.figure.c_str(), c.model, c.synthesis);
+            if (c.model > 0 && c.synthesis >= 0) std::printf(" %10.2f", c.synthesis / c.model); else std::printf(" %10s", "-");
+            std::printf("  %s\n", c.note.c_str());
+          }
+        }
+      }
+      if (!ih_html.empty()) {
+        DesignSection s;
+        s.title = cfg.name + ": model and synthesis (" + ih_report + ")";
+        s.config_yaml = config::to_yaml(cfg);
+        s.config_file = cfg.name + "-calibrated.yaml";
+        s.command = "parallax import-hls --report " + ih_report + " --config " + ih_config + " --html " + ih_html;
+        s.cycle = simulate_timing(config::load_config(ih_config), ih_w, ih_h).cycle;
+        s.resources = res::estimate(res::design_inventory(cfg, ih_w, ih_h));
+        s.device = res::find_device(device_for_part(rep.part));
+        s.synthesis = comparison;
+        write_text_file(ih_html, standalone_page(s.title, design_section_html(s)));
       }
       if (!ih_write.empty()) write_text_file(ih_write, config::to_yaml(cfg));
       return 0;

@@ -35,3 +35,21 @@ HlsReport read_csynth_xml(const std::string& path);
 std::vector<std::string> calibrate_from_hls(config::PipelineConfig& cfg, const HlsReport& r);
 
 }  // namespace parallax::explore
+
+namespace parallax::explore {
+
+// One figure predicted by Parallax's models next to what synthesis reported.
+struct ModelVsSynthesis {
+  std::string figure;   // e.g. "latency (cycles)", "II aggregate_loop", "BRAM_18K"
+  double model = -1;    // -1: the model has no figure for it
+  double synthesis = -1;
+  std::string note;     // e.g. which model stage a loop was matched to
+};
+
+// The models' figures for the configuration (cycle model at the report's clock, resource model)
+// beside the report's: latency and interval, the II and depth of every loop named after a stage,
+// and BRAM_18K / LUT / FF / DSP. width_px x height_px: the processed size.
+std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& cfg, const HlsReport& r, int width_px,
+                                                 int height_px);
+
+}  // namespace parallax::explore

@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "parallax/explore/hls_report.hpp"
 #include "parallax/explore/sweep.hpp"
 #include "parallax/resources/model.hpp"
 #include "parallax/sim/cycle.hpp"
@@ -39,6 +40,7 @@ struct DesignSection {
   sim::CycleReport cycle;  // empty stages: not simulated
   res::Estimate resources;
   const res::Device* device = nullptr;
+  std::vector<ModelVsSynthesis> synthesis;  // model beside synthesis (parallax import-hls); empty: none
 };
 // Fills the images of a section by running the design on one frame of a dataset ("" = first).
 void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const std::string& dataset,
