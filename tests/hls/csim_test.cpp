@@ -95,6 +95,14 @@ TEST_P(HlsCsim, BuildsAndMatchesTheSimulatorBitForBit) {
   // The testbench's own output is the golden file, sample for sample.
   EXPECT_EQ(read_file(out / "tb/csim_disparity.pgm"), read_file(out / "tb/golden_disparity.pgm"));
 
+  // Another compiler (clang, like the Vitis front end): the same bits, and the synthesis view
+  // (directives live) parses.
+#ifdef PARALLAX_CLANGXX
+  const Shell clang = shell("make -C " + out.string() + " -B csim synth-view CXX=" PARALLAX_CLANGXX);
+  EXPECT_EQ(clang.status, 0) << clang.output;
+  EXPECT_NE(clang.output.find("bit-exact against"), std::string::npos) << clang.output;
+#endif
+
   // A golden file with one pixel changed must fail, naming the pixel.
   std::string golden = read_file(out / "tb/golden_disparity.pgm");
   const std::size_t last = golden.size() - 1;
