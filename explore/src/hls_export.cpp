@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "parallax/explore/evaluate.hpp"
 #include "parallax/explore/simulate.hpp"
 #include "parallax/resources/devices.hpp"
 #include "parallax/resources/model.hpp"
@@ -41,7 +42,7 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
     throw hlsx::ExportError("design '" + cfg_in.name + "' deadlocks with its configured FIFO depths: " +
                             sized.cycle.deadlock_message);
   config::PipelineConfig cfg = cfg_in;
-  for (const std::string& name : hlsx::export_fifo_names()) {
+  for (const std::string& name : hlsx::export_fifo_names(cfg_in)) {
     hlsx::ExportFifo f;
     f.name = name;
     const auto conf = cfg_in.fifo_depths.find(name);
@@ -81,6 +82,11 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   r.golden = res.cycle.codes.code;
   r.golden_source = "the Parallax cycle model (parallax sim), bit-identical to its func run and golden model";
   r.pair_source = pair_source;
+  if (cfg_in.rectify != "none") {
+    const RectifyMaps maps = load_rectify_maps(cfg_in);  // the simulation above checked their size
+    r.map_left = maps.left;
+    r.map_right = maps.right;
+  }
   r.left.assign(left.datastart, left.dataend);
   r.right.assign(right.datastart, right.dataend);
   if (!left.isContinuous() || !right.isContinuous() || r.left.size() != std::size_t(left.total()))

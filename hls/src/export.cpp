@@ -132,9 +132,13 @@ void check_request(const ExportRequest& r) {
     if (f.depth < 1) throw ExportError("export: FIFO " + f.name + " needs a depth of at least 1");
     names.insert(f.name);
   }
-  const auto& want = export_fifo_names();
+  const auto want = export_fifo_names(r.config);
   if (names != std::set<std::string>(want.begin(), want.end()) || r.fifos.size() != want.size())
-    throw ExportError("export: one depth per FIFO of the top is needed (left_px, right_px, cost, sum, disp_lr, disp_out)");
+    throw ExportError("export: one depth per FIFO of the top is needed, no more");
+  const bool rectify = r.config.rectify != "none";
+  if (rectify != (r.map_left.size() == n) || rectify != (r.map_right.size() == n))
+    throw ExportError(rectify ? "export: a rectifying design needs both remap tables at the pair's size"
+                              : "export: remap tables given for a design without rectification");
   if (!(r.clock_mhz > 0)) throw ExportError("export: the clock must be positive");
 }
 
@@ -146,14 +150,13 @@ std::vector<std::string> export_problems(const config::PipelineConfig& c) {
     p.push_back("paths " + config::paths_to_string(c.path_mask) +
                 " need the second pass through a DDR frame buffer, which the export does not generate yet "
                 "(export a one-pass path set: any of 0, 45, 90, 135)");
-  if (c.rectify != "none")
-    p.push_back("rectify '" + c.rectify + "' needs its remap tables through a memory interface, which the export "
-                "does not generate yet (set rectify: none and rectify in front of the IP)");
   return p;
 }
 
-const std::vector<std::string>& export_fifo_names() {
-  static const std::vector<std::string> names = {"left_px", "right_px", "cost", "sum", "disp_lr", "disp_out"};
+std::vector<std::string> export_fifo_names(const config::PipelineConfig& c) {
+  std::vector<std::string> names;
+  if (c.rectify != "none") names = {"raw_left_px", "raw_right_px", "map_left", "map_right"};
+  for (const char* n : {"left_px", "right_px", "cost", "sum", "disp_lr", "disp_out"}) names.push_back(n);
   return names;
 }
 
@@ -215,13 +218,111 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["ROW_IMPL"] = row ? ram_impl(row->per_copy.storage) : "bram";
   v["ROW_MEMORIES"] = std::to_string(row ? std::max(1, row->copies) : 1);
 
+  // Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera.
+  const bool rectify = c.rectify != "none";
+  v["MAP_TYPEDEF"] = rectify ? "\n// One remap-table entry: the source position of an output pixel in the kernels' fixed point\n"
+                               "// (kRectifyFracBits fraction bits); x in TDATA[31:0], y in TDATA[63:32], both signed.\n"
+                               "typedef ap_axiu<64, 1, 1, 1> map_beat_t;\n"
+                             : "";
+  v["MAP_PORTS"] = rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
+  v["RECTIFY_INCLUDE"] = rectify ? "#include \"parallax/kernels/rectify.hpp\"\n" : "";
+  v["MAP_INTERFACE_PRAGMAS"] = rectify ? "#pragma HLS INTERFACE mode=axis port=map_left_in\n#pragma HLS INTERFACE mode=axis port=map_right_in\n" : "";
+  v["RECTIFY_CONSTANTS"] =
+      rectify ? "// Rectification (docs/algorithm.md §1): mode, fraction bits of the map entries, line-buffer rows.\n"
+                "constexpr int kRectifyMode = parallax::kern::" + std::string(c.rectify == "bilinear" ? "kRectifyBilinear" : "kRectifyNearest") +
+                    ";\nconstexpr int kRectifyFracBits = " + std::to_string(c.rectify == "bilinear" ? c.rectify_frac_bits : 0) +
+                    ";\nconstexpr int kRectifyRows = " + std::to_string(c.rectify_rows) +
+                    ";\n\ninline parallax::kern::RectifyParams rectify_params() {\n"
+                    "  parallax::kern::RectifyParams p;\n  p.width_px = kWidthPx;\n  p.height_px = kHeightPx;\n"
+                    "  p.mode = kRectifyMode;\n  p.frac_bits = kRectifyFracBits;\n  p.buffer_rows = kRectifyRows;\n  return p;\n}\n\n"
+              : "";
+  v["RECTIFY_FUNCTIONS"] =
+      rectify ? "// Remap-table entries of one camera, from AXI4-Stream beats.\n"
+                "void read_maps(hls::stream<map_beat_t>& in, hls::stream<kern::MapEntry>& out) {\n"
+                "read_maps_loop:\n"
+                "  for (int i = 0; i < kPixels; ++i) {\n"
+                "#pragma HLS PIPELINE II=1\n"
+                "    const uint64_t word = in.read().data.to_uint64();\n"
+                "    kern::MapEntry m;\n"
+                "    m.x = int32_t(uint32_t(word & 0xFFFFFFFFu));\n"
+                "    m.y = int32_t(uint32_t(word >> 32));\n"
+                "    out.write(m);\n"
+                "  }\n"
+                "}\n\n"
+                "// One camera's rectification (CAMERA 0 left, 1 right: each instance keeps its own line buffer).\n"
+                "template <int CAMERA>\n"
+                "void rectify_stage(hls::stream<uint8_t>& raw, hls::stream<kern::MapEntry>& map, hls::stream<uint8_t>& out) {\n"
+                "  static kern::Rectify<kWidthPx, kRectifyRows> stage;\n"
+                "  stage.configure(rectify_params());\n"
+                "rectify_loop:\n"
+                "  while (!stage.done()) {\n"
+                "#pragma HLS PIPELINE II=1\n"
+                "    const kern::RectifyPlan pl = stage.plan();\n"
+                "    if (!pl.read_pixel && !pl.write) break;\n"
+                "    stage.fire(pl, raw, map, out);\n"
+                "  }\n"
+                "}\n\n"
+              : "";
+  v["FRONT_END"] = rectify ? "  read_pixels(left_in, raw_left_px);\n  read_pixels(right_in, raw_right_px);\n"
+                             "  read_maps(map_left_in, map_left);\n  read_maps(map_right_in, map_right);\n"
+                             "  rectify_stage<0>(raw_left_px, map_left, left_px);\n  rectify_stage<1>(raw_right_px, map_right, right_px);\n"
+                           : "  read_pixels(left_in, left_px);\n  read_pixels(right_in, right_px);\n";
+  v["TB_MAP_FUNCTIONS"] =
+      rectify ? "\n// A remap table: kPixels entries of two little-endian int32 (x, y), fixed point as the design's.\n"
+                "bool read_map(const std::string& path, std::vector<uint64_t>& words) {\n"
+                "  FILE* f = fopen(path.c_str(), \"rb\");\n"
+                "  if (!f) {\n    fprintf(stderr, \"%s: cannot open\\n\", path.c_str());\n    return false;\n  }\n"
+                "  std::vector<unsigned char> raw(size_t(kPixels) * 8u);\n"
+                "  const bool ok = fread(raw.data(), 1, raw.size(), f) == raw.size() && fgetc(f) == EOF;\n"
+                "  fclose(f);\n"
+                "  if (!ok) {\n    fprintf(stderr, \"%s: not %d entries of 8 bytes\\n\", path.c_str(), kPixels);\n    return false;\n  }\n"
+                "  words.resize(size_t(kPixels));\n"
+                "  for (size_t i = 0; i < words.size(); ++i) {\n"
+                "    uint64_t w = 0;  // bytes 0-3: x, 4-7: y, little-endian: x lands in the low half\n"
+                "    for (int b = 7; b >= 0; --b) w = (w << 8) | raw[8 * i + size_t(b)];\n"
+                "    words[i] = w;\n"
+                "  }\n"
+                "  return true;\n"
+                "}\n\n"
+                "void feed_map(hls::stream<map_beat_t>& s, const std::vector<uint64_t>& words) {\n"
+                "  for (size_t i = 0; i < words.size(); ++i) {\n"
+                "    map_beat_t beat;\n"
+                "    beat.data = (unsigned long long)words[i];\n"
+                "    beat.keep = -1;\n    beat.strb = -1;\n"
+                "    beat.user = i == 0 ? 1 : 0;\n"
+                "    beat.last = (i + 1) % size_t(kWidthPx) == 0 ? 1 : 0;\n"
+                "    beat.id = 0;\n    beat.dest = 0;\n"
+                "    s.write(beat);\n  }\n}\n"
+              : "";
+  v["TB_MAP_LOAD"] = rectify ? "  std::vector<uint64_t> map_left, map_right;\n"
+                               "  if (!read_map(dir + \"/map_left.bin\", map_left) || !read_map(dir + \"/map_right.bin\", map_right)) return 1;\n"
+                             : "";
+  v["TB_MAP_FEED"] = rectify ? "    hls::stream<map_beat_t> map_left_in(\"map_left_in\"), map_right_in(\"map_right_in\");\n"
+                               "    feed_map(map_left_in, map_left);\n    feed_map(map_right_in, map_right);\n"
+                             : "";
+  v["TB_MAP_ARGS"] = rectify ? " map_left_in, map_right_in," : "";
+
+  v["TCL_MAP_FILES"] = rectify ? "add_files -tb tb/map_left.bin\nadd_files -tb tb/map_right.bin\n" : "";
+  v["CFG_MAP_FILES"] = rectify ? "tb.file=tb/map_left.bin\ntb.file=tb/map_right.bin\n" : "";
+  v["README_MAP_PORTS"] =
+      rectify ? "| `map_left_in`, `map_right_in` | AXI4-Stream | 64 | remap tables, one entry per output pixel: source x in TDATA[31:0], y in [63:32], signed, " +
+                    std::to_string(c.rectify == "bilinear" ? c.rectify_frac_bits : 0) + " fraction bits |\n"
+              : "";
+  v["README_RECTIFY"] =
+      rectify ? "\nThe design rectifies (" + c.rectify + ", " + std::to_string(c.rectify_rows) +
+                    " line-buffer rows): the pair is the raw camera images, and `tb/map_left.bin`, `tb/map_right.bin` "
+                    "hold the remap tables (one entry per pixel, two little-endian int32: x, y in the kernels' fixed point), "
+                    "fed through `map_left_in` / `map_right_in`.\n"
+              : "";
+
   // FIFOs: depth constants, stream declarations, README rows (in pipeline order).
   std::string depths, streams, fifo_rows;
-  for (const std::string& name : export_fifo_names()) {
+  for (const std::string& name : export_fifo_names(c)) {
     const ExportFifo& f = *std::find_if(r.fifos.begin(), r.fifos.end(), [&](const ExportFifo& x) { return x.name == name; });
     const std::string k = depth_constant(name);
     depths += "constexpr int " + k + " = " + std::to_string(f.depth) + ";\n";
-    const std::string type = name == "left_px" || name == "right_px" ? "uint8_t"
+    const std::string type = name == "map_left" || name == "map_right" ? "kern::MapEntry"
+                             : name.size() > 3 && name.compare(name.size() - 3, 3, "_px") == 0 ? "uint8_t"
                              : name == "cost"                         ? "CostToken"
                              : name == "sum"                          ? "SumToken"
                                                                       : "kern::DispCode";
@@ -283,6 +384,18 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   files.push_back({"tb/left.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.left.data()), true});
   files.push_back({"tb/right.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.right.data()), true});
   files.push_back({"tb/golden_disparity.pgm", pgm(r.width_px, r.height_px, c.disparities, r.golden.data(), nullptr), true});
+  if (rectify) {
+    auto table = [](const std::vector<kern::MapEntry>& m) {
+      std::string out;
+      out.reserve(m.size() * 8);
+      for (const auto& e : m)
+        for (int32_t v32 : {e.x, e.y})
+          for (int b = 0; b < 4; ++b) out += char((uint32_t(v32) >> (8 * b)) & 0xFFu);
+      return out;
+    };
+    files.push_back({"tb/map_left.bin", table(r.map_left), true});
+    files.push_back({"tb/map_right.bin", table(r.map_right), true});
+  }
   return files;
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "parallax/config/config.hpp"
+#include "parallax/kernels/common.hpp"
 
 namespace parallax::hlsx {
 
@@ -26,12 +27,12 @@ class ExportError : public std::runtime_error {
 };
 
 // Why a valid configuration cannot be exported (empty: it can). Today: the 8-path variant's two
-// passes through a DDR frame buffer, and rectification (its maps need a memory interface).
+// passes through a DDR frame buffer.
 std::vector<std::string> export_problems(const config::PipelineConfig& c);
 
 // One FIFO between two stages of the top, with the depth chosen from the simulator's sizing.
 struct ExportFifo {
-  std::string name;            // cycle-model name: left_px, right_px, cost, sum, disp_lr, disp_out
+  std::string name;            // cycle-model name (export_fifo_names)
   int64_t depth = 2;           // STREAM depth in the exported top
   int64_t stall_free = -1;     // the simulator's stall-free depth (-1: not sized)
   std::string why;             // how the depth was chosen, one line
@@ -72,6 +73,9 @@ struct ExportRequest {
   std::vector<uint16_t> golden;
   std::string pair_source;            // e.g. "data/kitti2015-640x360/.../000000_10.png"
   std::string golden_source;          // e.g. "parallax cycle model (sim::run_cycle)"
+  // Rectifying designs: the remap tables of the pair's size in the kernels' fixed point (the
+  // pair is then the raw, unrectified images).
+  std::vector<kern::MapEntry> map_left, map_right;
 };
 
 struct GeneratedFile {
@@ -80,8 +84,8 @@ struct GeneratedFile {
   bool binary = false;
 };
 
-// The names of the FIFOs of an exported top, in pipeline order.
-const std::vector<std::string>& export_fifo_names();
+// The names of the FIFOs of an exported top, in pipeline order (the cycle model's names).
+std::vector<std::string> export_fifo_names(const config::PipelineConfig& c);
 
 // The whole project. Throws ExportError when the request is inconsistent (sizes, FIFOs).
 std::vector<GeneratedFile> generate_project(const ExportRequest& r);
