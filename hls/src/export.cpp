@@ -145,18 +145,19 @@ void check_request(const ExportRequest& r) {
 }  // namespace
 
 std::vector<std::string> export_problems(const config::PipelineConfig& c) {
-  std::vector<std::string> p;
-  if ((c.path_mask & kern::kBackwardPaths) != 0)
-    p.push_back("paths " + config::paths_to_string(c.path_mask) +
-                " need the second pass through a DDR frame buffer, which the export does not generate yet "
-                "(export a one-pass path set: any of 0, 45, 90, 135)");
-  return p;
+  // Every one-pass and two-pass path set, with or without rectification, is exported today; the
+  // function stays the one place where a future limitation is stated.
+  (void)c;
+  return {};
 }
 
 std::vector<std::string> export_fifo_names(const config::PipelineConfig& c) {
   std::vector<std::string> names;
   if (c.rectify != "none") names = {"raw_left_px", "raw_right_px", "map_left", "map_right"};
-  for (const char* n : {"left_px", "right_px", "cost", "sum", "disp_lr", "disp_out"}) names.push_back(n);
+  for (const char* n : {"left_px", "right_px", "cost"}) names.push_back(n);
+  if ((c.path_mask & kern::kBackwardPaths) != 0)
+    for (const char* n : {"cost_to_ddr", "fwd_to_ddr", "cost_from_ddr", "fwd_from_ddr"}) names.push_back(n);
+  for (const char* n : {"sum", "disp_lr", "disp_out"}) names.push_back(n);
   return names;
 }
 
@@ -315,29 +316,77 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                     "fed through `map_left_in` / `map_right_in`.\n"
               : "";
 
-  // FIFOs: depth constants, stream declarations, README rows (in pipeline order).
-  std::string depths, streams, fifo_rows;
+  // FIFOs: depth constants, stream declarations (per pass for two-pass designs), README rows.
+  const bool two_pass = (c.path_mask & kern::kBackwardPaths) != 0;
+  std::string depths, streams, pass2_streams, fifo_rows;
   for (const std::string& name : export_fifo_names(c)) {
     const ExportFifo& f = *std::find_if(r.fifos.begin(), r.fifos.end(), [&](const ExportFifo& x) { return x.name == name; });
     const std::string k = depth_constant(name);
     depths += "constexpr int " + k + " = " + std::to_string(f.depth) + ";\n";
     const std::string type = name == "map_left" || name == "map_right" ? "kern::MapEntry"
                              : name.size() > 3 && name.compare(name.size() - 3, 3, "_px") == 0 ? "uint8_t"
-                             : name == "cost"                         ? "CostToken"
-                             : name == "sum"                          ? "SumToken"
-                                                                      : "kern::DispCode";
+                             : name == "cost" || name == "cost_to_ddr" || name == "cost_from_ddr" ? "CostToken"
+                             : name == "sum" || name == "fwd_to_ddr" || name == "fwd_from_ddr"    ? "SumToken"
+                                                                                                  : "kern::DispCode";
     const res::MemoryItem* m = find_memory(inv, "fifos", name);
     const res::MemoryMapping mapping =
         res::map_memory(res::MemoryKind::fifo, f.depth, m ? m->width_bits : 8, false);
-    streams += "  hls::stream<" + type + "> " + name + "(\"" + name + "\");\n";
-    streams += "#pragma HLS STREAM variable=" + name + " depth=" + std::to_string(f.depth) + "\n";
-    streams += "#pragma HLS BIND_STORAGE variable=" + name + " type=fifo impl=" + fifo_impl(mapping.storage) + "\n";
+    const bool second = two_pass && (name == "cost_from_ddr" || name == "fwd_from_ddr" || name == "sum" ||
+                                     name == "disp_lr" || name == "disp_out");
+    std::string& s = second ? pass2_streams : streams;
+    s += "  hls::stream<" + type + "> " + name + "(\"" + name + "\");\n";
+    s += "#pragma HLS STREAM variable=" + name + " depth=" + std::to_string(f.depth) + "\n";
+    s += "#pragma HLS BIND_STORAGE variable=" + name + " type=fifo impl=" + fifo_impl(mapping.storage) + "\n";
     fifo_rows += "| `" + name + "` | " + std::to_string(f.depth) + " | " +
                  (f.stall_free >= 0 ? std::to_string(f.stall_free) : std::string("not sized")) + " | " + f.why + " |\n";
   }
   v["FIFO_DEPTHS"] = depths;
   v["STREAM_DECLARATIONS"] = streams;
+  v["PASS1_STREAMS"] = streams;
+  v["PASS2_STREAMS"] = pass2_streams;
   v["FIFO_ROWS"] = fifo_rows;
+
+  // The top's interface: one pass streams the codes out; two passes go through a DDR frame buffer
+  // and write the map to memory (the second pass runs in reverse order).
+  v["TWO_PASS"] = two_pass ? "true" : "false";
+  v["TWO_PASS_01"] = two_pass ? "1" : "0";
+  v["PIXELS"] = std::to_string(int64_t(r.width_px) * r.height_px);
+  v["FRAME_TOKENS"] = std::to_string(int64_t(r.width_px) * r.height_px * (p.disparities / p.parallel_units));
+  v["TWO_PASS_TYPES"] =
+      two_pass ? "\n// The frame buffer between the passes (DDR, m_axi): per firing of pass 1 one cost token and one\n"
+                 "// token of forward sums, kPixels x kChunks of each, pixel-major.\n"
+                 "typedef parallax::kern::Lanes<uint16_t, parallax_design::kParallelUnits> cost_token_t;\n"
+                 "typedef parallax::kern::Lanes<parallax_design::AggWord, parallax_design::kParallelUnits> sum_token_t;\n"
+                 "constexpr int kFrameTokens = parallax_design::kPixels * parallax_design::kChunks;\n"
+               : "";
+  const std::string input_kind = rectify ? "raw (unrectified)" : "rectified";
+  v["TOP_CONTRACT"] =
+      two_pass ? "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
+                 "// kWidthPx x kHeightPx beats in raster order; the map goes to `disparity` (kPixels codes, raster\n"
+                 "// order) after two passes through the frame buffer `frame_cost` / `frame_forward` (kFrameTokens\n"
+                 "// each). The registers hold P1 < P2 (the SGM penalties) and the left-right tolerance in pixels."
+               : "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
+                 "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
+                 "// registers hold P1 < P2 (the SGM penalties) and the left-right tolerance in pixels.";
+  const std::string ports = "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] + "\n";
+  v["TOP_SIGNATURE"] =
+      ports + (two_pass ? "                  parallax::kern::DispCode* disparity, cost_token_t* frame_cost, sum_token_t* frame_forward,\n"
+                          "                  ap_uint<parallax_design::kPenaltyBits> p1, ap_uint<parallax_design::kPenaltyBits> p2,\n"
+                          "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance)"
+                        : "                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,\n"
+                          "                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance)");
+  v["PASS_MAP_PARAMS"] = rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
+  v["PASS_MAP_ARGS"] = rectify ? " map_left_in, map_right_in," : "";
+  v["README_OUTPUT_PORTS"] =
+      two_pass ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
+                     " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
+                     " codes in raster order: 0.." + std::to_string(p.disparities - 1) + ", " + std::to_string(p.disparities) +
+                     " = invalid |\n| `frame_cost`, `frame_forward` | AXI4 master (m_axi) | PU lanes | the frame buffer between the passes, " +
+                     v["FRAME_TOKENS"] + " tokens each |\n"
+               : "| `disparity_out` | AXI4-Stream | " + v["OUT_BITS"] + " | disparity codes 0.." + std::to_string(p.disparities - 1) +
+                     ", " + std::to_string(p.disparities) + " = invalid; same framing |\n";
+  v["TOP_FUNCTIONS"] = fill(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp",
+                            template_text(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp"), v);
 
   std::string headers;
   for (const auto& f : detail::copied_files())

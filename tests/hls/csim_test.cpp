@@ -1,5 +1,6 @@
-// Exported projects of both paper presets and of a variant (another PU, three paths, 3x3 median,
-// LR tolerance 2) build with g++ and pass `make csim` bit for bit against the simulator's golden
+// Exported projects of both paper presets, of a variant (another PU, three paths, 3x3 median,
+// LR tolerance 2), of the 8-path design (two passes through a DDR frame buffer) and of rectifying
+// designs build with g++ and pass `make csim` bit for bit against the simulator's golden
 // output; a golden file with one pixel changed fails. The synthesisable top needs no heap, no
 // standard library and has no recursion: its object file at -O0 (`make subset`) has only stream
 // members and a few C builtins undefined, and its call graph (-fcallgraph-info) is acyclic.
@@ -36,6 +37,7 @@ const Design kDesigns[] = {
     {"sad", "configs/ruf2018-sad.yaml", ""},
     {"variant", "configs/ruf2018-census.yaml",
      "--set parallel_units=12 --set disparities=48 --set paths=0,45,90 --set median=3 --set lr_tolerance=2 --clock-mhz 150"},
+    {"eight_paths", "configs/ruf2018-census.yaml", "--set paths=8"},
 };
 
 // Undefined symbols the synthesisable top may need: the stream interface and C builtins.
@@ -168,11 +170,13 @@ TEST(HlsSubset, AllowsOnlyStreamMembersAndBuiltins) {
 
 namespace {
 
-// A rectifying design: a synthetic scene through distorting lenses, the remap tables streamed in
+// Rectifying designs (one and two passes): a synthetic scene through distorting lenses, the remap tables streamed in
 // beside the raw images. Bit-exact, and the tables matter: an identity table for the left camera
 // (its pixels then not undistorted) fails.
-TEST(HlsCsimRectify, StreamsTheRemapTablesBitExactly) {
-  const fs::path dir = fresh_dir("rectify");
+class HlsCsimRectify : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(HlsCsimRectify, StreamsTheRemapTablesBitExactly) {
+  const fs::path dir = fresh_dir(std::string("rectify_") + GetParam());
   const std::string cli = std::string("cd ") + PARALLAX_SOURCE_DIR + " && " + PARALLAX_CLI;
   const Shell scene = shell(cli + " scene --scenario configs/scenarios/single-pole.yaml --frames 1 --size 160"
                                   " --distortion-k1 -0.15 --out " + (dir / "scene").string());
@@ -180,6 +184,7 @@ TEST(HlsCsimRectify, StreamsTheRemapTablesBitExactly) {
   const std::string s = (dir / "scene").string();
   const Shell ex = shell(cli + " export-hls --config configs/ruf2018-census.yaml --set roi=full --set disparities=30"
                                " --set parallel_units=3 --set rectify=bilinear --set rectify_rows=32"
+                               " --set paths=" + GetParam() +
                                " --set rectify_maps_left=" + s + "/maps_left.yml --set rectify_maps_right=" + s +
                          "/maps_right.yml --left " + s + "/training/image_2/000000_10.png --right " + s +
                          "/training/image_3/000000_10.png --out " + (dir / "hls").string());
@@ -204,5 +209,8 @@ TEST(HlsCsimRectify, StreamsTheRemapTablesBitExactly) {
   EXPECT_NE(identity_run.output.find("MISMATCH"), std::string::npos) << identity_run.output;
   fs::remove_all(dir);
 }
+
+// One pass, and two passes through the frame buffer.
+INSTANTIATE_TEST_SUITE_P(Paths, HlsCsimRectify, ::testing::Values("4", "8"));
 
 }  // namespace

@@ -66,11 +66,15 @@ TEST(HlsExport, KernelsAndCompatHeadersAreExactCopies) {
   fs::remove_all(out);
 }
 
-TEST(HlsExport, RefusesEightPathsAndRectification) {
+TEST(HlsExport, RefusesAnInvalidConfigurationAndWritesNothing) {
   const fs::path out = fresh_dir("refuse");
-  auto r = export_design("configs/ruf2018-census.yaml", out, "--set paths=8");
+  auto r = export_design("configs/ruf2018-census.yaml", out, "--set p1=40");
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("second pass"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("p1"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+  auto maps = export_design("configs/ruf2018-census.yaml", out, "--set rectify=nearest --set rectify_maps_left=/nonexistent/l.yml --set rectify_maps_right=/nonexistent/r.yml");
+  EXPECT_EQ(maps.status, 2) << maps.output;
+  EXPECT_NE(maps.output.find("/nonexistent/l.yml"), std::string::npos) << maps.output;
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -26,8 +26,8 @@ class ExportError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Why a valid configuration cannot be exported (empty: it can). Today: the 8-path variant's two
-// passes through a DDR frame buffer.
+// Why a valid configuration cannot be exported (empty: it can). Today every valid configuration
+// can be; this is where a future limitation of the export is stated.
 std::vector<std::string> export_problems(const config::PipelineConfig& c);
 
 // One FIFO between two stages of the top, with the depth chosen from the simulator's sizing.

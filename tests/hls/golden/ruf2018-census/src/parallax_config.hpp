@@ -25,12 +25,14 @@ constexpr int kPixels = kWidthPx * kHeightPx;
 constexpr int kCost = parallax::kern::kCostCensus;
 constexpr int kWindowW = 5;
 constexpr int kWindowH = 5;
-constexpr int kDisparities = 60;     // D: disparities [0, D); code D = invalid
+constexpr int kDisparities = 60;  // D: disparities [0, D); code D = invalid
 constexpr int kParallelUnits = 6;  // PU: disparities per firing
 constexpr int kChunks = kDisparities / kParallelUnits;
-constexpr unsigned kPathMask = 15u;     // paths 4
+constexpr unsigned kPathMask = 15u;  // paths 4
+constexpr bool kTwoPass = false;  // paths beyond 0/45/90/135: a second, reversed pass
+#define PARALLAX_DESIGN_TWO_PASS 0  // the same, for the testbench's #if
 constexpr bool kLrCheck = true;
-constexpr int kMedian = 5;                // 0 = off
+constexpr int kMedian = 5;  // 0 = off
 constexpr int kMedianRows = 5;
 
 // Bit widths (docs/algorithm.md): cost, penalty register, path cost Lr, aggregate S, disparity

@@ -50,24 +50,10 @@ cost_loop:
   }
 }
 
-void aggregate_stage(hls::stream<CostToken>& cost, hls::stream<SumToken>& sum, unsigned p1, unsigned p2,
-                     unsigned lr_tolerance) {
-  static AggregateT stage;
-  stage.configure(design_params(p1, p2, lr_tolerance), kern::stream_kinds(kPathMask, false), false, false);
-  kern::NoStream<SumToken> no_forward;
-  kern::NoStream<CostToken> no_tee;
-aggregate_loop:
-  while (!stage.done()) {
-#pragma HLS PIPELINE II=1
-    const kern::AggPlan pl = stage.plan();
-    stage.fire(pl, cost, no_forward, sum, no_tee);
-  }
-}
-
 void wta_lr_stage(hls::stream<SumToken>& sum, hls::stream<kern::DispCode>& disp, unsigned p1, unsigned p2,
                   unsigned lr_tolerance) {
   static WtaLrT stage;
-  stage.configure(design_params(p1, p2, lr_tolerance), false);
+  stage.configure(design_params(p1, p2, lr_tolerance), kTwoPass);  // two passes: the reversed stream
 wta_lr_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
@@ -87,6 +73,20 @@ median_loop:
     const kern::MedianPlan pl = stage.plan();
     if (!pl.read && !pl.write) break;
     stage.fire(pl, in, out);
+  }
+}
+
+void aggregate_stage(hls::stream<CostToken>& cost, hls::stream<SumToken>& sum, unsigned p1, unsigned p2,
+                     unsigned lr_tolerance) {
+  static AggregateT stage;
+  stage.configure(design_params(p1, p2, lr_tolerance), kern::stream_kinds(kPathMask, false), false, false);
+  kern::NoStream<SumToken> no_forward;
+  kern::NoStream<CostToken> no_tee;
+aggregate_loop:
+  while (!stage.done()) {
+#pragma HLS PIPELINE II=1
+    const kern::AggPlan pl = stage.plan();
+    stage.fire(pl, cost, no_forward, sum, no_tee);
   }
 }
 
@@ -112,8 +112,8 @@ write_disparity_loop:
 }  // namespace
 
 void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
-                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<kPenaltyBits> p1, ap_uint<kPenaltyBits> p2,
-                  ap_uint<kDisparityBits> lr_tolerance) {
+                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,
+                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance) {
 #pragma HLS INTERFACE mode=axis port=left_in
 #pragma HLS INTERFACE mode=axis port=right_in
 #pragma HLS INTERFACE mode=axis port=disparity_out

@@ -5,6 +5,7 @@
 #include <ap_int.h>
 #include <hls_stream.h>
 
+#include "parallax/kernels/common.hpp"
 #include "parallax_config.hpp"
 
 // One pixel of a camera: TDATA the grey level, TUSER start of frame, TLAST end of line.
