@@ -195,6 +195,11 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["LR_CHECK_TEXT"] = p.lr_check ? "on" : "off";
   v["MEDIAN"] = std::to_string(p.median >= 3 ? p.median : 0);
   v["MEDIAN_ROWS"] = std::to_string(p.median >= 3 ? p.median : 1);
+  {
+    int ring = 1;
+    while (ring <= 2 * p.disparities - 1) ring *= 2;
+    v["COLUMN_RING"] = std::to_string(ring);
+  }
   v["MEDIAN_TEXT"] = p.median >= 3 ? std::to_string(p.median) + "x" + std::to_string(p.median) : "off";
   v["COST_MAX"] = std::to_string(kern::cost_max(p));
   v["COST_BITS"] = std::to_string(kern::cost_bits(p));

@@ -8,21 +8,27 @@
 namespace parallax {
 namespace kern {
 
+// Right-image codes and pending left disparities are kept in rings indexed by column modulo
+// Caps::column_ring; this is its default, which holds kMaxDisparities (docs/kernels.md).
+constexpr int kColumnRing = 512;
+
 // MAX_W: widest row; MAX_D: most disparities; LANES: largest PU one firing can carry;
 // WINDOW_ROWS: line-buffer rows of the cost stage (>= the matching window's height);
 // MEDIAN_ROWS: line-buffer rows of the median (>= its k; 1 when the median is off).
-template <int MAX_W, int MAX_D, int LANES, int WINDOW_ROWS = kMaxWindow, int MEDIAN_ROWS = kMaxMedian>
+// COLUMN_RING: entries of the per-column rings of the Census and WTA/LR stages, a power of two
+// above 2 * MAX_D - 1.
+template <int MAX_W, int MAX_D, int LANES, int WINDOW_ROWS = kMaxWindow, int MEDIAN_ROWS = kMaxMedian,
+          int COLUMN_RING = kColumnRing>
 struct Caps {
   static constexpr int max_width_px = MAX_W;
   static constexpr int max_disparities = MAX_D;
   static constexpr int lanes = LANES;
   static constexpr int window_rows = WINDOW_ROWS;
   static constexpr int median_rows = MEDIAN_ROWS;
+  static constexpr int column_ring = COLUMN_RING;
+  static_assert((COLUMN_RING & (COLUMN_RING - 1)) == 0 && COLUMN_RING > 2 * MAX_D - 1,
+                "the column ring must be a power of two above 2 * MAX_D - 1");
 };
-
-// Right-image codes and pending left disparities are kept in rings indexed by column modulo
-// this size; it must exceed 2 * kMaxDisparities - 1 (docs/kernels.md, WTA/LR stage).
-constexpr int kColumnRing = 512;
 
 }  // namespace kern
 }  // namespace parallax

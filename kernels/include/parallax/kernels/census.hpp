@@ -57,15 +57,15 @@ class CensusMatcher {
   void costs(const LB&, const LB&, int x, int, int d0, int n, uint16_t* out) const {
     const int valid = clamp_int(x - d0 + 1, 0, n);  // lanes with x - d >= 0
     const int base = slot_of(x - d0);
-    const int first_run = min_int(valid, kColumnRing - base);
+    const int first_run = min_int(valid, Caps::column_ring - base);
     hamming_run(out, 0, first_run, base);
-    hamming_run(out, first_run, valid, base - kColumnRing);
+    hamming_run(out, first_run, valid, base - Caps::column_ring);
   census_none:
     for (int i = valid; i < n; ++i) out[i] = cost_max_;
   }
 
  private:
-  static int slot_of(int column) { return (-column) & (kColumnRing - 1); }
+  static int slot_of(int column) { return (-column) & (Caps::column_ring - 1); }
 
   void hamming_run(uint16_t* PX_RESTRICT out, int i0, int i1, int offset) const {
     const uint64_t lc = left_code_;
@@ -117,7 +117,7 @@ class CensusMatcher {
   int w_ = 5, h_ = 5;
   uint16_t cost_max_ = 24;
   uint64_t left_code_ = 0;
-  uint64_t right_codes_[kColumnRing];
+  uint64_t right_codes_[Caps::column_ring];
 };
 
 template <class Caps>

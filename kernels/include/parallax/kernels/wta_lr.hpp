@@ -23,7 +23,7 @@ template <class Caps, class Word>
 class WtaLr {
  public:
   typedef Lanes<Word, Caps::lanes> SumToken;
-  static constexpr int kRingMask = kColumnRing - 1;
+  static constexpr int kRingMask = Caps::column_ring - 1;
 
   void configure(const StereoParams& p, bool reverse) {
     p_ = p;
@@ -167,9 +167,9 @@ class WtaLr {
     const int valid = min_int(lanes_, x_img - lo + 1);  // lanes with x_img - d >= 0
     // Lane i's slot is base + i (mod ring): contiguous, so split once at the ring's end.
     const int base = reverse_ ? slot_of(x_ + lo) : slot_of(x_ - lo);
-    const int first_run = min_int(valid, kColumnRing - base);
+    const int first_run = min_int(valid, Caps::column_ring - base);
     update_right(t, lo, 0, first_run, base);
-    update_right(t, lo, first_run, valid, base - kColumnRing);
+    update_right(t, lo, first_run, valid, base - Caps::column_ring);
   }
 
   void update_right(const SumToken& t, int lo, int i0, int i1, int offset) {
@@ -239,9 +239,9 @@ class WtaLr {
   bool in_row_done_ = false, done_ = true;
   uint32_t best_cost_ = 0;
   int best_d_ = 0;
-  DispCode left_d_[kColumnRing];     // left WTA results awaiting the check, by stream column
-  uint32_t right_cost_[kColumnRing]; // right WTA running minimum, by stream column
-  int right_d_[kColumnRing];
+  DispCode left_d_[Caps::column_ring];     // left WTA results awaiting the check, by stream column
+  uint32_t right_cost_[Caps::column_ring]; // right WTA running minimum, by stream column
+  int right_d_[Caps::column_ring];
 };
 
 }  // namespace kern
