@@ -14,6 +14,7 @@
 
 #include "embedded.hpp"
 #include "parallax/kernels/params.hpp"
+#include "parallax/kernels/sgm.hpp"
 #include "parallax/resources/model.hpp"
 
 namespace parallax::hlsx {
@@ -199,6 +200,10 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
     int ring = 1;
     while (ring <= 2 * p.disparities - 1) ring *= 2;
     v["COLUMN_RING"] = std::to_string(ring);
+    // Row kinds (every kind but the pixel path) of the forward and, for two passes, the backward pass.
+    const int fwd = kern::popcount_u32(kern::stream_kinds(p.path_mask, false) & ~1u);
+    const int back = kern::popcount_u32(kern::stream_kinds(p.path_mask, true) & ~1u);
+    v["ROW_KINDS"] = std::to_string(std::max(1, std::max(fwd, back)));
   }
   v["MEDIAN_TEXT"] = p.median >= 3 ? std::to_string(p.median) + "x" + std::to_string(p.median) : "off";
   v["COST_MAX"] = std::to_string(kern::cost_max(p));

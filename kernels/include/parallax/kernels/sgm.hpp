@@ -65,8 +65,12 @@ class SgmAggregate {
     tee_cost_ = tee_cost;
     n_slots_ = 0;
   agg_config_kinds:
+    int row_memories = 0;
     for (int k = 0; k < kKindCount; ++k)
-      if (kinds & (1u << k)) kind_[n_slots_++] = k;
+      if (kinds & (1u << k)) {
+        row_slot_[n_slots_] = k == kKindPixel ? 0 : row_memories++;  // contract: <= Caps::row_kinds
+        kind_[n_slots_++] = k;
+      }
     lanes_ = p.parallel_units;
     chunks_ = p.disparities / p.parallel_units;
   agg_config_pad:
@@ -212,7 +216,7 @@ class SgmAggregate {
     const int d_count = p_.disparities;
     const int kind = kind_[slot];
     const int par = parity_;
-    Word* row_here = &row_[slot][x_ * d_count];  // rows packed at the runtime D
+    Word* row_here = &row_[row_slot_[slot]][x_ * d_count];  // rows packed at the runtime D
     if (kind == kKindPixel) {
       *pred = &hold_[slot][par ^ 1][lo];
       *m_prev = hold_min_[slot][par ^ 1];
@@ -225,7 +229,7 @@ class SgmAggregate {
       // also needs lane lo + PU, which the next chunk has not written yet.
       const int hi = kind == kKindRowUp ? min_int(lo + lanes_, d_count - 1) : lo + lanes_ - 1;
       copy_lanes(&hold_[slot][par][1 + lo], row_here + lo, hi - lo + 1);
-      if (chunk_ == 0) hold_min_[slot][par] = row_min_[slot][x_];
+      if (chunk_ == 0) hold_min_[slot][par] = row_min_[row_slot_[slot]][x_];
       if (kind == kKindRowUp) {
         *pred = &hold_[slot][par][lo];
         *m_prev = hold_min_[slot][par];
@@ -238,13 +242,13 @@ class SgmAggregate {
     // Row-right: column x + 1 still holds the previous row.
     const bool valid = y_ > 0 && x_ + 1 < p_.width_px;
     if (!valid) return false;
-    const Word* row_next = &row_[slot][(x_ + 1) * d_count];
+    const Word* row_next = &row_[row_slot_[slot]][(x_ + 1) * d_count];
     const int hi = lo + lanes_ - 1;
     local[0] = lo == 0 ? Word(kNone) : row_next[lo - 1];
     copy_lanes(local + 1, row_next + lo, lanes_);
     local[lanes_ + 1] = hi + 1 >= d_count ? Word(kNone) : row_next[hi + 1];
     *pred = local;
-    *m_prev = row_min_[slot][x_ + 1];
+    *m_prev = row_min_[row_slot_[slot]][x_ + 1];
     return true;
   }
 
@@ -295,7 +299,7 @@ class SgmAggregate {
     if (kind_[slot] == kKindPixel)
       hold_min_[slot][parity_] = Word(min_[slot]);
     else
-      row_min_[slot][x_] = Word(min_[slot]);
+      row_min_[row_slot_[slot]][x_] = Word(min_[slot]);
   }
 
   void advance() {
@@ -311,6 +315,7 @@ class SgmAggregate {
   StereoParams p_;
   bool add_forward_ = false, tee_cost_ = false;
   int kind_[kKindCount];
+  int row_slot_[kKindCount];  // slot -> row memory (row kinds only; the pixel kind keeps registers)
   int n_slots_ = 0;
   int lanes_ = 1, chunks_ = 1;
   int x_ = 0, y_ = 0, chunk_ = 0, parity_ = 0;
@@ -318,8 +323,8 @@ class SgmAggregate {
   uint32_t min_[kKindCount];                  // running min of this pixel's Lr, per slot
   Word hold_[kKindCount][2][kMaxD + 2];       // ping-pong per pixel parity, sentinel-padded
   Word hold_min_[kKindCount][2];
-  Word row_[kKindCount][kMaxW * kMaxD];       // previous-row Lr per column (row kinds)
-  Word row_min_[kKindCount][kMaxW];           // previous-row min_k Lr per column
+  Word row_[Caps::row_kinds][kMaxW * kMaxD];  // previous-row Lr per column, one memory per row kind
+  Word row_min_[Caps::row_kinds][kMaxW];      // previous-row min_k Lr per column
 };
 
 }  // namespace kern

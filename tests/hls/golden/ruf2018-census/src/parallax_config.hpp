@@ -35,6 +35,7 @@ constexpr bool kLrCheck = true;
 constexpr int kMedian = 5;  // 0 = off
 constexpr int kMedianRows = 5;
 constexpr int kColumnRing = 128;  // per-column rings (Census, WTA/LR): a power of two above 2D - 1
+constexpr int kRowKinds = 3;  // path-cost row memories per aggregation stage (row path kinds)
 
 // Bit widths (docs/algorithm.md): cost, penalty register, path cost Lr, aggregate S, disparity
 // code, and the AXI4-Stream TDATA of the output (the code rounded up to whole bytes).
@@ -59,7 +60,8 @@ constexpr int kDepthDispLr = 2;
 constexpr int kDepthDispOut = 2;
 
 // The kernels' capacities: this design's exact sizes.
-typedef parallax::kern::Caps<kWidthPx, kDisparities, kParallelUnits, kWindowH, kMedianRows, kColumnRing> DesignCaps;
+typedef parallax::kern::Caps<kWidthPx, kDisparities, kParallelUnits, kWindowH, kMedianRows, kColumnRing, kRowKinds>
+    DesignCaps;
 // Aggregation word: the narrowest of 16 or 32 bits that holds kAggregateBits.
 typedef uint16_t AggWord;
 
