@@ -385,7 +385,7 @@ void ResultStore::put_design(const Row& r) {
   }
 }
 
-std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep) {
+std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep, bool with_frames) {
   std::lock_guard<std::mutex> lock(impl_->mu);
   Stmt st(impl_->db,
           "SELECT hash, sweep, config, status, reason, metrics, model_version, started_at, finished_at FROM designs"
@@ -407,9 +407,14 @@ std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep) {
     r.finished_at = st.col(8);
     out.push_back(std::move(r));
   }
+  if (!with_frames) return out;
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < out.size(); ++i) index[out[i].hash] = i;
-  Stmt fs(impl_->db, "SELECT hash, frame, metrics FROM frames ORDER BY hash, frame", impl_->path);
+  Stmt fs(impl_->db,
+          "SELECT f.hash, f.frame, f.metrics FROM frames f JOIN designs d ON d.hash = f.hash"
+          " WHERE ?1 = '' OR d.sweep = ?1 ORDER BY f.hash, f.frame",
+          impl_->path);
+  fs.text(1, sweep);
   while (sqlite3_step(fs.s) == SQLITE_ROW) {
     const auto it = index.find(fs.col(0));
     if (it == index.end()) continue;
@@ -821,7 +826,7 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
     };
     auto rows_by_hash = [&] {
       std::map<std::string, ResultStore::Row> m;
-      for (auto& r : store.designs()) m[r.hash] = r;
+      for (auto& r : store.designs("", false)) m[r.hash] = std::move(r);  // any sweep: hashes are shared
       return m;
     };
     std::vector<Genome> pop;

@@ -388,3 +388,38 @@ TEST(SweepPareto, NonDominatedUnderConstraints) {
 
 }  // namespace
 }  // namespace parallax::test
+
+namespace parallax::test {
+namespace {
+
+// designs(sweep, with_frames): frames only of that sweep's designs, none when not wanted.
+TEST(SweepStore, DesignsFilterFramesBySweepAndCanSkipThem) {
+  const auto path = std::filesystem::temp_directory_path() / ("parallax_store_frames_" + std::to_string(::getpid()) + ".db");
+  std::filesystem::remove(path);
+  {
+    explore::ResultStore store(path.string());
+    for (const char* sweep : {"a", "b"}) {
+      explore::ResultStore::Row row;
+      row.hash = std::string(sweep) + "000000000000000";
+      row.sweep = sweep;
+      row.config_yaml = "name: x\n";
+      row.status = "ok";
+      row.metrics = {{"correct_pct", 90.0}};
+      row.frames = {{"000001_10", {{"correct_pct", 89.0}}}, {"000005_10", {{"correct_pct", 91.0}}}};
+      store.put_design(row);
+    }
+    const auto a = store.designs("a");
+    ASSERT_EQ(a.size(), 1u);
+    EXPECT_EQ(a[0].frames.size(), 2u);
+    EXPECT_EQ(a[0].frames[1].first, "000005_10");
+    const auto all = store.designs("", false);
+    ASSERT_EQ(all.size(), 2u);
+    EXPECT_TRUE(all[0].frames.empty());
+    EXPECT_EQ(all[1].metrics.at("correct_pct"), 90.0);
+    EXPECT_EQ(store.designs("").at(1).frames.size(), 2u);
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace parallax::test

@@ -1022,7 +1022,7 @@ int main(int argc, char** argv) {
       ResultStore store(pa_db);
       const SweepSpec chosen = choose_sweep(store, pa_db, pa_sweep);
       const SweepSpec* spec = &chosen;
-      const auto rows = store.designs(spec->name);
+      const auto rows = store.designs(spec->name, false);
       const auto front = pareto_front(*spec, rows);
       if (pa_json) {
         json j = json::array();
@@ -1252,7 +1252,7 @@ int main(int argc, char** argv) {
         if (ex_design.size() < 4) throw InputError("--design '" + ex_design + "': give at least 4 hex digits of the hash");
         ResultStore store(ex_db);
         std::vector<ResultStore::Row> hits;
-        for (auto& row : store.designs())
+        for (auto& row : store.designs("", false))
           if (row.hash.rfind(ex_design, 0) == 0) hits.push_back(std::move(row));
         if (hits.empty()) throw InputError(ex_db + ": no design whose hash starts with '" + ex_design + "' (see parallax pareto)");
         if (hits.size() > 1)

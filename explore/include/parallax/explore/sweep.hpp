@@ -90,7 +90,9 @@ class ResultStore {
     std::string model_version, started_at, finished_at;
   };
   void put_design(const Row& row);  // one transaction; a second put of a hash is ignored
-  std::vector<Row> designs(const std::string& sweep = "");
+  // The designs of one sweep ("" = all), in insertion order; with_frames = false leaves each
+  // Row::frames empty and skips reading the per-frame table (pareto, NSGA-II, export).
+  std::vector<Row> designs(const std::string& sweep = "", bool with_frames = true);
   std::vector<SweepSpec> sweeps();
   int64_t count_designs();
   // Copies every sweep, design and frame of another store that this one lacks (same hash: kept
