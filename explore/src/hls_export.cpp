@@ -80,7 +80,7 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
     if (f.why.rfind("backlog", 0) == 0)
       f.why += " (the whole design: " + std::to_string(extra) + " cycles later than with unbounded FIFOs)";
   r.golden = res.cycle.codes.code;
-  r.golden_source = "the Parallax cycle model (parallax sim), bit-identical to its func run and golden model";
+  r.golden_source = "the Parallax cycle model (`parallax sim`), which is bit-identical to its func run and golden model";
   r.pair_source = pair_source;
   if (cfg_in.rectify != "none") {
     const RectifyMaps maps = load_rectify_maps(cfg_in);  // the simulation above checked their size

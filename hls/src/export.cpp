@@ -318,6 +318,7 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                  "constexpr int kFrameTokens = parallax_design::kPixels * parallax_design::kChunks;\n"
                : "";
   const std::string input_kind = rectify ? "raw (unrectified)" : "rectified";
+  v["INPUT_KIND"] = input_kind;
   v["TOP_CONTRACT"] =
       two_pass ? "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
                  "// kWidthPx x kHeightPx beats in raster order; the map goes to `disparity` (kPixels codes, raster\n"
