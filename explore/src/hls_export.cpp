@@ -74,7 +74,11 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   pr.cycles_per_frame = res.cycle.cycles_per_frame;
   pr.bottleneck = res.cycle.bottleneck;
   pr.fpga_latency_ms = double(pr.last_pixel_cycle) / (r.clock_mhz * 1e3);
-  pr.fps = pr.cycles_per_frame > 0 ? r.clock_mhz * 1e6 / double(pr.cycles_per_frame) : 0.0;
+  // The IP takes one frame per call (ap_ctrl_hs: the next call starts when this one is done), so
+  // its interval is the longer of the steady-state occupancy and the whole frame's latency; for
+  // two-pass designs the passes run one after the other inside the call.
+  const int64_t interval = std::max(pr.cycles_per_frame, pr.last_pixel_cycle);
+  pr.fps = interval > 0 ? r.clock_mhz * 1e6 / double(interval) : 0.0;
   const int64_t extra = pr.last_pixel_cycle - (sized.unbounded_last_pixel_cycle - sized.cycle.first_input_cycle);
   for (auto& f : r.fifos)
     if (f.why.rfind("backlog", 0) == 0)
