@@ -320,16 +320,20 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   const std::string input_kind = rectify ? "raw (unrectified)" : "rectified";
   v["INPUT_KIND"] = input_kind;
   v["TOP_CONTRACT"] =
-      two_pass ? "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
-                 "// kWidthPx x kHeightPx beats in raster order; the map goes to `disparity` (kPixels codes, raster\n"
-                 "// order) after two passes through the frame buffer `frame_cost` / `frame_forward` (kFrameTokens\n"
-                 "// each). The registers hold P1 < P2 (the SGM penalties) and the left-right tolerance in pixels."
+      two_pass ? "// Computes the disparity of " + input_kind + " stereo pairs in two passes, one frame behind. Contract:\n"
+                 "// each input stream carries exactly kWidthPx x kHeightPx beats in raster order; call k runs pass 1\n"
+                 "// of its frame into `frame_*_write` and pass 2 of the previous frame from `frame_*_read` (the\n"
+                 "// buffers call k - 1 wrote; kFrameTokens each; the host swaps them), writing that frame's map to\n"
+                 "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties) and\n"
+                 "// the left-right tolerance in pixels."
                : "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
                  "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
                  "// registers hold P1 < P2 (the SGM penalties) and the left-right tolerance in pixels.";
   const std::string ports = "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] + "\n";
   v["TOP_SIGNATURE"] =
-      ports + (two_pass ? "                  parallax::kern::DispCode* disparity, cost_token_t* frame_cost, sum_token_t* frame_forward,\n"
+      ports + (two_pass ? "                  parallax::kern::DispCode* disparity, cost_token_t* frame_cost_write,\n"
+                          "                  sum_token_t* frame_forward_write, const cost_token_t* frame_cost_read,\n"
+                          "                  const sum_token_t* frame_forward_read,\n"
                           "                  ap_uint<parallax_design::kPenaltyBits> p1, ap_uint<parallax_design::kPenaltyBits> p2,\n"
                           "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance)"
                         : "                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,\n"
@@ -340,8 +344,8 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
       two_pass ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
                      " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
                      " codes in raster order: 0.." + std::to_string(p.disparities - 1) + ", " + std::to_string(p.disparities) +
-                     " = invalid |\n| `frame_cost`, `frame_forward` | AXI4 master (m_axi) | PU lanes | the frame buffer between the passes, " +
-                     v["FRAME_TOKENS"] + " tokens each |\n"
+                     " = invalid, of the previous call's frame |\n| `frame_cost_write`, `frame_forward_write`, `frame_cost_read`, `frame_forward_read` | AXI4 master (m_axi) | PU lanes | two frame buffers, " +
+                     v["FRAME_TOKENS"] + " tokens each: pass 1 writes one while pass 2 reads the other; the host swaps them between calls |\n"
                : "| `disparity_out` | AXI4-Stream | " + v["OUT_BITS"] + " | disparity codes 0.." + std::to_string(p.disparities - 1) +
                      ", " + std::to_string(p.disparities) + " = invalid; same framing |\n";
   v["TOP_FUNCTIONS"] = fill(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp",

@@ -48,7 +48,7 @@ struct ExportPrediction {
   int64_t cycles_per_frame = 0;
   std::string bottleneck;
   double fpga_latency_ms = 0;         // last pixel, at clock_mhz
-  double fps = 0;                     // one frame per call: clock / max(cycles_per_frame, last_pixel_cycle)
+  double fps = 0;                     // one call per frame: clock / max(busiest stage, one call)
   int64_t bram18k = 0, lut = 0, ff = 0, dsp = 0, uram = 0;
   double bram18k_pct = 0, lut_pct = 0, ff_pct = 0, dsp_pct = 0;
   bool fits = false;

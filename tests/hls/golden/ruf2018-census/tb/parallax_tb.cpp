@@ -111,21 +111,35 @@ int main(int argc, char** argv) {
   out.maxval = kDisparities;
   out.px.assign(size_t(kPixels), 0);
 #if PARALLAX_DESIGN_TWO_PASS
-  // The frame buffer of the two passes and the disparity map in memory (m_axi ports); a code the
+  // Two frame buffers, swapped between calls, and the disparity map in memory (m_axi ports). A
+  // call's map is the previous call's frame, so one more call flushes the last frame; a code the
   // top never writes keeps the marker kUnwritten.
   const uint16_t kUnwritten = 0xFFFF;
-  std::vector<cost_token_t> frame_cost(static_cast<size_t>(kFrameTokens));
-  std::vector<sum_token_t> frame_forward(static_cast<size_t>(kFrameTokens));
+  std::vector<cost_token_t> frame_cost[2] = {std::vector<cost_token_t>(static_cast<size_t>(kFrameTokens)),
+                                             std::vector<cost_token_t>(static_cast<size_t>(kFrameTokens))};
+  std::vector<sum_token_t> frame_forward[2] = {std::vector<sum_token_t>(static_cast<size_t>(kFrameTokens)),
+                                               std::vector<sum_token_t>(static_cast<size_t>(kFrameTokens))};
   std::vector<parallax::kern::DispCode> disparity(static_cast<size_t>(kPixels), kUnwritten);
+  const int calls = frames + 1;
+#else
+  const int calls = frames;
 #endif
-  for (int frame = 0; frame < frames; ++frame) {
+  // The flushing call of a two-pass design gets a black pair: its map must still be the last real
+  // frame's, which proves pass 2 reads the other buffer.
+  Image black = left;
+  black.px.assign(black.px.size(), 0);
+  for (int call = 0; call < calls; ++call) {
+    const bool flush = call == frames;
     hls::stream<pixel_beat_t> left_in("left_in"), right_in("right_in");
-    feed(left_in, left);
-    feed(right_in, right);
+    feed(left_in, flush ? black : left);
+    feed(right_in, flush ? black : right);
 #if PARALLAX_DESIGN_TWO_PASS
+    const int w = call % 2;
     disparity.assign(size_t(kPixels), kUnwritten);
-    parallax_top(left_in, right_in, disparity.data(), frame_cost.data(), frame_forward.data(), kDefaultP1,
-                 kDefaultP2, kDefaultLrTolerance);
+    parallax_top(left_in, right_in, disparity.data(), frame_cost[w].data(), frame_forward[w].data(),
+                 frame_cost[1 - w].data(), frame_forward[1 - w].data(), kDefaultP1, kDefaultP2, kDefaultLrTolerance);
+    if (call == 0) continue;  // its pass 2 read a buffer no call had written
+    const int frame = call - 1;
     // Top -> golden and golden -> top: every pixel of the map written, with the golden code.
     for (long long n = 0; n < kPixels; ++n) {
       const int x = int(n % kWidthPx), y = int(n / kWidthPx);
@@ -139,6 +153,7 @@ int main(int argc, char** argv) {
       }
     }
 #else
+    const int frame = call;
     hls::stream<disparity_beat_t> disparity_out("disparity_out");
     parallax_top(left_in, right_in, disparity_out, kDefaultP1, kDefaultP2, kDefaultLrTolerance);
     long long n = 0;
