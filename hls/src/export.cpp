@@ -283,9 +283,9 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
     depths += "constexpr int " + k + " = " + std::to_string(f.depth) + ";\n";
     const std::string type = name == "map_left" || name == "map_right" ? "kern::MapEntry"
                              : name.size() > 3 && name.compare(name.size() - 3, 3, "_px") == 0 ? "uint8_t"
-                             : name == "cost" || name == "cost_to_ddr" || name == "cost_from_ddr" ? "CostToken"
-                             : name == "sum" || name == "fwd_to_ddr" || name == "fwd_from_ddr"    ? "SumToken"
-                                                                                                  : "kern::DispCode";
+                             : name == "cost" || name == "cost_to_ddr" || name == "cost_from_ddr" ? "CostBeat"
+                             : name == "sum" || name == "fwd_to_ddr" || name == "fwd_from_ddr"    ? "SumBeat"
+                                                                                                  : "CodeBeat";
     const res::MemoryItem* m = find_memory(inv, "fifos", name);
     const res::MemoryMapping mapping =
         res::map_memory(res::MemoryKind::fifo, f.depth, m ? m->width_bits : 8, false);

@@ -15,6 +15,18 @@
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
 
+// The stream beats between stages (see below); outside the unnamed namespace because stream
+// types need linkage (the streams' members may be defined in another translation unit).
+namespace parallax_beats {
+struct CostBeat {
+  ap_uint<parallax_design::kCostBits> v[parallax_design::kParallelUnits];
+};
+struct SumBeat {
+  ap_uint<parallax_design::kAggregateBits> v[parallax_design::kParallelUnits];
+};
+typedef ap_uint<parallax_design::kDisparityBits> CodeBeat;
+}  // namespace parallax_beats
+
 namespace {
 
 using namespace parallax_design;
@@ -27,6 +39,57 @@ typedef kern::Median<DesignCaps> MedianT;
 typedef CostStageT::Token CostToken;
 typedef AggregateT::SumToken SumToken;
 
+// Between the stages, streams carry the design's bit widths: kCostBits and kAggregateBits per
+// lane, kDisparityBits per code. Inside a stage the kernels keep their 16- or 32-bit lanes; the
+// adapters below narrow a token on write and widen it on read (the values always fit: the
+// widths bound them, docs/algorithm.md).
+using parallax_beats::CodeBeat;
+using parallax_beats::CostBeat;
+using parallax_beats::SumBeat;
+
+// A stream of Beat seen by a kernel as a stream of Token (lanes v[0 .. kParallelUnits)).
+template <class Token, class Beat>
+class LaneStream {
+ public:
+  explicit LaneStream(hls::stream<Beat>& s) : s_(s) {}
+  Token read() {
+    const Beat b = s_.read();
+    Token t;
+  widen_lanes:
+    for (int i = 0; i < kParallelUnits; ++i) {
+#pragma HLS UNROLL
+      t.v[i] = b.v[i].to_uint();
+    }
+    return t;
+  }
+  void write(const Token& t) {
+    Beat b;
+  narrow_lanes:
+    for (int i = 0; i < kParallelUnits; ++i) {
+#pragma HLS UNROLL
+      b.v[i] = t.v[i];
+    }
+    s_.write(b);
+  }
+
+ private:
+  hls::stream<Beat>& s_;
+};
+
+// A stream of disparity codes at kDisparityBits, seen by a kernel as kern::DispCode.
+class CodeStream {
+ public:
+  explicit CodeStream(hls::stream<CodeBeat>& s) : s_(s) {}
+  kern::DispCode read() { return kern::DispCode(s_.read().to_uint()); }
+  void write(kern::DispCode c) { s_.write(CodeBeat(c)); }
+
+ private:
+  hls::stream<CodeBeat>& s_;
+};
+
+typedef LaneStream<CostToken, CostBeat> CostStream;
+typedef LaneStream<SumToken, SumBeat> SumStream;
+
 // AXI4-Stream pixels into the left or right pixel stream; the framing bits are not checked.
 void read_pixels(hls::stream<pixel_beat_t>& in, hls::stream<uint8_t>& out) {
 read_pixels_loop:
@@ -37,9 +100,10 @@ read_pixels_loop:
   }
 }
 
-void cost_stage(hls::stream<uint8_t>& left_px, hls::stream<uint8_t>& right_px, hls::stream<CostToken>& cost,
+void cost_stage(hls::stream<uint8_t>& left_px, hls::stream<uint8_t>& right_px, hls::stream<CostBeat>& cost_beats,
                 unsigned p1, unsigned p2, unsigned lr_tolerance) {
   static CostStageT stage;
+  CostStream cost(cost_beats);
   stage.configure(design_params(p1, p2, lr_tolerance));
 cost_loop:
   while (!stage.done()) {
@@ -50,9 +114,11 @@ cost_loop:
   }
 }
 
-void wta_lr_stage(hls::stream<SumToken>& sum, hls::stream<kern::DispCode>& disp, unsigned p1, unsigned p2,
+void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_beats, unsigned p1, unsigned p2,
                   unsigned lr_tolerance) {
   static WtaLrT stage;
+  SumStream sum(sum_beats);
+  CodeStream disp(disp_beats);
   stage.configure(design_params(p1, p2, lr_tolerance), kTwoPass);  // two passes: the reversed stream
 wta_lr_loop:
   while (!stage.done()) {
@@ -63,9 +129,11 @@ wta_lr_loop:
   }
 }
 
-void median_stage(hls::stream<kern::DispCode>& in, hls::stream<kern::DispCode>& out, unsigned p1, unsigned p2,
+void median_stage(hls::stream<CodeBeat>& in_beats, hls::stream<CodeBeat>& out_beats, unsigned p1, unsigned p2,
                   unsigned lr_tolerance) {
   static MedianT stage;
+  CodeStream in(in_beats);
+  CodeStream out(out_beats);
   stage.configure(design_params(p1, p2, lr_tolerance));
 median_loop:
   while (!stage.done()) {
@@ -76,9 +144,11 @@ median_loop:
   }
 }
 
-void aggregate_stage(hls::stream<CostToken>& cost, hls::stream<SumToken>& sum, unsigned p1, unsigned p2,
+void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& sum_beats, unsigned p1, unsigned p2,
                      unsigned lr_tolerance) {
   static AggregateT stage;
+  CostStream cost(cost_beats);
+  SumStream sum(sum_beats);
   stage.configure(design_params(p1, p2, lr_tolerance), kern::stream_kinds(kPathMask, false), false, false);
   kern::NoStream<SumToken> no_forward;
   kern::NoStream<CostToken> no_tee;
@@ -91,13 +161,13 @@ aggregate_loop:
 }
 
 // Disparity codes out, framed as the input: TUSER on the first pixel, TLAST at each line's end.
-void write_disparity(hls::stream<kern::DispCode>& in, hls::stream<disparity_beat_t>& out) {
+void write_disparity(hls::stream<CodeBeat>& in, hls::stream<disparity_beat_t>& out) {
   int x = 0;
 write_disparity_loop:
   for (int i = 0; i < kPixels; ++i) {
 #pragma HLS PIPELINE II=1
     disparity_beat_t beat;
-    beat.data = in.read();
+    beat.data = in.read().to_uint();
     beat.keep = -1;
     beat.strb = -1;
     beat.user = i == 0 ? 1 : 0;
@@ -132,16 +202,16 @@ void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>&
   hls::stream<uint8_t> right_px("right_px");
 #pragma HLS STREAM variable=right_px depth=2
 #pragma HLS BIND_STORAGE variable=right_px type=fifo impl=srl
-  hls::stream<CostToken> cost("cost");
+  hls::stream<CostBeat> cost("cost");
 #pragma HLS STREAM variable=cost depth=2
 #pragma HLS BIND_STORAGE variable=cost type=fifo impl=srl
-  hls::stream<SumToken> sum("sum");
+  hls::stream<SumBeat> sum("sum");
 #pragma HLS STREAM variable=sum depth=30
 #pragma HLS BIND_STORAGE variable=sum type=fifo impl=bram
-  hls::stream<kern::DispCode> disp_lr("disp_lr");
+  hls::stream<CodeBeat> disp_lr("disp_lr");
 #pragma HLS STREAM variable=disp_lr depth=2
 #pragma HLS BIND_STORAGE variable=disp_lr type=fifo impl=srl
-  hls::stream<kern::DispCode> disp_out("disp_out");
+  hls::stream<CodeBeat> disp_out("disp_out");
 #pragma HLS STREAM variable=disp_out depth=2
 #pragma HLS BIND_STORAGE variable=disp_out type=fifo impl=srl
 
