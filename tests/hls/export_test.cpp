@@ -175,3 +175,42 @@ TEST(HlsImport, PageShowsModelAndSynthesisSideBySide) {
 }
 
 }  // namespace
+
+namespace {
+
+// The directives the issue asks of the generated project, named: DATAFLOW, PIPELINE, STREAM
+// depth, BIND_STORAGE, ARRAY_PARTITION (through the kernels' hooks), AXI4-Stream and AXI4-Lite
+// interfaces, labelled loops, and the scripts' steps.
+TEST(HlsExport, ProjectCarriesTheDirectivesAndSteps) {
+  const fs::path out = fresh_dir("directives");
+  ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out).status, 0);
+  const std::string top = read_file(out / "src/parallax_top.cpp");
+  const std::string cfg = read_file(out / "src/parallax_config.hpp");
+  for (const char* s : {"#pragma HLS DATAFLOW", "#pragma HLS PIPELINE II=1", "#pragma HLS STREAM variable=sum depth=30",
+                        "#pragma HLS BIND_STORAGE variable=cost type=fifo", "#pragma HLS INTERFACE mode=axis port=left_in",
+                        "#pragma HLS INTERFACE mode=axis port=disparity_out",
+                        "#pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control",
+                        "#pragma HLS INTERFACE mode=s_axilite port=p2 bundle=control",
+                        "#pragma HLS INTERFACE mode=s_axilite port=lr_tolerance bundle=control", "cost_loop:",
+                        "aggregate_loop:", "wta_lr_loop:", "median_loop:"})
+    EXPECT_NE(top.find(s), std::string::npos) << s;
+  for (const char* s : {"HLS ARRAY_PARTITION variable=row_", "HLS BIND_STORAGE variable=row_", "HLS ARRAY_PARTITION variable=mem_",
+                        "constexpr int kCostBits = 5;", "constexpr int kAggregateBits = 9;", "constexpr int kDepthSum = 30;"})
+    EXPECT_NE(cfg.find(s), std::string::npos) << s;
+  // The hooks that place the storage directives are in the kernels the project carries.
+  EXPECT_NE(read_file(out / "src/parallax/kernels/sgm.hpp").find("PX_PRAGMA(PX_HLS_SGM_ROW_STORAGE)"), std::string::npos);
+  EXPECT_NE(read_file(out / "src/parallax/kernels/line_buffer.hpp").find("PX_PRAGMA(PX_HLS_LINE_BUFFER_PARTITION)"),
+            std::string::npos);
+  const std::string tcl = read_file(out / "run_hls.tcl");
+  for (const char* s : {"csim_design", "csynth_design", "cosim_design", "export_design", "create_clock -period 5.000"})
+    EXPECT_NE(tcl.find(s), std::string::npos) << s;
+  const std::string hcfg = read_file(out / "hls_config.cfg");
+  for (const char* s : {"part=xczu3eg-sbva484-1-e", "clock=5.000ns", "syn.top=parallax_top", "tb.file=tb/parallax_tb.cpp"})
+    EXPECT_NE(hcfg.find(s), std::string::npos) << s;
+  const std::string readme = read_file(out / "README.md");
+  EXPECT_NE(readme.find("cycle 4610650 = 23.05 ms"), std::string::npos);
+  EXPECT_NE(readme.find("| **total** | **140**"), std::string::npos);
+  fs::remove_all(out);
+}
+
+}  // namespace

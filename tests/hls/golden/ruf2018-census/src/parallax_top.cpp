@@ -8,6 +8,10 @@
 // Plans depend on the stage's own counters only, so a plan that reads and writes nothing means
 // the stage can never progress; the loop then stops rather than spin (the C simulation then
 // reports the tokens left behind).
+//
+// Storage directives (ARRAY_PARTITION, BIND_STORAGE) of the kernels' member arrays are the
+// PX_HLS_* strings of parallax_config.hpp, which the kernels place in their configure(); the
+// FIFOs' STREAM depth and BIND_STORAGE are below, with their declarations.
 #include "parallax_top.hpp"
 
 #include "parallax/kernels/census.hpp"
