@@ -46,8 +46,10 @@ class CensusMatcher {
 
   template <class LB>
   void begin_pixel(const LB& left, const LB& right, int x, int y) {
-    left_code_ = code(left, x, y);
-    right_codes_[slot_of(x)] = code(right, x, y);
+    left_win_.move_to(left, x, y, w_, h_);
+    right_win_.move_to(right, x, y, w_, h_);
+    left_code_ = code(left_win_);
+    right_codes_[slot_of(x)] = code(right_win_);
   }
 
   // Costs of lanes d0 .. d0 + n - 1: Hamming distance to the right code at x - d, or cost_max
@@ -75,32 +77,23 @@ class CensusMatcher {
   }
 
   // Dispatches the common window shapes to fully unrolled code; same bits as the generic form.
-  template <class LB>
-  uint64_t code(const LB& lb, int x, int y) const {
-    if (w_ == 5 && h_ == 5) return code_fixed<5, 5>(lb, x, y);
-    if (w_ == 3 && h_ == 3) return code_fixed<3, 3>(lb, x, y);
-    if (w_ == 7 && h_ == 5) return code_fixed<7, 5>(lb, x, y);
-    if (w_ == 9 && h_ == 7) return code_fixed<9, 7>(lb, x, y);
-    return code_generic(lb, x, y, w_, h_);
+  typedef WindowRegs<uint8_t, kMaxWindow, Caps::window_rows> Window;
+  uint64_t code(const Window& win) const {
+    if (w_ == 5 && h_ == 5) return code_generic(win, 5, 5);
+    if (w_ == 3 && h_ == 3) return code_generic(win, 3, 3);
+    if (w_ == 7 && h_ == 5) return code_generic(win, 7, 5);
+    if (w_ == 9 && h_ == 7) return code_generic(win, 9, 7);
+    return code_generic(win, w_, h_);
   }
 
-  template <int W, int H, class LB>
-  uint64_t code_fixed(const LB& lb, int x, int y) const {
-    return code_generic(lb, x, y, W, H);
-  }
-
-  template <class LB>
-  static uint64_t code_generic(const LB& lb, int x, int y, const int w, const int h) {
-    int cols[kMaxWindow];
-  census_clamp_cols:
-    for (int i = 0; i < w; ++i) cols[i] = lb.clamp_x(x + i - w / 2);
-    const uint8_t centre = lb.row_clamped(y)[x];
+  // The code of the window registers: bit = tap < centre, over the taps in raster order.
+  static PX_INLINE uint64_t code_generic(const Window& win, const int w, const int h) {
+    const uint8_t centre = win.at(w / 2, h / 2);
     const int taps = w * h;
     const int centre_tap = taps / 2;
     uint64_t c = 0;
   census_rows:
     for (int j = 0; j < h; ++j) {
-      const uint8_t* row = lb.row_clamped(y + j - h / 2);
     census_cols:
       for (int i = 0; i < w; ++i) {
         // Tap k (raster order, centre skipped) lands in bit taps - 2 - k': the first tap is the
@@ -108,7 +101,7 @@ class CensusMatcher {
         const int k = j * w + i;
         if (k == centre_tap) continue;
         const int bit = taps - 2 - (k < centre_tap ? k : k - 1);
-        c |= uint64_t(row[cols[i]] < centre ? 1u : 0u) << bit;
+        c |= uint64_t(win.at(i, j) < centre ? 1u : 0u) << bit;
       }
     }
     return c;
@@ -118,6 +111,7 @@ class CensusMatcher {
   uint16_t cost_max_ = 24;
   uint64_t left_code_ = 0;
   uint64_t right_codes_[Caps::column_ring];
+  Window left_win_, right_win_;  // the window registers of the two images
 };
 
 template <class Caps>

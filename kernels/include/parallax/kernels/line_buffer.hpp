@@ -114,3 +114,49 @@ class LineBuffer {
 
 }  // namespace kern
 }  // namespace parallax
+
+namespace parallax {
+namespace kern {
+
+// The window registers of a window stage: the clamped pixels (x + i - w/2, y + j - h/2), i < w,
+// j < h, around the current output position. Moving to the next pixel of the same row shifts the
+// window one column and reads one new column, one pixel per row memory (what keeps a hardware
+// window stage at II = 1); any other move (a new row, a new frame) reloads it whole. Contract:
+// the pixels read are resident in the line buffer when move_to() is called.
+template <class T, int MAX_W, int MAX_H>
+class WindowRegs {
+ public:
+  template <class LB>
+  void move_to(const LB& lb, int x, int y, int w, int h) {
+    const int rx = w / 2, ry = h / 2;
+    if (y != y_ || x != x_ + 1) {
+    window_reload_rows:
+      for (int j = 0; j < h; ++j) {
+        const T* row = lb.row_clamped(y + j - ry);
+      window_reload_cols:
+        for (int i = 0; i < w; ++i) v_[j][i] = row[lb.clamp_x(x + i - rx)];
+      }
+    } else {
+      const int col = lb.clamp_x(x + rx);
+    window_shift_rows:
+      for (int j = 0; j < h; ++j) {
+      window_shift_cols:
+        for (int i = 0; i + 1 < w; ++i) v_[j][i] = v_[j][i + 1];
+        v_[j][w - 1] = lb.row_clamped(y + j - ry)[col];
+      }
+    }
+    x_ = x;
+    y_ = y;
+  }
+  // Forget the position: the next move_to() reloads (call at the start of a frame).
+  void reset() { x_ = -2, y_ = -1; }
+  // Pixel (x + i - w/2, y + j - h/2), clamped to the image.
+  T at(int i, int j) const { return v_[j][i]; }
+
+ private:
+  T v_[MAX_H][MAX_W];
+  int x_ = -2, y_ = -1;
+};
+
+}  // namespace kern
+}  // namespace parallax

@@ -47,6 +47,7 @@ class Median {
   template <class InS, class OutS>
   void fire(const MedianPlan& pl, InS& in, OutS& out) {
     if (pl.write) {
+      if (k_ > 1) win_.move_to(lb_, x_, y_, k_, k_);
       out.write(k_ == 1 ? lb_.at_clamped(x_, y_)
                         : k_ == 3 ? window_median<3>() : k_ == 5 ? window_median<5>() : window_median<7>());
       advance();
@@ -98,21 +99,16 @@ class Median {
   // is the median. A fixed n*n comparison array: no data-dependent control flow.
   template <int K>
   DispCode window_median() const {
-    const int r = K / 2;
     // Padded to a multiple of 32 lanes with keys above every real key, which never count.
     const int kPad = (K * K + 31) / 32 * 32;
     uint16_t key[kPad];
   median_pad:
     for (int a = K * K; a < kPad; ++a) key[a] = 0xFFFFu;
-    int cols[K];
-  median_clamp_cols:
-    for (int i = 0; i < K; ++i) cols[i] = lb_.clamp_x(x_ + i - r);
     int n = 0;
   median_gather_rows:
     for (int j = 0; j < K; ++j) {
-      const DispCode* row = lb_.row_clamped(y_ + j - r);
     median_gather_cols:
-      for (int i = 0; i < K; ++i, ++n) key[n] = uint16_t((row[cols[i]] << 6) | n);
+      for (int i = 0; i < K; ++i, ++n) key[n] = uint16_t((win_.at(i, j) << 6) | n);
     }
     uint16_t smaller[kPad];
   median_clear:
@@ -142,6 +138,7 @@ class Median {
   int x_ = 0, y_ = 0;
   bool done_ = true;
   LineBuffer<DispCode, Caps::max_width_px, kRows> lb_;
+  WindowRegs<DispCode, kRows, kRows> win_;  // the k x k window registers of the output position
 };
 
 }  // namespace kern
