@@ -18,6 +18,8 @@ class SadMatcher {
     width_px_ = p.width_px;
     disparities_ = p.disparities;
     cost_max_ = uint16_t(cost_max(p));
+    x_ = -2;
+    y_ = -1;
   }
 
   // Hardware (resources.hpp): the left window and D + w right columns of h pixels in registers;
@@ -35,44 +37,66 @@ class SadMatcher {
 
   // Columns left of the output column that costs() may still read from the line buffers: the
   // right window at x - d reaches x - D + 1 - w/2, and the slide's trailing column one more.
+  // (The registers below hold them; this keeps the line buffers' overwrite rule, and so the
+  // schedule, as it was.)
   int columns_behind() const { return w_ / 2 + disparities_; }
 
-  // Latches the left window and the window's row pointers for pixel (x, y).
-  // Contract: once per pixel, in raster order, before cost() is called for every d in [0, D).
+  // Moves the registers to pixel (x, y): the left image's w + 1 columns x - 1 - w/2 .. x + w/2
+  // and the right image's D + w columns x + w/2 - (D + w - 1) .. x + w/2, each clamped to the
+  // image, over the window's h rows. The next pixel of a row shifts them one column and reads
+  // one new pixel per row memory and image; any other move reloads them whole.
+  // Contract: once per pixel, in raster order, before costs() is called for every d in [0, D).
   template <class LB>
   void begin_pixel(const LB& left, const LB& right, int x, int y) {
-    int k = 0;
-  sad_latch_rows:
-    for (int j = 0; j < h_; ++j) {
-      left_rows_[j] = left.row_clamped(y + j - h_ / 2);
-      right_rows_[j] = right.row_clamped(y + j - h_ / 2);
-    sad_latch_cols:
-      for (int i = -(w_ / 2); i <= w_ / 2; ++i) window_[k++] = left_rows_[j][left.clamp_x(x + i)];
+    const int rw = w_ / 2, rh = h_ / 2, lw = w_ + 1, span = disparities_ + w_;
+    if (y != y_ || x != x_ + 1) {
+    sad_reload_rows:
+      for (int j = 0; j < h_; ++j) {
+        const uint8_t* lrow = left.row_clamped(y + j - rh);
+        const uint8_t* rrow = right.row_clamped(y + j - rh);
+      sad_reload_left:
+        for (int i = 0; i < lw; ++i) left_[j][i] = lrow[left.clamp_x(x - 1 - rw + i)];
+      sad_reload_right:
+        for (int k = 0; k < span; ++k) right_[j][k] = rrow[right.clamp_x(x + rw - (span - 1) + k)];
+      }
+    } else {
+      const int lc = left.clamp_x(x + rw), rc = right.clamp_x(x + rw);
+    sad_shift_rows:
+      for (int j = 0; j < h_; ++j) {
+      sad_shift_left:
+        for (int i = 0; i + 1 < lw; ++i) left_[j][i] = left_[j][i + 1];
+        left_[j][lw - 1] = left.row_clamped(y + j - rh)[lc];
+      sad_shift_right:
+        for (int k = 0; k + 1 < span; ++k) right_[j][k] = right_[j][k + 1];
+        right_[j][span - 1] = right.row_clamped(y + j - rh)[rc];
+      }
     }
+    x_ = x;
+    y_ = y;
   }
 
   // Costs of lanes d0 .. d0 + n - 1. Away from the borders the window sum slides:
   // S(x, d) = S(x-1, d) + column(x + rw) - column(x - 1 - rw), columns of absolute differences
   // over the h rows; near a border (where a clamp would apply) it is summed over the whole
-  // window. Both give the same integer.
+  // window. Both give the same integer. Right pixel (x - d + c) is right_[j][span - 1 - rw - d + c];
+  // left pixel (x + c) is left_[j][1 + rw + c].
   template <class LB>
-  void costs(const LB&, const LB& right, int x, int, int d0, int n, uint16_t* out) {
-    const int rw = w_ / 2;
+  void costs(const LB&, const LB&, int x, int, int d0, int n, uint16_t* out) {
+    const int rw = w_ / 2, span = disparities_ + w_;
     // Lanes are a prefix that slides (d <= x - 1 - rw, right edge clear), then lanes summed
     // directly (d <= x), then lanes without a right pixel (d > x).
     const int n_slide = x + rw <= width_px_ - 1 ? clamp_int(x - rw - d0, 0, n) : 0;
     const int n_valid = clamp_int(x - d0 + 1, 0, n);
-    if (n_slide > 0) slide(x, d0, n_slide, out);
+    if (n_slide > 0) slide(d0, n_slide, out);
   sad_lanes:
     for (int i = n_slide; i < n_valid; ++i) {
       const int d = d0 + i;
       uint32_t sum = 0;
-      int k = 0;
     sad_rows:
       for (int j = 0; j < h_; ++j) {
       sad_cols:
         for (int c = -rw; c <= rw; ++c) {
-          const int diff = int(window_[k++]) - int(right_rows_[j][right.clamp_x(x - d + c)]);
+          const int diff = int(left_[j][1 + rw + c]) - int(right_[j][span - 1 - rw - d + c]);
           sum += uint32_t(diff < 0 ? -diff : diff);
         }
       }
@@ -84,17 +108,17 @@ class SadMatcher {
   }
 
   // S(x, d) = S(x - 1, d) + column(x + rw, d) - column(x - 1 - rw, d) for lanes [0, n).
-  void slide(int x, int d0, int n, uint16_t* out) {
-    const int rw = w_ / 2;
+  void slide(int d0, int n, uint16_t* out) {
+    const int span = disparities_ + w_;
     int32_t acc[Caps::lanes];
   sad_slide_init:
     for (int i = 0; i < n; ++i) acc[i] = int32_t(last_[d0 + i]);
   sad_slide_rows:
     for (int j = 0; j < h_; ++j) {
-      const int lead = left_rows_[j][x + rw];
-      const int trail = left_rows_[j][x - 1 - rw];
-      const uint8_t* PX_RESTRICT r_lead = right_rows_[j] + (x + rw - d0);
-      const uint8_t* PX_RESTRICT r_trail = right_rows_[j] + (x - 1 - rw - d0);
+      const int lead = left_[j][w_];  // column x + rw
+      const int trail = left_[j][0];  // column x - 1 - rw
+      const uint8_t* PX_RESTRICT r_lead = &right_[j][span - 1 - d0];          // column x + rw - d0
+      const uint8_t* PX_RESTRICT r_trail = &right_[j][span - 1 - w_ - d0];    // column x - 1 - rw - d0
     sad_slide_lanes:
       for (int i = 0; i < n; ++i) {
         const int a = lead - int(r_lead[-i]);
@@ -112,10 +136,10 @@ class SadMatcher {
  private:
   int w_ = 5, h_ = 5, width_px_ = 1, disparities_ = 1;
   uint16_t cost_max_ = 0;
-  uint8_t window_[kMaxWindow * kMaxWindow];
-  const uint8_t* left_rows_[kMaxWindow];
-  const uint8_t* right_rows_[kMaxWindow];
-  uint32_t last_[kMaxDisparities];  // S(x - 1, d) of this row, where it was a real sum
+  int x_ = -2, y_ = -1;  // the registers' pixel
+  uint8_t left_[Caps::window_rows][kMaxWindow + 1];
+  uint8_t right_[Caps::window_rows][Caps::max_disparities + kMaxWindow];
+  uint32_t last_[Caps::max_disparities];  // S(x - 1, d) of this row, where it was a real sum
 };
 
 template <class Caps>
