@@ -51,12 +51,10 @@ std::string fill(const std::string& name, const std::string& text, const std::ma
   return out;
 }
 
-const std::string& template_text(const std::string& name) {
-  static std::map<std::string, std::string> cache;
-  auto it = cache.find(name);
-  if (it != cache.end()) return it->second;
+// The text of an embedded template (a handful of small files: a linear search).
+std::string template_text(const std::string& name) {
   for (const auto& t : detail::templates())
-    if (name == t.name) return cache.emplace(name, *t.text).first->second;
+    if (name == t.name) return *t.text;
   throw std::logic_error("hls export: no template " + name);
 }
 
@@ -117,8 +115,6 @@ std::string pgm(int width_px, int height_px, int maxval, const uint16_t* px16, c
 }
 
 void check_request(const ExportRequest& r) {
-  const auto problems = export_problems(r.config);
-  if (!problems.empty()) throw ExportError("design '" + r.config.name + "' cannot be exported: " + problems.front());
   const auto errors = config::validate(r.config);
   if (!errors.empty()) throw ExportError("design '" + r.config.name + "': field '" + errors.front().field + "': " + errors.front().message);
   const std::size_t n = std::size_t(r.width_px) * std::size_t(r.height_px);
@@ -144,13 +140,6 @@ void check_request(const ExportRequest& r) {
 }
 
 }  // namespace
-
-std::vector<std::string> export_problems(const config::PipelineConfig& c) {
-  // Every one-pass and two-pass path set, with or without rectification, is exported today; the
-  // function stays the one place where a future limitation is stated.
-  (void)c;
-  return {};
-}
 
 std::vector<std::string> export_fifo_names(const config::PipelineConfig& c) {
   std::vector<std::string> names;

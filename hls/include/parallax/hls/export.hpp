@@ -26,10 +26,6 @@ class ExportError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Why a valid configuration cannot be exported (empty: it can). Today every valid configuration
-// can be; this is where a future limitation of the export is stated.
-std::vector<std::string> export_problems(const config::PipelineConfig& c);
-
 // One FIFO between two stages of the top, with the depth chosen from the simulator's sizing.
 struct ExportFifo {
   std::string name;            // cycle-model name (export_fifo_names)
@@ -60,7 +56,7 @@ struct ExportPrediction {
 };
 
 struct ExportRequest {
-  config::PipelineConfig config;      // valid, export_problems() empty
+  config::PipelineConfig config;      // valid (config::validate); every valid design exports
   std::string origin;                 // where the design came from (a file, or a store and hash)
   std::string part = "xczu3eg-sbva484-1-e";
   double clock_mhz = 200;             // synthesis clock (run_hls.tcl, hls_config.cfg)
