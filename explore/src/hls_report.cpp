@@ -100,10 +100,12 @@ std::vector<std::string> calibrate_from_hls(config::PipelineConfig& cfg, const H
 
 namespace parallax::explore {
 
-std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& cfg_in, const HlsReport& r, int w, int h) {
+std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& cfg_in, const HlsReport& r, int w, int h,
+                                                 sim::CycleReport* model_cycle) {
   config::PipelineConfig cfg = cfg_in;
   if (r.target_clock_ns > 0) cfg.clock_mhz = std::max(1, int(std::lround(1000.0 / r.target_clock_ns)));
   const SimulationResult sim = simulate_timing(cfg, w, h);
+  if (model_cycle) *model_cycle = sim.cycle;
   const sim::TimingModel timing = [&] {
     sim::TimingModel t = sim::default_timing(cfg.stereo_params(w, h));
     for (const auto& kv : cycle_options(cfg, cfg.clock_mhz).timing) t[kv.first] = kv.second;

@@ -76,7 +76,8 @@ TEST(HlsReport, ComparesModelAndSynthesisSideBySide) {
   const explore::HlsReport r = explore::read_csynth_xml(kSample);
   config::PipelineConfig cfg = config::load_config(PARALLAX_CONFIG_DIR "/ruf2018-census.yaml");
   cfg.clock_mhz = 100;  // the report's 5 ns wins
-  const auto rows = explore::compare_with_model(cfg, r, 640, 360);
+  sim::CycleReport model_cycle;
+  const auto rows = explore::compare_with_model(cfg, r, 640, 360, &model_cycle);
   std::map<std::string, explore::ModelVsSynthesis> by;
   for (const auto& row : rows) by[row.figure] = row;
   ASSERT_TRUE(by.count("latency (cycles)"));
@@ -89,6 +90,8 @@ TEST(HlsReport, ComparesModelAndSynthesisSideBySide) {
   EXPECT_EQ(by.count("II init_rows"), 0u);  // no stage of that name
   EXPECT_EQ(by["BRAM_18K"].synthesis, 134.0);
   EXPECT_EQ(by["BRAM_18K"].model, 138.0);
+  // The report handed back is the one the latency came from.
+  EXPECT_EQ(double(model_cycle.last_pixel_cycle - model_cycle.first_input_cycle), by["latency (cycles)"].model);
 }
 
 }  // namespace

@@ -1313,12 +1313,13 @@ int main(int argc, char** argv) {
       const HlsReport rep = read_csynth_xml(ih_report);
       std::vector<std::string> set;
       std::vector<ModelVsSynthesis> comparison;
+      sim::CycleReport model_cycle;  // the cycle model at the report's clock, for --html
       int ih_w = 0, ih_h = 0;
       config::PipelineConfig cfg;
       if (!ih_config.empty()) {
         cfg = config::load_config(ih_config);
         design_size(cfg, ih_w, ih_h);
-        comparison = compare_with_model(cfg, rep, ih_w, ih_h);
+        comparison = compare_with_model(cfg, rep, ih_w, ih_h, &model_cycle);
         set = calibrate_from_hls(cfg, rep);
       } else if (!ih_write.empty()) {
         throw InputError("--write-config needs --config");
@@ -1369,7 +1370,7 @@ int main(int argc, char** argv) {
         s.config_yaml = config::to_yaml(cfg);
         s.config_file = cfg.name + "-calibrated.yaml";
         s.command = "parallax import-hls --report " + ih_report + " --config " + ih_config + " --html " + ih_html;
-        s.cycle = simulate_timing(config::load_config(ih_config), ih_w, ih_h).cycle;
+        s.cycle = model_cycle;
         s.resources = res::estimate(res::design_inventory(cfg, ih_w, ih_h));
         s.device = res::find_device(device_for_part(rep.part));
         s.synthesis = comparison;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "parallax/config/config.hpp"
+#include "parallax/sim/cycle.hpp"
 
 namespace parallax::explore {
 
@@ -48,8 +49,9 @@ struct ModelVsSynthesis {
 
 // The models' figures for the configuration (cycle model at the report's clock, resource model)
 // beside the report's: latency and interval, the II and depth of every loop named after a stage,
-// and BRAM_18K / LUT / FF / DSP. width_px x height_px: the processed size.
+// and BRAM_18K / LUT / FF / DSP. width_px x height_px: the processed size. model_cycle, when
+// given, receives the cycle model's report the figures came from (for a page of the design).
 std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& cfg, const HlsReport& r, int width_px,
-                                                 int height_px);
+                                                 int height_px, sim::CycleReport* model_cycle = nullptr);
 
 }  // namespace parallax::explore
