@@ -118,26 +118,33 @@ class LineBuffer {
 namespace parallax {
 namespace kern {
 
-// The window registers of a window stage: the clamped pixels (x + i - w/2, y + j - h/2), i < w,
-// j < h, around the current output position. Moving to the next pixel of the same row shifts the
-// window one column and reads one new column, one pixel per row memory (what keeps a hardware
-// window stage at II = 1); any other move (a new row, a new frame) reloads it whole. Contract:
-// the pixels read are resident in the line buffer when move_to() is called.
+// The window registers of a window stage: the clamped pixels (x + reach - (w - 1) + i,
+// y + j - h/2), i < w, j < h, of the current output position (x, y). reach is how far the window
+// extends right of x: w/2 for a centred window (Census, median; the default), w/2 of the
+// matching window for SAD's wider left and right registers. Moving to the next pixel of the same
+// row shifts the window one column and reads one new column, one pixel per row memory (what
+// keeps a hardware window stage at II = 1); any other move (a new row, a new frame) reloads it
+// whole. Contract: the pixels read are resident in the line buffer when move_to() is called.
 template <class T, int MAX_W, int MAX_H>
 class WindowRegs {
  public:
   template <class LB>
   void move_to(const LB& lb, int x, int y, int w, int h) {
-    const int rx = w / 2, ry = h / 2;
+    move_to(lb, x, y, w, h, w / 2);
+  }
+  template <class LB>
+  void move_to(const LB& lb, int x, int y, int w, int h, int reach) {
+    const int ry = h / 2;
     if (y != y_ || x != x_ + 1) {
+      const int first = x + reach - (w - 1);
     window_reload_rows:
       for (int j = 0; j < h; ++j) {
         const T* row = lb.row_clamped(y + j - ry);
       window_reload_cols:
-        for (int i = 0; i < w; ++i) v_[j][i] = row[lb.clamp_x(x + i - rx)];
+        for (int i = 0; i < w; ++i) v_[j][i] = row[lb.clamp_x(first + i)];
       }
     } else {
-      const int col = lb.clamp_x(x + rx);
+      const int col = lb.clamp_x(x + reach);
     window_shift_rows:
       for (int j = 0; j < h; ++j) {
       window_shift_cols:
@@ -150,8 +157,10 @@ class WindowRegs {
   }
   // Forget the position: the next move_to() reloads (call at the start of a frame).
   void reset() { x_ = -2, y_ = -1; }
-  // Pixel (x + i - w/2, y + j - h/2), clamped to the image.
+  // Pixel (x + reach - (w - 1) + i, y + j - h/2), clamped to the image.
   T at(int i, int j) const { return v_[j][i]; }
+  // Row j of the registers (for lane-parallel reads).
+  const T* row(int j) const { return v_[j]; }
 
  private:
   T v_[MAX_H][MAX_W];

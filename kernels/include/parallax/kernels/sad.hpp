@@ -18,8 +18,8 @@ class SadMatcher {
     width_px_ = p.width_px;
     disparities_ = p.disparities;
     cost_max_ = uint16_t(cost_max(p));
-    x_ = -2;
-    y_ = -1;
+    left_.reset();
+    right_.reset();
   }
 
   // Hardware (resources.hpp): the left window and D + w right columns of h pixels in registers;
@@ -48,38 +48,16 @@ class SadMatcher {
   // Contract: once per pixel, in raster order, before costs() is called for every d in [0, D).
   template <class LB>
   void begin_pixel(const LB& left, const LB& right, int x, int y) {
-    const int rw = w_ / 2, rh = h_ / 2, lw = w_ + 1, span = disparities_ + w_;
-    if (y != y_ || x != x_ + 1) {
-    sad_reload_rows:
-      for (int j = 0; j < h_; ++j) {
-        const uint8_t* lrow = left.row_clamped(y + j - rh);
-        const uint8_t* rrow = right.row_clamped(y + j - rh);
-      sad_reload_left:
-        for (int i = 0; i < lw; ++i) left_[j][i] = lrow[left.clamp_x(x - 1 - rw + i)];
-      sad_reload_right:
-        for (int k = 0; k < span; ++k) right_[j][k] = rrow[right.clamp_x(x + rw - (span - 1) + k)];
-      }
-    } else {
-      const int lc = left.clamp_x(x + rw), rc = right.clamp_x(x + rw);
-    sad_shift_rows:
-      for (int j = 0; j < h_; ++j) {
-      sad_shift_left:
-        for (int i = 0; i + 1 < lw; ++i) left_[j][i] = left_[j][i + 1];
-        left_[j][lw - 1] = left.row_clamped(y + j - rh)[lc];
-      sad_shift_right:
-        for (int k = 0; k + 1 < span; ++k) right_[j][k] = right_[j][k + 1];
-        right_[j][span - 1] = right.row_clamped(y + j - rh)[rc];
-      }
-    }
-    x_ = x;
-    y_ = y;
+    const int rw = w_ / 2;
+    left_.move_to(left, x, y, w_ + 1, h_, rw);                 // columns x - 1 - rw .. x + rw
+    right_.move_to(right, x, y, disparities_ + w_, h_, rw);    // columns x + rw - (D + w - 1) .. x + rw
   }
 
   // Costs of lanes d0 .. d0 + n - 1. Away from the borders the window sum slides:
   // S(x, d) = S(x-1, d) + column(x + rw) - column(x - 1 - rw), columns of absolute differences
   // over the h rows; near a border (where a clamp would apply) it is summed over the whole
-  // window. Both give the same integer. Right pixel (x - d + c) is right_[j][span - 1 - rw - d + c];
-  // left pixel (x + c) is left_[j][1 + rw + c].
+  // window. Both give the same integer. Right pixel (x - d + c) is right_.at(span - 1 - rw - d + c, j);
+  // left pixel (x + c) is left_.at(1 + rw + c, j).
   template <class LB>
   void costs(const LB&, const LB&, int x, int, int d0, int n, uint16_t* out) {
     const int rw = w_ / 2, span = disparities_ + w_;
@@ -96,7 +74,7 @@ class SadMatcher {
       for (int j = 0; j < h_; ++j) {
       sad_cols:
         for (int c = -rw; c <= rw; ++c) {
-          const int diff = int(left_[j][1 + rw + c]) - int(right_[j][span - 1 - rw - d + c]);
+          const int diff = int(left_.at(1 + rw + c, j)) - int(right_.at(span - 1 - rw - d + c, j));
           sum += uint32_t(diff < 0 ? -diff : diff);
         }
       }
@@ -115,10 +93,10 @@ class SadMatcher {
     for (int i = 0; i < n; ++i) acc[i] = int32_t(last_[d0 + i]);
   sad_slide_rows:
     for (int j = 0; j < h_; ++j) {
-      const int lead = left_[j][w_];  // column x + rw
-      const int trail = left_[j][0];  // column x - 1 - rw
-      const uint8_t* PX_RESTRICT r_lead = &right_[j][span - 1 - d0];          // column x + rw - d0
-      const uint8_t* PX_RESTRICT r_trail = &right_[j][span - 1 - w_ - d0];    // column x - 1 - rw - d0
+      const int lead = left_.at(w_, j);  // column x + rw
+      const int trail = left_.at(0, j);  // column x - 1 - rw
+      const uint8_t* PX_RESTRICT r_lead = right_.row(j) + (span - 1 - d0);       // column x + rw - d0
+      const uint8_t* PX_RESTRICT r_trail = right_.row(j) + (span - 1 - w_ - d0); // column x - 1 - rw - d0
     sad_slide_lanes:
       for (int i = 0; i < n; ++i) {
         const int a = lead - int(r_lead[-i]);
@@ -136,9 +114,9 @@ class SadMatcher {
  private:
   int w_ = 5, h_ = 5, width_px_ = 1, disparities_ = 1;
   uint16_t cost_max_ = 0;
-  int x_ = -2, y_ = -1;  // the registers' pixel
-  uint8_t left_[Caps::window_rows][kMaxWindow + 1];
-  uint8_t right_[Caps::window_rows][Caps::max_disparities + kMaxWindow];
+  // The left window's w + 1 columns and the right image's D + w columns, over the h rows.
+  WindowRegs<uint8_t, kMaxWindow + 1, Caps::window_rows> left_;
+  WindowRegs<uint8_t, Caps::max_disparities + kMaxWindow, Caps::window_rows> right_;
   uint32_t last_[Caps::max_disparities];  // S(x - 1, d) of this row, where it was a real sum
 };
 
