@@ -404,18 +404,10 @@ class Engine {
     if ((p.path_mask & kern::kBackwardPaths) != 0 ||
         tokens.size() != std::size_t(frame_pixels()) * std::size_t(p.disparities / p.parallel_units))
       internal_error("run_from_costs: a one-pass design and the tokens of its cost stage are needed");
-    agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, false);
-    wta_.configure(p_, false);
-    median_.configure(p_);
     auto costs = make_fifo<CostTok>("cost", kTokenDepth, "replay", "aggregate");
-    auto sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate", "wta_lr");
-    auto disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
-    auto filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
     NodeT& n_rep = node("replay");
-    NodeT& n_agg = node("aggregate");
-    NodeT& n_wta = node("wta_lr");
-    NodeT& n_med = node("median");
-    NodeT& n_sink = node("sink");
+    int64_t got = 0;
+    const std::unique_ptr<BackEnd> be = one_pass_back_end(*costs, out, got);
     std::size_t next = 0;
     auto replay = [&]() -> bool {
       bool fired = false;
@@ -426,13 +418,10 @@ class Engine {
       }
       return fired;
     };
-    int64_t got = 0;
     const int64_t total = frame_pixels();
-    schedule({replay,
-              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *sums, nullptr),
-              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
-              sink_pump(n_sink, *filtered, out, got, false)},
-             [&] { return got >= total; });
+    std::vector<std::function<bool()>> pumps = {replay};
+    pumps.insert(pumps.end(), be->pumps.begin(), be->pumps.end());
+    schedule(pumps, [&] { return got >= total; });
   }
 
  private:
@@ -773,38 +762,54 @@ class Engine {
   static constexpr std::size_t kPixelDepth = 2048;
   static constexpr std::size_t kTokenDepth = 128;
 
-  template <class CostStage>
-  void run_one_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
-    cost.configure(p_);
+  // The one-pass graph after the cost FIFO: aggregate -> sum -> wta_lr -> disp_lr -> median ->
+  // disp_out -> sink. Configures the stages, makes the FIFOs and nodes (after the caller's, so
+  // stage and FIFO order are the graph's) and returns their pumps; shared by the whole one-pass
+  // run and the replay of recorded costs, so the two cannot drift apart.
+  struct BackEnd {
+    std::unique_ptr<Fifo<SumTok>> sums;
+    std::unique_ptr<Fifo<kern::DispCode>> disp, filtered;
+    std::vector<std::function<bool()>> pumps;
+  };
+  std::unique_ptr<BackEnd> one_pass_back_end(Fifo<CostTok>& costs, DisparityCodes& out, int64_t& got) {
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, false);
     wta_.configure(p_, false);
     median_.configure(p_);
-    std::unique_ptr<FrontEnd> fe = front_end(left, right);
-    Fifo<uint8_t>& in_l = *fe->out_l;
-    Fifo<uint8_t>& in_r = *fe->out_r;
-    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "aggregate");
-    auto sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate", "wta_lr");
-    auto disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
-    auto filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
-    NodeT& n_cost = node("cost");
+    auto be = std::make_unique<BackEnd>();
+    be->sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate", "wta_lr");
+    be->disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
+    be->filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
     NodeT& n_agg = node("aggregate");
     NodeT& n_wta = node("wta_lr");
     NodeT& n_med = node("median");
     NodeT& n_sink = node("sink");
+    be->pumps.push_back(
+        agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, costs, nullptr, *be->sums, nullptr));
+    be->pumps.push_back(wta_pump(n_wta, *be->sums, *be->disp));
+    be->pumps.push_back(median_pump(n_med, *be->disp, *be->filtered));
+    be->pumps.push_back(sink_pump(n_sink, *be->filtered, out, got, false));
+    return be;
+  }
+
+  template <class CostStage>
+  void run_one_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
+    cost.configure(p_);
+    std::unique_ptr<FrontEnd> fe = front_end(left, right);
+    Fifo<uint8_t>& in_l = *fe->out_l;
+    Fifo<uint8_t>& in_r = *fe->out_r;
+    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "aggregate");
+    NodeT& n_cost = node("cost");
     int64_t got = 0;
+    const std::unique_ptr<BackEnd> be = one_pass_back_end(*costs, out, got);
     const int64_t total = frame_pixels();
     start_fast_forward(fe->next_src, got, int64_t(left.px.size()));
     std::vector<std::function<bool()>> pumps = fe->pumps;
     pumps.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
-    pumps.push_back(
-        agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *sums, nullptr));
-    pumps.push_back(wta_pump(n_wta, *sums, *disp));
-    pumps.push_back(median_pump(n_med, *disp, *filtered));
-    pumps.push_back(sink_pump(n_sink, *filtered, out, got, false));
+    pumps.insert(pumps.end(), be->pumps.begin(), be->pumps.end());
     schedule(pumps, [&] { return got >= total; });
     collect_front_end(*fe);
-    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(sums), std::move(disp),
-            std::move(filtered));
+    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(be->sums), std::move(be->disp),
+            std::move(be->filtered));
   }
 
   // Pass 1 writes C and F to the frame buffer through `ddr_write`; pass 2 starts when the last
