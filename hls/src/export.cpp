@@ -400,15 +400,20 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   return files;
 }
 
-void write_project(const std::vector<GeneratedFile>& files, const std::string& dir) {
+void check_project_dir(const std::string& dir) {
   std::error_code ec;
   const fs::path root(dir);
-  if (fs::exists(root, ec)) {
-    if (!fs::is_directory(root, ec)) throw ExportError(dir + ": exists and is not a folder");
-    const bool empty = fs::directory_iterator(root, ec) == fs::directory_iterator();
-    if (!empty && !fs::exists(root / kMarker, ec))
-      throw ExportError(dir + ": folder is not empty and was not written by parallax export-hls; choose another --out");
-  }
+  if (!fs::exists(root, ec)) return;
+  if (!fs::is_directory(root, ec)) throw ExportError(dir + ": exists and is not a folder");
+  const bool empty = fs::directory_iterator(root, ec) == fs::directory_iterator();
+  if (!empty && !fs::exists(root / kMarker, ec))
+    throw ExportError(dir + ": folder is not empty and was not written by parallax export-hls; choose another --out");
+}
+
+void write_project(const std::vector<GeneratedFile>& files, const std::string& dir) {
+  check_project_dir(dir);
+  std::error_code ec;
+  const fs::path root(dir);
   for (const auto& f : files) {
     const fs::path path = root / f.path;
     fs::create_directories(path.parent_path(), ec);

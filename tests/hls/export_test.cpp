@@ -87,6 +87,7 @@ TEST(HlsExport, RefusesAForeignFolderAndKeepsItsFiles) {
   EXPECT_NE(r.output.find("not empty"), std::string::npos) << r.output;
   EXPECT_EQ(read_file(out / "notes.txt"), "mine");
   EXPECT_FALSE(fs::exists(out / "Makefile"));
+  EXPECT_EQ(r.output.find("simulating"), std::string::npos) << "refused before simulating";
   // An earlier export's folder is overwritten.
   fs::remove_all(out);
   ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out).status, 0);

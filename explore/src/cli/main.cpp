@@ -1263,6 +1263,11 @@ int main(int argc, char** argv) {
         const auto errs = config::validate(cfg);
         if (!errs.empty()) throw InputError(origin + ": field '" + errs.front().field + "': " + errs.front().message);
       }
+      try {
+        hlsx::check_project_dir(ex_out);  // before the simulation: fail fast
+      } catch (const hlsx::ExportError& e) {
+        throw InputError(e.what());
+      }
       std::vector<std::string> notes;
       cv::Mat l, r;
       std::string pair_what;

@@ -86,6 +86,10 @@ std::vector<std::string> export_fifo_names(const config::PipelineConfig& c);
 // The whole project. Throws ExportError when the request is inconsistent (sizes, FIFOs).
 std::vector<GeneratedFile> generate_project(const ExportRequest& r);
 
+// Throws ExportError when `dir` is a file, or a folder that is not empty and was not written by an
+// earlier export (marker file .parallax-export); a new, empty or earlier export's folder passes.
+void check_project_dir(const std::string& dir);
+
 // Writes the files under `dir`, creating folders. Refuses (ExportError) a folder that exists, is
 // not empty and was not written by an earlier export (marker file .parallax-export).
 void write_project(const std::vector<GeneratedFile>& files, const std::string& dir);
