@@ -185,15 +185,8 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["LR_CHECK_TEXT"] = p.lr_check ? "on" : "off";
   v["MEDIAN"] = std::to_string(p.median >= 3 ? p.median : 0);
   v["MEDIAN_ROWS"] = std::to_string(p.median >= 3 ? p.median : 1);
-  {
-    int ring = 1;
-    while (ring <= 2 * p.disparities - 1) ring *= 2;
-    v["COLUMN_RING"] = std::to_string(ring);
-    // Row kinds (every kind but the pixel path) of the forward and, for two passes, the backward pass.
-    const int fwd = kern::popcount_u32(kern::stream_kinds(p.path_mask, false) & ~1u);
-    const int back = kern::popcount_u32(kern::stream_kinds(p.path_mask, true) & ~1u);
-    v["ROW_KINDS"] = std::to_string(std::max(1, std::max(fwd, back)));
-  }
+  // Stream path kinds of the forward and, for two passes, the backward pass (one kernel type serves both).
+  v["KIND_MASK"] = std::to_string(kern::stream_kinds(p.path_mask, false) | kern::stream_kinds(p.path_mask, true));
   v["MEDIAN_TEXT"] = p.median >= 3 ? std::to_string(p.median) + "x" + std::to_string(p.median) : "off";
   v["COST_MAX"] = std::to_string(kern::cost_max(p));
   v["COST_BITS"] = std::to_string(kern::cost_bits(p));
@@ -217,6 +210,9 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
     if (!row) row = find_memory(inv, "aggregate", n);
   v["ROW_IMPL"] = row ? ram_impl(row->per_copy.storage) : "bram";
   v["ROW_MEMORIES"] = std::to_string(row ? std::max(1, row->copies) : 1);
+  v["ROW_RESHAPE"] = c.row_packing > 1 ? "#define PX_HLS_SGM_ROW_RESHAPE \"HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=" +
+                                             std::to_string(c.row_packing) + " dim=3\"\n"
+                                       : "";
 
   // Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera.
   const bool rectify = c.rectify != "none";

@@ -8,29 +8,33 @@
 namespace parallax {
 namespace kern {
 
-// Right-image codes and pending left disparities are kept in rings indexed by column modulo
-// Caps::column_ring; this is its default, which holds kMaxDisparities (docs/kernels.md).
-constexpr int kColumnRing = 512;
-
 // MAX_W: widest row; MAX_D: most disparities; LANES: largest PU one firing can carry;
 // WINDOW_ROWS: line-buffer rows of the cost stage (>= the matching window's height);
 // MEDIAN_ROWS: line-buffer rows of the median (>= its k; 1 when the median is off).
-// COLUMN_RING: entries of the per-column rings of the Census and WTA/LR stages, a power of two
-// above 2 * MAX_D - 1; ROW_KINDS: path-cost row memories of one aggregation stage (its path kinds
-// other than the pixel path, 1 to 3).
+// KIND_MASK: the stream path kinds (sgm.hpp, StreamPathKind bits) an aggregation stage may use;
+// a kind outside it has no hardware (its row memory is never touched).
+// FIXED: the capacities are the design's exact structure (the HLS export): D = MAX_D and
+// PU = LANES, so the kernels use these constants instead of the runtime values and synthesis
+// sees compile-time lane addresses and trip counts. Software instantiations (FIXED = false) take
+// D and PU at run time within the capacities.
 template <int MAX_W, int MAX_D, int LANES, int WINDOW_ROWS = kMaxWindow, int MEDIAN_ROWS = kMaxMedian,
-          int COLUMN_RING = kColumnRing, int ROW_KINDS = 3>
+          unsigned KIND_MASK = 0xFu, bool FIXED = false>
 struct Caps {
   static constexpr int max_width_px = MAX_W;
   static constexpr int max_disparities = MAX_D;
   static constexpr int lanes = LANES;
   static constexpr int window_rows = WINDOW_ROWS;
   static constexpr int median_rows = MEDIAN_ROWS;
-  static constexpr int column_ring = COLUMN_RING;
-  static constexpr int row_kinds = ROW_KINDS;
-  static_assert((COLUMN_RING & (COLUMN_RING - 1)) == 0 && COLUMN_RING > 2 * MAX_D - 1,
-                "the column ring must be a power of two above 2 * MAX_D - 1");
-  static_assert(ROW_KINDS >= 1 && ROW_KINDS <= 3, "an aggregation stage has 1 to 3 row memories");
+  static constexpr unsigned kind_mask = KIND_MASK;
+  static constexpr bool fixed = FIXED;
+  // The design's D and PU: the capacities when FIXED, else the runtime values.
+  static int disparities(int runtime) { return FIXED ? MAX_D : runtime; }
+  static int parallel_units(int runtime) { return FIXED ? LANES : runtime; }
+  // Trip count of a loop over `runtime` items within `cap`: the compile-time cap when FIXED
+  // (bodies guarded where the runtime value may be smaller; synthesis unrolls on it), the
+  // runtime value in software instantiations (the same iterations that do anything).
+  static constexpr int trip(int runtime, int cap) { return FIXED ? cap : runtime; }
+  static_assert(!FIXED || MAX_D % LANES == 0, "a fixed design's PU divides its D");
 };
 
 }  // namespace kern

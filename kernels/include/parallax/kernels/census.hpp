@@ -14,19 +14,24 @@ namespace kern {
 template <class Caps>
 class CensusMatcher {
  public:
+  static constexpr int kMaxD = Caps::max_disparities;
+  static constexpr int kLanes = Caps::lanes;
+
+  CensusMatcher() { PX_PRAGMA("HLS ARRAY_PARTITION variable=right_codes_ type=complete dim=1") }
   void configure(const StereoParams& p) {
-#ifdef PX_HLS_CENSUS_CODES_PARTITION
-    PX_PRAGMA(PX_HLS_CENSUS_CODES_PARTITION)
-#endif
     w_ = p.window_w;
     h_ = p.window_h;
+    d_ = Caps::disparities(p.disparities);
     cost_max_ = uint16_t(cost_max(p));
   }
 
-  // Computes the left and right codes of pixel (x, y); the right code joins the ring of the last
-  // D right codes of this row. Contract: called once per pixel, in raster order, before cost().
+  // Computes the left code of pixel (x, y) and shifts the right code of column x into the shift
+  // register of the last D right codes (entry k: column x - k). Contract: called once per pixel,
+  // in raster order, before its costs().
   // Hardware (resources.hpp): a w x h window of registers per image, w*h - 1 comparisons per
-  // image, the right codes of the last D columns in PU banks, and PU XOR + popcount lanes.
+  // image, the D right codes in a shift register (complete partitioning: one register each), and
+  // per lane an XOR and a popcount adder tree; lane i of chunk c reads entry c*PU + i through a
+  // D/PU-input multiplexer (none when PU = D).
   template <class R>
   void declare(R& r, const StereoParams& p) const {
     const int taps = w_ * h_;
@@ -34,14 +39,15 @@ class CensusMatcher {
     const int pu = p.parallel_units;
     r.registers("census_windows", 8, 2 * taps);
     r.op("census_compares", kOpCompare, 8, 2 * bits);
-    r.registers("census_codes", bits, 2);
-    r.memory("right_codes", (p.disparities + pu - 1) / pu, bits, pu, false);
+    r.registers("census_left_code", bits, 1);
+    r.registers("right_codes", bits, p.disparities);
+    if (p.disparities > pu) r.op("right_code_select", kOpMux, bits, pu * (p.disparities / pu - 1));
     r.op("hamming_xor", kOpXor, bits, pu);
     r.op("hamming_popcount", kOpPopcount, bits, pu);
   }
 
   // Columns left of the output column that costs() may still read from the line buffers (the
-  // right image's codes are kept in a ring, so only the window's own half width).
+  // right image's codes are kept in the shift register, so only the window's own half width).
   int columns_behind() const { return w_ / 2; }
 
   template <class LB>
@@ -49,34 +55,31 @@ class CensusMatcher {
     left_win_.move_to(left, x, y, w_, h_);
     right_win_.move_to(right, x, y, w_, h_);
     left_code_ = code(left_win_);
-    right_codes_[slot_of(x)] = code(right_win_);
+  census_shift:
+    for (int k = Caps::trip(d_, kMaxD) - 1; k > 0; --k) {
+      PX_PRAGMA("HLS UNROLL")
+      if (k < d_) right_codes_[k] = right_codes_[k - 1];
+    }
+    right_codes_[0] = code(right_win_);
   }
 
   // Costs of lanes d0 .. d0 + n - 1: Hamming distance to the right code at x - d, or cost_max
-  // where x - d < 0. The ring is mirrored (slot of column c is -c mod ring) so that the lanes
-  // read ascending slots.
+  // where x - d < 0. Contract: d0 is a multiple of PU and n = PU.
   template <class LB>
-  void costs(const LB&, const LB&, int x, int, int d0, int n, uint16_t* out) const {
-    const int valid = clamp_int(x - d0 + 1, 0, n);  // lanes with x - d >= 0
-    const int base = slot_of(x - d0);
-    const int first_run = min_int(valid, Caps::column_ring - base);
-    hamming_run(out, 0, first_run, base);
-    hamming_run(out, first_run, valid, base - Caps::column_ring);
-  census_none:
-    for (int i = valid; i < n; ++i) out[i] = cost_max_;
+  void costs(const LB&, const LB&, int x, int, int d0, int n, uint16_t* PX_RESTRICT out) const {
+    const uint64_t lc = left_code_;
+  census_hamming:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      if (i < n) {
+        const int d = d0 + i;
+        out[i] = d <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ right_codes_[d])) : cost_max_;
+      }
+    }
   }
 
  private:
-  static int slot_of(int column) { return (-column) & (Caps::column_ring - 1); }
-
-  void hamming_run(uint16_t* PX_RESTRICT out, int i0, int i1, int offset) const {
-    const uint64_t lc = left_code_;
-    const uint64_t* PX_RESTRICT ring = right_codes_;
-  census_hamming:
-    for (int i = i0; i < i1; ++i) out[i] = uint16_t(popcount64(lc ^ ring[offset + i]));
-  }
-
-  // Dispatches the common window shapes to fully unrolled code; same bits as the generic form.
+  // Dispatches the common window shapes to code with constant sides; same bits as the generic form.
   typedef WindowRegs<uint8_t, kMaxWindow, Caps::window_rows> Window;
   uint64_t code(const Window& win) const {
     if (w_ == 5 && h_ == 5) return code_generic(win, 5, 5);
@@ -86,31 +89,36 @@ class CensusMatcher {
     return code_generic(win, w_, h_);
   }
 
-  // The code of the window registers: bit = tap < centre, over the taps in raster order.
+  // The code of the window registers: bit = tap < centre, over the taps in raster order; a
+  // comparator per tap on fixed wiring (the loops are bounded by the largest window and unrolled).
   static PX_INLINE uint64_t code_generic(const Window& win, const int w, const int h) {
     const uint8_t centre = win.at(w / 2, h / 2);
     const int taps = w * h;
     const int centre_tap = taps / 2;
     uint64_t c = 0;
   census_rows:
-    for (int j = 0; j < h; ++j) {
+    for (int j = 0; j < Caps::window_rows; ++j) {
+      PX_PRAGMA("HLS UNROLL")
     census_cols:
-      for (int i = 0; i < w; ++i) {
+      for (int i = 0; i < kMaxWindow; ++i) {
+        PX_PRAGMA("HLS UNROLL")
         // Tap k (raster order, centre skipped) lands in bit taps - 2 - k': the first tap is the
         // most significant used bit.
         const int k = j * w + i;
-        if (k == centre_tap) continue;
-        const int bit = taps - 2 - (k < centre_tap ? k : k - 1);
-        c |= uint64_t(win.at(i, j) < centre ? 1u : 0u) << bit;
+        if (j < h && i < w && k != centre_tap) {
+          const int bit = taps - 2 - (k < centre_tap ? k : k - 1);
+          c |= uint64_t(win.at(i, j) < centre ? 1u : 0u) << bit;
+        }
       }
     }
     return c;
   }
 
-  int w_ = 5, h_ = 5;
+  int w_ = 5, h_ = 5, d_ = 1;
   uint16_t cost_max_ = 24;
   uint64_t left_code_ = 0;
-  uint64_t right_codes_[Caps::column_ring];
+  // The right codes of columns x .. x - D + 1: a shift register (one register per entry).
+  uint64_t right_codes_[kMaxD];
   Window left_win_, right_win_;  // the window registers of the two images
 };
 

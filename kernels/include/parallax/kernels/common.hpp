@@ -18,10 +18,14 @@
 #define PX_PRAGMA(x)
 #endif
 
-// Storage directives of one exported design: the HLS export's configuration header defines
-// PX_HLS_<MEMORY>_<WHAT> as pragma strings (ARRAY_PARTITION, BIND_STORAGE) for the kernels'
-// member arrays, which the kernels place in configure(), where the arrays are in scope. Software
-// builds leave them undefined, and each use sits in an #ifdef.
+// Storage directives sit with the declarations they describe: a kernel's member arrays get
+// theirs in the class's constructor (the one scope that sees the members, as AMD's
+// xf::cv::LineBuffer and Window do), which has no other code. Structural directives (complete
+// partitioning of registers, lane banks of PU) are written there from the Caps constants; the
+// mapping the resource model chooses for one design (BRAM or LUTRAM, packing, banks) comes from
+// the HLS export's configuration header as PX_HLS_<MEMORY>_<WHAT> pragma strings, each use in an
+// #ifdef (software builds leave them undefined). Exported tops keep their kernel objects local to
+// a process call, so nothing needs dynamic initialisation.
 
 // Inlining hint for small per-firing helpers (software builds; HLS inlines small functions itself).
 #if defined(__GNUC__) && !defined(__SYNTHESIS__)
@@ -39,13 +43,6 @@
 
 namespace parallax {
 namespace kern {
-
-// Copies n lanes between two distinct memories.
-template <class T>
-inline void copy_lanes(T* PX_RESTRICT dst, const T* PX_RESTRICT src, int n) {
-copy_lanes_loop:
-  for (int i = 0; i < n; ++i) dst[i] = src[i];
-}
 
 // One stream token of up to N disparity lanes. A firing of a disparity stage moves PU lanes;
 // lanes [PU, N) are unused. In HLS the token becomes an ap_uint<PU * bits>.
@@ -77,14 +74,20 @@ inline int clamp_int(int v, int lo, int hi) { return v < lo ? lo : (v > hi ? hi 
 inline int min_int(int a, int b) { return a < b ? a : b; }
 inline int max_int(int a, int b) { return a > b ? a : b; }
 
-inline int popcount64(uint64_t v) {
-#if defined(__GNUC__)
-  return __builtin_popcountll(v);
-#else
-  int n = 0;
-  for (int i = 0; i < 64; ++i) n += int((v >> i) & 1u);
-  return n;
-#endif
+// Population count of the low BITS bits of v as an explicit adder tree: level 1 adds the bits
+// in pairs (2-bit sums), level 2 adds pairs of those (4-bit sums), and so on, log2(64) = 6 levels
+// of narrow adders on fixed wiring, as synthesis builds it (no builtin, no multiplier). BITS <= 64.
+template <int BITS>
+PX_INLINE int popcount_tree(uint64_t v) {
+  static_assert(BITS >= 1 && BITS <= 64, "popcount of 1 to 64 bits");
+  if (BITS < 64) v &= (uint64_t(1) << (BITS < 64 ? BITS : 0)) - 1u;
+  v = (v & 0x5555555555555555ull) + ((v >> 1) & 0x5555555555555555ull);
+  v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
+  v = (v & 0x0F0F0F0F0F0F0F0Full) + ((v >> 4) & 0x0F0F0F0F0F0F0F0Full);
+  v = (v & 0x00FF00FF00FF00FFull) + ((v >> 8) & 0x00FF00FF00FF00FFull);
+  v = (v & 0x0000FFFF0000FFFFull) + ((v >> 16) & 0x0000FFFF0000FFFFull);
+  v = (v & 0x00000000FFFFFFFFull) + (v >> 32);
+  return int(v);
 }
 
 }  // namespace kern

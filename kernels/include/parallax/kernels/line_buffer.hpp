@@ -17,13 +17,16 @@ class LineBuffer {
   static_assert(SLOTS <= 10 && kMaxHeightPx <= 4096, "slot(): the reciprocal is exact only up to 10 rows of 4096");
   // rows: slots in use (<= SLOTS), at least the window's height. Contract: the caller writes
   // only when input_allowed() says so.
-  void configure(int width_px, int height_px, int rows) {
-#ifdef PX_HLS_LINE_BUFFER_PARTITION
-    PX_PRAGMA(PX_HLS_LINE_BUFFER_PARTITION)
-#endif
+  // One memory per row slot; a write of the incoming row never meets a read of the window's
+  // rows in the same slot and column (input_allowed()), hence no dependence between iterations.
+  LineBuffer() {
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=mem_ type=complete dim=1")
+    PX_PRAGMA("HLS DEPENDENCE variable=mem_ type=inter dependent=false")
 #ifdef PX_HLS_LINE_BUFFER_STORAGE
     PX_PRAGMA(PX_HLS_LINE_BUFFER_STORAGE)
 #endif
+  }
+  void configure(int width_px, int height_px, int rows) {
     width_px_ = width_px;
     height_px_ = height_px;
     rows_ = rows;
@@ -128,6 +131,7 @@ namespace kern {
 template <class T, int MAX_W, int MAX_H>
 class WindowRegs {
  public:
+  WindowRegs() { PX_PRAGMA("HLS ARRAY_PARTITION variable=v_ type=complete dim=0") }
   template <class LB>
   void move_to(const LB& lb, int x, int y, int w, int h) {
     move_to(lb, x, y, w, h, w / 2);
@@ -138,18 +142,27 @@ class WindowRegs {
     if (y != y_ || x != x_ + 1) {
       const int first = x + reach - (w - 1);
     window_reload_rows:
-      for (int j = 0; j < h; ++j) {
-        const T* row = lb.row_clamped(y + j - ry);
-      window_reload_cols:
-        for (int i = 0; i < w; ++i) v_[j][i] = row[lb.clamp_x(first + i)];
+      for (int j = 0; j < h; ++j) {  // a reload: a new row or frame (not in the II = 1 shift path)
+        {
+          const T* row = lb.row_clamped(y + j - ry);
+        window_reload_cols:
+          for (int i = 0; i < w; ++i)
+            v_[j][i] = row[lb.clamp_x(first + i)];
+        }
       }
     } else {
       const int col = lb.clamp_x(x + reach);
     window_shift_rows:
-      for (int j = 0; j < h; ++j) {
-      window_shift_cols:
-        for (int i = 0; i + 1 < w; ++i) v_[j][i] = v_[j][i + 1];
-        v_[j][w - 1] = lb.row_clamped(y + j - ry)[col];
+      for (int j = 0; j < MAX_H; ++j) {
+        PX_PRAGMA("HLS UNROLL")
+        if (j < h) {
+        window_shift_cols:
+          for (int i = 0; i + 1 < MAX_W && i + 1 < w; ++i) {
+            PX_PRAGMA("HLS UNROLL")
+            if (i + 1 < w) v_[j][i] = v_[j][i + 1];
+          }
+          v_[j][w - 1] = lb.row_clamped(y + j - ry)[col];
+        }
       }
     }
     x_ = x;

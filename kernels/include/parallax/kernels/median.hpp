@@ -48,8 +48,10 @@ class Median {
   void fire(const MedianPlan& pl, InS& in, OutS& out) {
     if (pl.write) {
       if (k_ > 1) win_.move_to(lb_, x_, y_, k_, k_);
+      // Only the sizes the window registers hold are instantiated (kRows = k of the export).
       out.write(k_ == 1 ? lb_.at_clamped(x_, y_)
-                        : k_ == 3 ? window_median<3>() : k_ == 5 ? window_median<5>() : window_median<7>());
+                        : k_ == 3 ? window_median<kRows < 3 ? 1 : 3>()
+                                  : k_ == 5 ? window_median<kRows < 5 ? 1 : 5>() : window_median<kRows < 7 ? 1 : 7>());
       advance();
     }
     if (pl.read) lb_.push(in.read());
@@ -96,34 +98,47 @@ class Median {
  private:
   // Rank selection by counting on distinct keys (code * 64 + window index): the keys are a
   // permutation-free total order, so exactly one has (k*k - 1) / 2 smaller keys, and its code
-  // is the median. A fixed n*n comparison array: no data-dependent control flow.
+  // is the median. One comparator per pair of keys, n(n-1)/2 (a < b is !(b < a) for distinct
+  // keys), each feeding the rank counts of both: no data-dependent control flow.
   template <int K>
   DispCode window_median() const {
-    // Padded to a multiple of 32 lanes with keys above every real key, which never count.
-    const int kPad = (K * K + 31) / 32 * 32;
-    uint16_t key[kPad];
-  median_pad:
-    for (int a = K * K; a < kPad; ++a) key[a] = 0xFFFFu;
-    int n = 0;
+    static_assert(K <= kRows, "the window registers hold k x k codes");
+    const int kN = K * K;
+    uint16_t key[kN];
+    uint8_t smaller[kN];
   median_gather_rows:
     for (int j = 0; j < K; ++j) {
+      PX_PRAGMA("HLS UNROLL")
     median_gather_cols:
-      for (int i = 0; i < K; ++i, ++n) key[n] = uint16_t((win_.at(i, j) << 6) | n);
+      for (int i = 0; i < K; ++i) {
+        PX_PRAGMA("HLS UNROLL")
+        key[j * K + i] = uint16_t((win_.at(i, j) << 6) | (j * K + i));
+        smaller[j * K + i] = 0;
+      }
     }
-    uint16_t smaller[kPad];
-  median_clear:
-    for (int a = 0; a < kPad; ++a) smaller[a] = 0;
-  median_count:
-    for (int b = 0; b < K * K; ++b) {
-      const uint16_t kb = key[b];
-    median_count_inner:
-      for (int a = 0; a < kPad; ++a) smaller[a] = uint16_t(smaller[a] + (kb < key[a] ? 1 : 0));
+  median_pairs:
+    for (int a = 0; a < kN; ++a) {
+      PX_PRAGMA("HLS UNROLL")
+      const uint16_t ka = key[a];
+      int above = 0;  // keys of the pairs (a, b > a) that are smaller than key a
+    median_pairs_inner:
+      for (int b = 0; b < kN; ++b) {
+        PX_PRAGMA("HLS UNROLL")
+        if (b > a) {  // one comparator per pair
+          const int a_smaller = ka < key[b] ? 1 : 0;
+          smaller[b] = uint8_t(smaller[b] + a_smaller);
+          above += 1 - a_smaller;
+        }
+      }
+      smaller[a] = uint8_t(smaller[a] + above);
     }
-    const int want = (K * K - 1) / 2;
+    const int want = (kN - 1) / 2;
     DispCode result = 0;
   median_pick:
-    for (int a = 0; a < K * K; ++a)
+    for (int a = 0; a < kN; ++a) {
+      PX_PRAGMA("HLS UNROLL")
       if (smaller[a] == want) result = DispCode(key[a] >> 6);
+    }
     return result;
   }
 

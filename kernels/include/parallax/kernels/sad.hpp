@@ -12,6 +12,9 @@ namespace kern {
 template <class Caps>
 class SadMatcher {
  public:
+  static constexpr int kLanes = Caps::lanes;
+  // The previous pixel's sums: PU lanes read and written per firing, lane i in bank i.
+  SadMatcher() { PX_PRAGMA("HLS ARRAY_PARTITION variable=last_ type=cyclic factor=kLanes dim=1") }
   void configure(const StereoParams& p) {
     w_ = p.window_w;
     h_ = p.window_h;

@@ -45,51 +45,75 @@ class SgmAggregate {
   typedef Lanes<Word, Caps::lanes> SumToken;
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
+  static constexpr int kLanes = Caps::lanes;
+  static constexpr int kRowMemories = 3;  // one per row kind (kKindRowLeft .. kKindRowRight)
   // Larger than any path cost (<= 2^path_bits - 1) and safe to add P1 to in 32 bits.
   static constexpr uint32_t kNone = sizeof(Word) == 2 ? 0xFFFFu : 0x7FFFFFFFu;
 
-  // kinds: StreamPathKind bits; add_forward: add F from a second input; tee_cost: copy the
-  // costs to a second output.
-  void configure(const StereoParams& p, unsigned kinds, bool add_forward, bool tee_cost) {
+  // Registers: everything but the row memories. Row memories: one per row kind, each split into
+  // banks as the export's mapping says (by default PU lane banks: lane i of every chunk in bank
+  // i); one read and one write per bank and firing (simple dual port). A row is read again only
+  // W firings after it was written, so no dependence between iterations on them.
+  SgmAggregate() {
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=ahead_ type=complete dim=0")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=edge_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=mq_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=run_min_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=pix_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=lag_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=row_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=row_min_ type=complete dim=1")
+#ifdef PX_HLS_SGM_ROW_RESHAPE
+    PX_PRAGMA(PX_HLS_SGM_ROW_RESHAPE)
+#endif
 #ifdef PX_HLS_SGM_ROW_PARTITION
     PX_PRAGMA(PX_HLS_SGM_ROW_PARTITION)
+#else
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=row_ type=cyclic factor=kLanes dim=3")
 #endif
 #ifdef PX_HLS_SGM_ROW_STORAGE
     PX_PRAGMA(PX_HLS_SGM_ROW_STORAGE)
 #endif
-#ifdef PX_HLS_SGM_HOLD_PARTITION
-    PX_PRAGMA(PX_HLS_SGM_HOLD_PARTITION)
-#endif
+    PX_PRAGMA("HLS DEPENDENCE variable=row_ type=inter dependent=false")
+    PX_PRAGMA("HLS DEPENDENCE variable=row_min_ type=inter dependent=false")
+  }
+
+  // kinds: StreamPathKind bits (within Caps::kind_mask); add_forward: add F from a second input;
+  // tee_cost: copy the costs to a second output.
+  void configure(const StereoParams& p, unsigned kinds, bool add_forward, bool tee_cost) {
     p_ = p;
+    kinds_ = kinds & Caps::kind_mask;
     add_forward_ = add_forward;
     tee_cost_ = tee_cost;
-    n_slots_ = 0;
-  agg_config_kinds:
-    int row_memories = 0;
-    for (int k = 0; k < kKindCount; ++k)
-      if (kinds & (1u << k)) {
-        row_slot_[n_slots_] = k == kKindPixel ? 0 : row_memories++;  // contract: <= Caps::row_kinds
-        kind_[n_slots_++] = k;
-      }
-    lanes_ = p.parallel_units;
-    chunks_ = p.disparities / p.parallel_units;
-  agg_config_pad:
-    for (int s = 0; s < kKindCount; ++s)
-      for (int b = 0; b < 2; ++b) {
-        hold_[s][b][0] = Word(kNone);
-        hold_[s][b][p.disparities + 1] = Word(kNone);
-      }
+    d_ = Caps::disparities(p.disparities);
+    lanes_ = Caps::parallel_units(p.parallel_units);
+    chunks_ = d_ / lanes_;
     start_frame();
   }
+  // A frame starts with the per-kind registers cleared (they are read, but not used, before the
+  // first firing writes them: the first row and column have no predecessor).
   void start_frame() {
     x_ = 0;
     y_ = 0;
     chunk_ = 0;
-    parity_ = 0;
     done_ = false;
+    pix_min_ = 0;
+    mlag_ = 0;
+  agg_reset_kinds:
+    for (int k = 0; k < kKindCount; ++k) {
+      PX_PRAGMA("HLS UNROLL")
+      edge_[k] = Word(kNone);
+      mq_[k] = 0;
+      run_min_[k] = kNone;
+    agg_reset_lanes:
+      for (int i = 0; i < kLanes; ++i) {
+        PX_PRAGMA("HLS UNROLL")
+        ahead_[k][i] = Word(kNone);
+      }
+    }
   }
   bool done() const { return done_; }
-  int slots() const { return n_slots_; }
+  int slots() const { return popcount_u32(kinds_); }
 
   AggPlan plan() const {
     AggPlan pl;
@@ -100,6 +124,11 @@ class SgmAggregate {
     return pl;
   }
 
+  // One firing: the PU lanes [lo, lo + PU) of pixel (x, y) for every active path kind.
+  // Per kind, the predecessor's lanes of this chunk arrived with the previous firing (ahead_),
+  // its lane lo - 1 is held from the chunk before (edge_), and this firing fetches the
+  // predecessor's lanes of the next firing's chunk, whose first is lane lo + PU. So every memory
+  // sees one read and one write per lane bank and firing (docs/kernels.md).
   template <class CostIn, class FwdIn, class SumOut, class TeeOut>
   void fire(const AggPlan& pl, CostIn& cost_in, FwdIn& fwd_in, SumOut& sum_out, TeeOut& tee_out) {
     (void)pl;
@@ -108,39 +137,26 @@ class SgmAggregate {
     if (add_forward_) {
       const SumToken f = fwd_in.read();
     agg_add_forward:
-      for (int i = 0; i < lanes_; ++i) s.v[i] = f.v[i];
+      for (int i = 0; i < Caps::trip(lanes_, kLanes); ++i) {
+        PX_PRAGMA("HLS UNROLL")
+        s.v[i] = f.v[i];
+      }
     } else {
     agg_clear:
-      for (int i = 0; i < lanes_; ++i) s.v[i] = 0;
-    }
-    const int n = lanes_;  // a local bound: stores through dest must not hide the trip count
-    const int lo = chunk_ * n;
-    const uint32_t p1 = uint32_t(p_.p1);
-    const uint32_t p2 = uint32_t(p_.p2);
-  agg_paths:
-    for (int slot = 0; slot < n_slots_; ++slot) {
-      Word pred_local[Caps::lanes + 2];
-      const Word* pred = 0;  // pred[i] is Lr(q, lo - 1 + i)
-      uint32_t m_prev = 0;
-      Word* dest = 0;
-      const bool valid = predecessor(slot, lo, pred_local, &pred, &m_prev, &dest);
-      if (chunk_ == 0) min_[slot] = kNone;
-      uint32_t run_min = min_[slot];
-      if (valid) {
-        run_min = update_lanes(pred, c.v, dest, s.v, n, p1, p2, m_prev, run_min);
-      } else {
-      agg_lanes_start:
-        for (int i = 0; i < n; ++i) {
-          PX_PRAGMA("HLS UNROLL")
-          const uint32_t lr = c.v[i];
-          dest[i] = Word(lr);
-          s.v[i] = Word(s.v[i] + lr);
-          run_min = lr < run_min ? lr : run_min;
-        }
+      for (int i = 0; i < Caps::trip(lanes_, kLanes); ++i) {
+        PX_PRAGMA("HLS UNROLL")
+        s.v[i] = 0;
       }
-      min_[slot] = run_min;
-      if (chunk_ + 1 == chunks_) finish_pixel(slot);
     }
+    // One datapath per path kind (kinds outside Caps::kind_mask have none).
+    if ((Caps::kind_mask & (1u << kKindPixel)) != 0 && (kinds_ & (1u << kKindPixel)) != 0)
+      aggregate_kind<kKindPixel>(c, s);
+    if ((Caps::kind_mask & (1u << kKindRowLeft)) != 0 && (kinds_ & (1u << kKindRowLeft)) != 0)
+      aggregate_kind<kKindRowLeft>(c, s);
+    if ((Caps::kind_mask & (1u << kKindRowUp)) != 0 && (kinds_ & (1u << kKindRowUp)) != 0)
+      aggregate_kind<kKindRowUp>(c, s);
+    if ((Caps::kind_mask & (1u << kKindRowRight)) != 0 && (kinds_ & (1u << kKindRowRight)) != 0)
+      aggregate_kind<kKindRowRight>(c, s);
     sum_out.write(s);
     if (tee_cost_) tee_out.write(c);
     advance();
@@ -163,36 +179,41 @@ class SgmAggregate {
     v(chunk_);
     v(done_);
   }
-  void resync() { parity_ = (y_ * p_.width_px + x_) & 1; }  // parity toggles once per pixel
+  void resync() {}
 
   // Resources of this configuration (resources.hpp). Row paths keep the previous row's Lr in
   // memories: `packing` disparities per word, the words of a column spread over `banks`
-  // memories (0: one memory per word, complete partitioning); the pixel path keeps the previous
-  // pixel's Lr in registers (hold_). Per lane and path: two +P1 adds, the min of four, + C - M,
-  // and the running minimum; per lane the sum over paths.
+  // memories (0: one memory per word, complete partitioning), and the previous row's minimum
+  // per column; the pixel path keeps the previous pixel's Lr and minimum in registers; the
+  // row-left path delays the previous row's column by one pixel in registers. Every path holds
+  // the predecessor's lanes of the next chunk and lane lo - 1. Per lane and path: two +P1 adds,
+  // the min of four, + C - M, and the running minimum; per lane the sum over paths.
   template <class R>
   void declare(R& r, int packing, int banks) const {
     const int pb = path_bits(p_);
     const int ab = aggregate_bits(p_);
     const int d = p_.disparities;
-    const int pu = lanes_;
-    declare_raster_control(r, p_.width_px, p_.height_px, chunks_);
+    const int pu = p_.parallel_units;
+    declare_raster_control(r, p_.width_px, p_.height_px, d / pu);
     const int q = packing < 1 ? 1 : (packing > d ? d : packing);
     const int words = (d + q - 1) / q;
     const int memories = banks <= 0 || banks > words ? words : banks;
     const int words_per_memory = (words + memories - 1) / memories;
   agg_declare_paths:
-    for (int s = 0; s < n_slots_; ++s) {
-      const int k = kind_[s];
+    for (int k = 0; k < kKindCount; ++k) {
+      if (((kinds_ >> k) & 1u) == 0) continue;
       if (k == kKindPixel) {
-        r.registers("pixel_path_previous", pb, 2 * d);
-        r.registers("pixel_path_min", pb, 2);
+        r.registers("pixel_path_previous", pb, d);
+        r.registers("pixel_path_min", pb, 1);
       } else {
         const char* row = k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right";
         const char* mins = k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right";
         r.memory(row, int64_t(p_.width_px) * words_per_memory, q * pb, memories, false);
         r.memory(mins, p_.width_px, pb, 1, false);
+        if (k == kKindRowLeft) r.registers("row_left_delay", pb, d + 1);
       }
+      r.registers("path_predecessor_lanes", pb, pu + 1);
+      if (d > pu) r.op("path_predecessor_select", kOpMux, pb, pu * (d / pu - 1));
       r.op("path_p1_adds", kOpAdd, pb + 1, 2 * pu);
       r.op("path_p2_add", kOpAdd, pb + 1, 1);
       r.op("path_min_of_four", kOpCompare, pb + 1, 3 * pu);
@@ -200,112 +221,156 @@ class SgmAggregate {
       r.op("path_cost_minus_min", kOpAdd, pb + 1, 2 * pu);
       r.op("path_running_min", kOpCompare, pb, pu);
       r.op("path_running_min_select", kOpMux, pb, pu);
-      r.registers("path_min", pb, 1);
+      r.registers("path_min", pb, 2);
     }
-    r.op("sum_over_paths", kOpAdd, ab, pu * n_slots_);
+    r.op("sum_over_paths", kOpAdd, ab, pu * slots());
     r.registers("cost_in", pu * cost_bits(p_), 1);
     r.registers("sum_token", pu * ab, 1);
   }
 
  private:
-  // Fetches the predecessor lanes [lo - 1, lo + PU] of slot's path, its minimum M and where the
-  // new Lr lanes go. Returns false at the start of the path (predecessor outside the image).
-  // Memory contract: row_[s][x] holds the previous row's Lr until this pixel overwrites it;
-  // hold_[s][parity] receives the old row values of this pixel (read before the write).
-  PX_INLINE bool predecessor(int slot, int lo, Word* local, const Word** pred, uint32_t* m_prev, Word** dest) {
-    const int d_count = p_.disparities;
-    const int kind = kind_[slot];
-    const int par = parity_;
-    Word* row_here = &row_[row_slot_[slot]][x_ * d_count];  // rows packed at the runtime D
-    if (kind == kKindPixel) {
-      *pred = &hold_[slot][par ^ 1][lo];
-      *m_prev = hold_min_[slot][par ^ 1];
-      *dest = &hold_[slot][par][1 + lo];
-      return x_ > 0;
+  // Lr(p, d) = C(p, d) + min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M over the lanes of this
+  // firing for path kind k, added into s; at the start of a path (predecessor outside the
+  // image) Lr(p, d) = C(p, d). Memory contract: row_[m][x] holds the previous row's Lr of column
+  // x until this row's firing at x overwrites it; lag_ holds the previous row's Lr of column
+  // x - 1 (row-left); pix_ holds the previous pixel's Lr until this pixel overwrites it.
+  template <int K>
+  PX_INLINE void aggregate_kind(const CostToken& c, SumToken& s) {
+    const int k = K;
+    const int n = lanes_;
+    const int lo = chunk_ * n;
+    const bool first = chunk_ == 0;
+    const bool last = chunk_ + 1 == chunks_;
+    // The next firing's position: the next chunk, or chunk 0 of the next pixel (the next row's
+    // first at the end of a row).
+    const int nlo = last ? 0 : lo + n;
+    const int nx = last ? (x_ + 1 == p_.width_px ? 0 : x_ + 1) : x_;
+    const int m = k - 1;  // row memory of a row kind
+    const int xr = min_int(x_ + 1, p_.width_px - 1);
+    const int nxr = min_int(nx + 1, p_.width_px - 1);
+
+    // The predecessor's minimum M (read once per pixel) and whether the predecessor exists.
+    bool valid;
+    if (k == kKindPixel) {
+      valid = x_ > 0;
+    } else if (k == kKindRowUp) {
+      valid = y_ > 0;
+    } else if (k == kKindRowLeft) {
+      valid = y_ > 0 && x_ > 0;
+    } else {
+      valid = y_ > 0 && x_ + 1 < p_.width_px;
     }
-    *dest = row_here + lo;
-    if (kind == kKindRowUp || kind == kKindRowLeft) {
-      // Read the old (previous-row) lanes of this column before they are overwritten; row-up
-      // also needs lane lo + PU, which the next chunk has not written yet.
-      const int hi = kind == kKindRowUp ? min_int(lo + lanes_, d_count - 1) : lo + lanes_ - 1;
-      copy_lanes(&hold_[slot][par][1 + lo], row_here + lo, hi - lo + 1);
-      if (chunk_ == 0) hold_min_[slot][par] = row_min_[row_slot_[slot]][x_];
-      if (kind == kKindRowUp) {
-        *pred = &hold_[slot][par][lo];
-        *m_prev = hold_min_[slot][par];
-        return y_ > 0;
+    if (first) {
+      if (k == kKindPixel) {
+        mq_[k] = pix_min_;
+      } else if (k == kKindRowLeft) {
+        mq_[k] = mlag_;
+        mlag_ = row_min_[m][x_];
+      } else {
+        mq_[k] = row_min_[m][k == kKindRowUp ? x_ : xr];
       }
-      *pred = &hold_[slot][par ^ 1][lo];
-      *m_prev = hold_min_[slot][par ^ 1];
-      return y_ > 0 && x_ > 0;
     }
-    // Row-right: column x + 1 still holds the previous row.
-    const bool valid = y_ > 0 && x_ + 1 < p_.width_px;
-    if (!valid) return false;
-    const Word* row_next = &row_[row_slot_[slot]][(x_ + 1) * d_count];
-    const int hi = lo + lanes_ - 1;
-    local[0] = lo == 0 ? Word(kNone) : row_next[lo - 1];
-    copy_lanes(local + 1, row_next + lo, lanes_);
-    local[lanes_ + 1] = hi + 1 >= d_count ? Word(kNone) : row_next[hi + 1];
-    *pred = local;
-    *m_prev = row_min_[row_slot_[slot]][x_ + 1];
-    return true;
-  }
 
-  // GCC 12 cannot see that a token read from a FIFO is initialised in every lane it uses when
-  // the token type is narrow (8 lanes) and n is a runtime value; the lanes read are < n <= LANES.
-#if defined(__GNUC__) && !defined(__clang__) && !defined(__SYNTHESIS__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-  // Lr(p, d) = C(p, d) + min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M for n lanes, added into
-  // sum; returns the running minimum. pred[i] is Lr(q, lo - 1 + i), with kNone outside [0, D).
-  // In Word arithmetic: sums that could exceed Word saturate, which cannot change a minimum
-  // because Lr(q, d) <= 2^path_bits - 1 is always a candidate and fits.
-  static uint32_t update_lanes(const Word* pred, const uint16_t* cost, Word* dest, Word* sum, int n,
-                               uint32_t p1, uint32_t p2, uint32_t m_prev, uint32_t run_min) {
-    const Word wp1 = Word(p1);
-    const Word wm = Word(m_prev);
-    const Word wm_p2 = sat_add(wm, Word(p2 > kNone ? kNone : p2));
-    Word lane_min = Word(kNone);
-  agg_lanes:
-    for (int i = 0; i < n; ++i) {
+    // Fetch the predecessor's lanes of the next firing's chunk.
+    Word next[kLanes];
+  agg_fetch:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
-      const Word a = pred[i + 1];
-      const Word b = sat_add(pred[i], wp1);
-      const Word e = sat_add(pred[i + 2], wp1);
-      Word m = a < b ? a : b;
-      m = m < e ? m : e;
-      m = m < wm_p2 ? m : wm_p2;
-      const Word lr = Word(Word(cost[i]) + Word(m - wm));
-      dest[i] = lr;
-      sum[i] = Word(sum[i] + lr);
-      lane_min = lr < lane_min ? lr : lane_min;
+      if (i < n) {
+        const int d = nlo + i;
+        if (k == kKindPixel) {
+          next[i] = pix_[d];
+        } else if (k == kKindRowUp) {
+          next[i] = row_[m][nx][d];
+        } else if (k == kKindRowLeft) {
+          next[i] = lag_[d];
+          lag_[d] = row_[m][nx][d];
+        } else {
+          next[i] = row_[m][nxr][d];
+        }
+      } else {
+        next[i] = Word(kNone);  // lanes beyond PU (software capacities only)
+      }
     }
-    return uint32_t(lane_min) < run_min ? uint32_t(lane_min) : run_min;
+
+    // pred[i] is Lr(q, lo - 1 + i), kNone outside [0, D).
+    Word pred[kLanes + 2];
+    pred[0] = first ? Word(kNone) : edge_[k];
+  agg_pred:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      pred[i + 1] = ahead_[k][i];
+    }
+    pred[n + 1] = last ? Word(kNone) : next[0];
+
+    const uint32_t m_prev = mq_[k];
+    const Word wp1 = Word(p_.p1);
+    const Word wm = Word(m_prev);
+    const uint32_t p2 = uint32_t(p_.p2);
+    const Word wm_p2 = sat_add(wm, Word(p2 > kNone ? kNone : p2));
+    uint32_t run_min = first ? kNone : run_min_[k];
+    Word lr[kLanes];
+  agg_lanes:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      if (i < n) {
+        Word v;
+        if (valid) {
+          const Word a = pred[i + 1];
+          const Word b = sat_add(pred[i], wp1);
+          const Word e = sat_add(pred[i + 2], wp1);
+          Word mm = a < b ? a : b;
+          mm = mm < e ? mm : e;
+          mm = mm < wm_p2 ? mm : wm_p2;
+          v = Word(Word(c.v[i]) + Word(mm - wm));
+        } else {
+          v = Word(c.v[i]);
+        }
+        lr[i] = v;
+        s.v[i] = Word(s.v[i] + v);
+        run_min = uint32_t(v) < run_min ? uint32_t(v) : run_min;
+      } else {
+        lr[i] = Word(kNone);
+      }
+    }
+    run_min_[k] = run_min;
+
+    // Store this chunk's Lr where the next row (row kinds) or the next pixel (pixel kind) reads it.
+  agg_store:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      if (i < n) {
+        if (k == kKindPixel) {
+          pix_[lo + i] = lr[i];
+          if (last && chunks_ == 1) next[i] = lr[i];  // the next pixel's predecessor is this one
+        } else {
+          row_[m][x_][lo + i] = lr[i];
+        }
+      }
+    }
+    if (last) {
+      if (k == kKindPixel) pix_min_ = Word(run_min);
+      else row_min_[m][x_] = Word(run_min);
+    }
+    edge_[k] = ahead_[k][n - 1];
+  agg_ahead:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      ahead_[k][i] = next[i];
+    }
   }
 
-#if defined(__GNUC__) && !defined(__clang__) && !defined(__SYNTHESIS__)
-#pragma GCC diagnostic pop
-#endif
-
-  // a + b, saturating at kNone (the largest value Lr arithmetic needs).
+  // a + b, saturating at kNone (the largest value Lr arithmetic needs). Sums that could exceed
+  // Word saturate, which cannot change a minimum because Lr(q, d) <= 2^path_bits - 1 is always
+  // a candidate and fits.
   static Word sat_add(Word a, Word b) {
     const Word r = Word(a + b);
     return (r < a || r > Word(kNone)) ? Word(kNone) : r;
   }
 
-  void finish_pixel(int slot) {
-    if (kind_[slot] == kKindPixel)
-      hold_min_[slot][parity_] = Word(min_[slot]);
-    else
-      row_min_[row_slot_[slot]][x_] = Word(min_[slot]);
-  }
-
   void advance() {
     if (++chunk_ < chunks_) return;
     chunk_ = 0;
-    parity_ ^= 1;
     if (++x_ < p_.width_px) return;
     x_ = 0;
     if (++y_ < p_.height_px) return;
@@ -313,18 +378,23 @@ class SgmAggregate {
   }
 
   StereoParams p_;
+  unsigned kinds_ = 0;
   bool add_forward_ = false, tee_cost_ = false;
-  int kind_[kKindCount];
-  int row_slot_[kKindCount];  // slot -> row memory (row kinds only; the pixel kind keeps registers)
-  int n_slots_ = 0;
-  int lanes_ = 1, chunks_ = 1;
-  int x_ = 0, y_ = 0, chunk_ = 0, parity_ = 0;
+  int d_ = 1, lanes_ = 1, chunks_ = 1;
+  int x_ = 0, y_ = 0, chunk_ = 0;
   bool done_ = true;
-  uint32_t min_[kKindCount];                  // running min of this pixel's Lr, per slot
-  Word hold_[kKindCount][2][kMaxD + 2];       // ping-pong per pixel parity, sentinel-padded
-  Word hold_min_[kKindCount][2];
-  Word row_[Caps::row_kinds][kMaxW * kMaxD];  // previous-row Lr per column, one memory per row kind
-  Word row_min_[Caps::row_kinds][kMaxW];      // previous-row min_k Lr per column
+  // Per path kind: the predecessor's lanes of this chunk, its lane lo - 1, its minimum M and
+  // the running minimum of this pixel's Lr.
+  Word ahead_[kKindCount][kLanes];
+  Word edge_[kKindCount];
+  Word mq_[kKindCount];
+  uint32_t run_min_[kKindCount];
+  Word pix_[kMaxD];   // pixel path: the previous pixel's Lr (this pixel's, lanes already done)
+  Word pix_min_ = 0;  // pixel path: the previous pixel's minimum
+  Word lag_[kMaxD];   // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
+  Word mlag_ = 0;     // row-left path: the previous row's minimum of column x - 1
+  Word row_[kRowMemories][kMaxW][kMaxD];  // row kinds: previous-row Lr per column
+  Word row_min_[kRowMemories][kMaxW];     // row kinds: previous-row min_d Lr per column
 };
 
 }  // namespace kern

@@ -3,6 +3,9 @@
 // every lane d is also a candidate for the right pixel x - d. A left pixel can be checked once
 // the right pixel it points to has seen all its candidates, so with the LR check on, left
 // disparities leave the stage D - 1 columns late (and are flushed at the end of each row).
+// Everything the stage keeps between pixels is a shift register (as Vitis' own SGBM keeps its
+// candidates): the right candidates still open, the finished right disparities and the delayed
+// left results; every entry is a register with a fixed source, so a firing fits II = 1.
 // In reverse mode (second pass of the 8-path variant) the stream runs right to left, bottom to
 // top. C++14 synthesisable subset.
 #pragma once
@@ -23,14 +26,23 @@ template <class Caps, class Word>
 class WtaLr {
  public:
   typedef Lanes<Word, Caps::lanes> SumToken;
-  static constexpr int kRingMask = Caps::column_ring - 1;
+  static constexpr int kMaxD = Caps::max_disparities;
+  static constexpr int kLanes = Caps::lanes;
+  static constexpr uint32_t kNoCost = 0xFFFFFFFFu;
 
+  WtaLr() {
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=left_d_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=right_cost_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=right_d_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=finished_d_ type=complete dim=1")
+  }
   void configure(const StereoParams& p, bool reverse) {
     p_ = p;
     reverse_ = reverse;
-    lanes_ = p.parallel_units;
-    chunks_ = p.disparities / p.parallel_units;
-    delay_ = p.lr_check ? p.disparities - 1 : 0;
+    d_ = Caps::disparities(p.disparities);
+    lanes_ = Caps::parallel_units(p.parallel_units);
+    chunks_ = d_ / lanes_;
+    delay_ = p.lr_check ? d_ - 1 : 0;
     start_frame();
   }
   void start_frame() {
@@ -62,7 +74,13 @@ class WtaLr {
 
   template <class InS, class OutS>
   void fire(const WtaPlan& pl, InS& in, OutS& out) {
-    if (pl.read) consume(in.read());
+    if (pl.read) {
+      consume(in.read());
+    } else {  // a flushing firing: one more column passes with no candidates
+      ++time_;
+      shift_column();
+      shift_left(0);
+    }
     if (pl.write) out.write(emit());
     finish(pl);
   }
@@ -89,15 +107,17 @@ class WtaLr {
   void resync() {}
 
   // Resources of this configuration (resources.hpp): the min tree and first-lane encoder over
-  // PU lanes, the left results delayed by D - 1 columns for the check (delay_ + 1 entries), and
-  // with the LR check the right candidates of the last 2D - 1 columns in PU banks with a
-  // compare-select per lane.
+  // PU lanes, the left results delayed by D - 1 columns for the check (a shift register), and
+  // with the LR check the right candidates of the D open columns and the D - 1 finished right
+  // disparities in shift registers, a compare-select per lane (lane i of chunk c reaches entry
+  // c*PU + i through a D/PU-input multiplexer) and the D-input read of the right disparity.
   template <class R>
   void declare(R& r) const {
     const int ab = aggregate_bits(p_);
     const int db = disparity_bits(p_);
-    const int pu = lanes_;
-    declare_raster_control(r, p_.width_px, p_.height_px, chunks_);
+    const int d = p_.disparities;
+    const int pu = p_.parallel_units;
+    declare_raster_control(r, p_.width_px, p_.height_px, d / pu);
     if (pu > 1) {
       r.op("wta_min_tree", kOpCompare, ab, pu - 1);
       r.op("wta_min_select", kOpMux, ab, pu - 1);
@@ -105,13 +125,15 @@ class WtaLr {
     r.op("wta_first_lane", kOpCompare, ab, pu);
     r.op("wta_best", kOpCompare, ab, 1);
     r.registers("wta_best", ab + db, 1);
-    r.memory("left_disparities", delay_ + 1, db, 1, false);
+    r.registers("left_disparities", db, (p_.lr_check ? d - 1 : 0) + 1);
     r.op("emit_counter", kOpAdd, bits_for(uint64_t(p_.width_px)), 1);
     if (p_.lr_check) {
-      const int entries = 2 * p_.disparities - 1;
-      r.memory("right_candidates", (entries + pu - 1) / pu, ab + db, pu, false);
+      r.registers("right_candidates", ab + db, d);
+      r.registers("right_disparities", db, d - 1);
+      if (d > pu) r.op("right_candidate_select", kOpMux, ab + db, pu * (d / pu - 1));
       r.op("right_compare", kOpCompare, ab, pu);
       r.op("right_select", kOpMux, ab + db, pu);
+      r.op("right_disparity_read", kOpMux, db, d - 1);
       r.op("lr_difference", kOpAdd, db, 2);
       r.op("lr_tolerance", kOpCompare, db, 1);
     }
@@ -121,23 +143,25 @@ class WtaLr {
   void consume(const SumToken& t) {
     const int lo = chunk_ * lanes_;
     if (chunk_ == 0) {
-      best_cost_ = 0xFFFFFFFFu;
+      best_cost_ = kNoCost;
       best_d_ = 0;
+      time_ = x_;
+      shift_column();
     }
     const int n = lanes_;
     // Min tree, then a priority encoder for the smallest lane holding the minimum.
-    uint32_t chunk_min = 0xFFFFFFFFu;
+    uint32_t chunk_min = kNoCost;
   wta_min:
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
-      const uint32_t s = t.v[i];
+      const uint32_t s = i < n ? uint32_t(t.v[i]) : kNoCost;
       chunk_min = s < chunk_min ? s : chunk_min;
     }
     int first = n;
   wta_first:
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
-      const int hit = uint32_t(t.v[i]) == chunk_min ? i : n;
+      const int hit = i < n && uint32_t(t.v[i]) == chunk_min ? i : n;
       first = hit < first ? hit : first;
     }
     if (chunk_min < best_cost_) {  // strict: an earlier chunk (smaller d) wins ties
@@ -145,65 +169,99 @@ class WtaLr {
       best_d_ = lo + first;
     }
     if (p_.lr_check) right_candidates(t, lo);
-    if (chunk_ + 1 == chunks_) left_d_[x_ & kRingMask] = DispCode(best_d_);
+    if (chunk_ + 1 == chunks_) shift_left(DispCode(best_d_));
   }
 
-  // Lane d is a candidate for the right pixel x_img - d (when it exists), held at its stream
-  // column. A right pixel's first candidate (forward: d = 0; reverse: d = D - 1, or the first
-  // column of the row) meets an entry reset to "none"; candidates arrive in ascending d
-  // (forward) or descending d (reverse), so the smallest d wins ties with < or <= respectively.
-  void right_candidates(const SumToken& t, int lo) {
-    const int x_img = reverse_ ? p_.width_px - 1 - x_ : x_;
-    if (chunk_ == 0) {
-      if (!reverse_) {
-        reset_right(x_);
-      } else if (x_ == 0) {
-      wta_reset_row:
-        for (int d = 0; d < p_.disparities; ++d) reset_right(d);
-      } else {
-        reset_right(x_ + p_.disparities - 1);
+  // The left results' delay line moves one column: entry k holds the result k columns back.
+  void shift_left(DispCode newest) {
+  wta_left_shift:
+    for (int k = Caps::trip(delay_ + 1, kMaxD) - 1; k > 0; --k) {
+      PX_PRAGMA("HLS UNROLL")
+      if (k <= delay_) left_d_[k] = left_d_[k - 1];
+    }
+    left_d_[0] = newest;
+  }
+
+  // One column passes (the first token of a pixel, or a flushing firing after the row's input):
+  // the open right candidates move one entry along the stream, the one leaving the open window
+  // is finished and joins the finished right disparities. At the start of a row all are reset.
+  // Forward: open entry k is the right pixel x - k (the stream column's candidates for lane d
+  // land in entry d); reverse: open entry k is stream column x + k.
+  void shift_column() {
+    if (!p_.lr_check) return;
+    const bool row_start = x_ == 0 && !in_row_done_;
+    const DispCode leaving = reverse_ ? right_d_[0] : right_d_[d_ - 1];
+  wta_finished_shift:
+    for (int k = Caps::trip(d_ - 1, kMaxD - 1) - 1; k > 0; --k) {
+      PX_PRAGMA("HLS UNROLL")
+      if (k < d_ - 1) finished_d_[k] = finished_d_[k - 1];
+    }
+    finished_d_[0] = leaving;
+    if (!reverse_) {  // entry k takes entry k - 1
+    wta_open_shift_forward:
+      for (int k = Caps::trip(d_, kMaxD) - 1; k >= 0; --k) {
+        PX_PRAGMA("HLS UNROLL")
+        if (k < d_) {
+          const bool fresh = row_start || k == 0;
+          right_cost_[k] = fresh ? kNoCost : right_cost_[k == 0 ? 0 : k - 1];
+          right_d_[k] = fresh ? DispCode(0) : right_d_[k == 0 ? 0 : k - 1];
+        }
+      }
+    } else {  // entry k takes entry k + 1
+    wta_open_shift_reverse:
+      for (int k = 0; k < Caps::trip(d_, kMaxD); ++k) {
+        PX_PRAGMA("HLS UNROLL")
+        if (k < d_) {
+          const bool fresh = row_start || k + 1 >= d_;
+          right_cost_[k] = fresh ? kNoCost : right_cost_[k + 1 < kMaxD ? k + 1 : k];
+          right_d_[k] = fresh ? DispCode(0) : right_d_[k + 1 < kMaxD ? k + 1 : k];
+        }
       }
     }
-    const int valid = min_int(lanes_, x_img - lo + 1);  // lanes with x_img - d >= 0
-    // Lane i's slot is base + i (mod ring): contiguous, so split once at the ring's end.
-    const int base = reverse_ ? slot_of(x_ + lo) : slot_of(x_ - lo);
-    const int first_run = min_int(valid, Caps::column_ring - base);
-    update_right(t, lo, 0, first_run, base);
-    update_right(t, lo, first_run, valid, base - Caps::column_ring);
   }
 
-  void update_right(const SumToken& t, int lo, int i0, int i1, int offset) {
+  // Lane d of this token is a candidate for the right pixel x_img - d (when it exists), held in
+  // open entry d. Candidates of one right pixel arrive in ascending d (forward) or descending d
+  // (reverse), so the smallest d wins ties with < or <= respectively.
+  void right_candidates(const SumToken& t, int lo) {
+    const int x_img = reverse_ ? p_.width_px - 1 - x_ : x_;
     const bool rev = reverse_;
   wta_right_lanes:
-    for (int i = i0; i < i1; ++i) {
+    for (int i = 0; i < Caps::trip(lanes_, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
-      const int slot = offset + i;
-      const uint32_t s = t.v[i];
-      const uint32_t c = right_cost_[slot];
-      const bool better = s < c || (rev && s == c);
-      right_cost_[slot] = better ? s : c;
-      right_d_[slot] = better ? lo + i : right_d_[slot];
+      const int d = lo + i;
+      if (i < lanes_ && d <= x_img) {
+        const uint32_t s = t.v[i];
+        const uint32_t c = right_cost_[d];
+        const bool better = s < c || (rev && s == c);
+        right_cost_[d] = better ? s : c;
+        right_d_[d] = better ? DispCode(d) : right_d_[d];
+      }
     }
   }
 
-  // Ring slot of a right pixel by stream column: mirrored in forward mode so that the lanes of
-  // one token always occupy ascending slots.
-  int slot_of(int stream_col) const { return (reverse_ ? stream_col : -stream_col) & kRingMask; }
-
-  void reset_right(int stream_col) {
-    right_cost_[slot_of(stream_col)] = 0xFFFFFFFFu;
-    right_d_[slot_of(stream_col)] = 0;
-  }
-
+  // The oldest left pixel not yet emitted, checked against the right pixel it points to. After
+  // the shift of stream column t (real, or a flushing firing's), the left pixel xs is left
+  // entry t - xs (delay_, except while flushing a row narrower than D); the right pixel of left
+  // disparity d is, forward, t - xs + d columns old: open entry t - xs + d while younger than
+  // D, else finished entry t - xs + d - D; reverse, stream column xs + d: open entry
+  // xs + d - t when not behind t, else finished entry t - 1 - xs - d.
   DispCode emit() {
     const int xs = next_emit_++;
-    const int d = left_d_[xs & kRingMask];
+    const int lag = in_row_done_ ? time_ - xs : delay_;
+    const int d = left_d_[lag];
     const int x_img = reverse_ ? p_.width_px - 1 - xs : xs;
-    const DispCode invalid = DispCode(p_.disparities);
+    const DispCode invalid = DispCode(d_);
     if (d > x_img) return invalid;
     if (p_.lr_check) {
-      const int xr_stream = reverse_ ? xs + d : xs - d;
-      const int dr = right_d_[slot_of(xr_stream)];
+      int dr;
+      if (!reverse_) {
+        const int age = lag + d;
+        dr = age < d_ ? right_d_[age] : finished_d_[age - d_];
+      } else {
+        const int ahead = d - lag;
+        dr = ahead >= 0 ? right_d_[ahead] : finished_d_[-ahead - 1];
+      }
       const int diff = d > dr ? d - dr : dr - d;
       if (diff > p_.lr_tolerance) return invalid;
     }
@@ -234,14 +292,16 @@ class WtaLr {
 
   StereoParams p_;
   bool reverse_ = false;
-  int lanes_ = 1, chunks_ = 1, delay_ = 0;
+  int d_ = 1, lanes_ = 1, chunks_ = 1, delay_ = 0;
   int x_ = 0, y_ = 0, chunk_ = 0, next_emit_ = 0;
+  int time_ = 0;  // stream column of the last column shift (flushing firings count on past W - 1)
   bool in_row_done_ = false, done_ = true;
   uint32_t best_cost_ = 0;
   int best_d_ = 0;
-  DispCode left_d_[Caps::column_ring];     // left WTA results awaiting the check, by stream column
-  uint32_t right_cost_[Caps::column_ring]; // right WTA running minimum, by stream column
-  int right_d_[Caps::column_ring];
+  DispCode left_d_[kMaxD];       // left WTA results of the last D columns (entry k: k columns back)
+  uint32_t right_cost_[kMaxD];   // open right candidates: running minimum ...
+  DispCode right_d_[kMaxD];      // ... and its disparity
+  DispCode finished_d_[kMaxD];   // finished right disparities (D - 1 used)
 };
 
 }  // namespace kern

@@ -7,14 +7,15 @@
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/params.hpp"
 
-// Storage directives the kernels place on their member arrays (kernels/common.hpp), from the
-// resource model's mapping of this design's memories (docs/resources.md).
-#define PX_HLS_LINE_BUFFER_PARTITION "HLS ARRAY_PARTITION variable=mem_ type=complete dim=1"
+// Storage directives the kernels place on their member arrays in their constructors
+// (kernels/common.hpp), from the resource model's mapping of this design's memories
+// (docs/resources.md): the line buffers' RAM, and the path-cost rows' packing (disparities per
+// word), memories per row kind and RAM. The structural directives (registers, one memory per row
+// kind, lane banks) are the kernels' own.
 #define PX_HLS_LINE_BUFFER_STORAGE "HLS BIND_STORAGE variable=mem_ type=ram_s2p impl=bram"
-#define PX_HLS_CENSUS_CODES_PARTITION "HLS ARRAY_PARTITION variable=right_codes_ type=cyclic factor=6 dim=1"
-#define PX_HLS_SGM_ROW_PARTITION "HLS ARRAY_PARTITION variable=row_ type=cyclic factor=20 dim=2"
-#define PX_HLS_SGM_ROW_STORAGE "HLS BIND_STORAGE variable=row_ type=ram_t2p impl=bram"
-#define PX_HLS_SGM_HOLD_PARTITION "HLS ARRAY_PARTITION variable=hold_ type=complete dim=0"
+#define PX_HLS_SGM_ROW_RESHAPE "HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=3 dim=3"
+#define PX_HLS_SGM_ROW_PARTITION "HLS ARRAY_PARTITION variable=row_ type=cyclic factor=20 dim=3"
+#define PX_HLS_SGM_ROW_STORAGE "HLS BIND_STORAGE variable=row_ type=ram_s2p impl=bram"
 
 namespace parallax_design {
 
@@ -34,8 +35,7 @@ constexpr bool kTwoPass = false;  // paths beyond 0/45/90/135: a second, reverse
 constexpr bool kLrCheck = true;
 constexpr int kMedian = 5;  // 0 = off
 constexpr int kMedianRows = 5;
-constexpr int kColumnRing = 128;  // per-column rings (Census, WTA/LR): a power of two above 2D - 1
-constexpr int kRowKinds = 3;  // path-cost row memories per aggregation stage (row path kinds)
+constexpr unsigned kKindMask = 15u;  // stream path kinds of the aggregation stage(s) (kernels/sgm.hpp)
 
 // Bit widths (docs/algorithm.md): cost, penalty register, path cost Lr, aggregate S, disparity
 // code, and the AXI4-Stream TDATA of the output (the code rounded up to whole bytes).
@@ -59,8 +59,9 @@ constexpr int kDepthSum = 30;
 constexpr int kDepthDispLr = 2;
 constexpr int kDepthDispOut = 2;
 
-// The kernels' capacities: this design's exact sizes.
-typedef parallax::kern::Caps<kWidthPx, kDisparities, kParallelUnits, kWindowH, kMedianRows, kColumnRing, kRowKinds>
+// The kernels' capacities: this design's exact sizes, fixed (the kernels use these constants, not
+// the runtime values, so lane addresses and trip counts are compile-time).
+typedef parallax::kern::Caps<kWidthPx, kDisparities, kParallelUnits, kWindowH, kMedianRows, kKindMask, true>
     DesignCaps;
 // Aggregation word: the narrowest of 16 or 32 bits that holds kAggregateBits.
 typedef uint16_t AggWord;
