@@ -92,6 +92,33 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
     if (f.why.rfind("backlog", 0) == 0)
       f.why += " (the whole design: " + std::to_string(extra) + " cycles later than with unbounded FIFOs)";
   r.golden = res.cycle.codes.code;
+  for (const auto& s : res.cycle.stages) r.stage_fires[s.name] = s.fires;
+
+  // 2b. The reduced frame of C/RTL co-simulation: the pair's first rows, the same depths; the
+  // remap tables (rectifying designs) cut to those rows as the images are.
+  r.reduced_height_px = hlsx::reduced_frame_rows(r.height_px);
+  {
+    const cv::Mat lr = left.rowRange(0, r.reduced_height_px).clone(), rr = right.rowRange(0, r.reduced_height_px).clone();
+    sim::CycleOptions o = cycle_options(cfg, sim_clock);
+    RectifyMaps maps;
+    if (cfg.rectify != "none") {
+      maps = load_rectify_maps(cfg);
+      const std::size_t n = std::size_t(lr.cols) * std::size_t(lr.rows);
+      maps.left.resize(n);
+      maps.right.resize(n);
+      o.rectify = kern::RectifyParams{lr.cols, lr.rows, cfg.rectify == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest,
+                                      cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0, cfg.rectify_rows};
+      o.rectify_map_left = &maps.left;
+      o.rectify_map_right = &maps.right;
+    }
+    const sim::CycleReport reduced =
+        sim::run_cycle(to_grey_image(lr), to_grey_image(rr), cfg.stereo_params(lr.cols, lr.rows), o);
+    if (reduced.deadlock)
+      throw hlsx::ExportError("design '" + cfg.name + "' deadlocks on the reduced frame of " +
+                              std::to_string(r.reduced_height_px) + " rows: " + reduced.deadlock_message);
+    r.reduced_golden = reduced.codes.code;
+    for (const auto& s : reduced.stages) r.reduced_stage_fires[s.name] = s.fires;
+  }
   r.golden_source = "the Parallax cycle model (`parallax sim`), which is bit-identical to its func run and golden model";
   r.pair_source = pair_source;
   if (cfg_in.rectify != "none") {

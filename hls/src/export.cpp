@@ -23,6 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kTestbenchFrames = 2;
+constexpr int kReducedRows = 16;  // rows of the reduced frame of C/RTL co-simulation
 constexpr const char* kMarker = ".parallax-export";
 
 // Replaces every @KEY@ (KEY: upper-case letters, digits, '_', starting with a letter) by its
@@ -137,9 +138,50 @@ void check_request(const ExportRequest& r) {
     throw ExportError(rectify ? "export: a rectifying design needs both remap tables at the pair's size"
                               : "export: remap tables given for a design without rectification");
   if (!(r.clock_mhz > 0)) throw ExportError("export: the clock must be positive");
+  if (r.reduced_height_px != reduced_frame_rows(r.height_px) ||
+      r.reduced_golden.size() != std::size_t(r.width_px) * std::size_t(r.reduced_height_px))
+    throw ExportError("export: the reduced frame's golden output must be " + std::to_string(r.width_px) + "x" +
+                      std::to_string(reduced_frame_rows(r.height_px)));
+  for (uint16_t c : r.reduced_golden)
+    if (c > r.config.disparities) throw ExportError("export: a golden code of the reduced frame exceeds the invalid code D");
+}
+
+// The stages whose loops in the top run until the stage is done (`while (!stage.done())`), by the
+// placeholder of their LOOP_TRIPCOUNT: each loop fires its kernel once per iteration, so its trip
+// count is the cycle model's firings of the stage (several stages: the instances of one loop).
+struct TripLoop {
+  const char* key;
+  std::vector<std::string> stages;
+};
+std::vector<TripLoop> trip_loops(const config::PipelineConfig& c) {
+  std::vector<TripLoop> loops = {{"TRIPCOUNT_COST", {"cost"}},
+                                 {"TRIPCOUNT_AGGREGATE", {"aggregate"}},
+                                 {"TRIPCOUNT_WTA_LR", {"wta_lr"}},
+                                 {"TRIPCOUNT_MEDIAN", {"median"}}};
+  if ((c.path_mask & kern::kBackwardPaths) != 0) loops.push_back({"TRIPCOUNT_AGGREGATE_BACK", {"aggregate_back"}});
+  if (c.rectify != "none") loops.push_back({"TRIPCOUNT_RECTIFY", {"rectify_left", "rectify_right"}});
+  return loops;
+}
+
+// min, max and mean of the firings of `stages` in `fires`; ExportError naming a missing stage.
+std::string tripcount_pragma(const std::map<std::string, int64_t>& fires, const std::vector<std::string>& stages,
+                             const std::string& frame) {
+  int64_t lo = 0, hi = 0, sum = 0;
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    const auto it = fires.find(stages[i]);
+    if (it == fires.end() || it->second < 1)
+      throw ExportError("export: the cycle model's firings of stage '" + stages[i] + "' on the " + frame + " frame are missing");
+    lo = i == 0 ? it->second : std::min(lo, it->second);
+    hi = i == 0 ? it->second : std::max(hi, it->second);
+    sum += it->second;
+  }
+  const int64_t avg = (sum + int64_t(stages.size()) / 2) / int64_t(stages.size());
+  return "#pragma HLS LOOP_TRIPCOUNT min=" + std::to_string(lo) + " max=" + std::to_string(hi) + " avg=" + std::to_string(avg) + "\n";
 }
 
 }  // namespace
+
+int reduced_frame_rows(int height_px) { return std::min(height_px, kReducedRows); }
 
 std::vector<std::string> export_fifo_names(const config::PipelineConfig& c) {
   std::vector<std::string> names;
@@ -169,6 +211,7 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["PERIOD_NS"] = clock_period_ns(r.clock_mhz);
   v["WIDTH"] = std::to_string(r.width_px);
   v["HEIGHT"] = std::to_string(r.height_px);
+  v["REDUCED_HEIGHT"] = std::to_string(r.reduced_height_px);
   const bool census = p.cost == kern::kCostCensus;
   v["COST_ENUM"] = census ? "kCostCensus" : "kCostSad";
   v["COST_HEADER"] = census ? "census.hpp" : "sad.hpp";
@@ -232,7 +275,6 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                     "  parallax::kern::RectifyParams p;\n  p.width_px = kWidthPx;\n  p.height_px = kHeightPx;\n"
                     "  p.mode = kRectifyMode;\n  p.frac_bits = kRectifyFracBits;\n  p.buffer_rows = kRectifyRows;\n  return p;\n}\n\n"
               : "";
-  v["RECTIFY_FUNCTIONS"] = rectify ? template_text("rectify_functions.cpp") : "";
   v["FRONT_END"] = rectify ? "  read_pixels(left_in, raw_left_px);\n  read_pixels(right_in, raw_right_px);\n"
                              "  read_maps(map_left_in, map_left);\n  read_maps(map_right_in, map_right);\n"
                              "  rectify_stage<0>(raw_left_px, map_left, left_px);\n  rectify_stage<1>(raw_right_px, map_right, right_px);\n"
@@ -246,8 +288,8 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                              : "";
   v["TB_MAP_ARGS"] = rectify ? " map_left_in, map_right_in," : "";
 
-  v["TCL_MAP_FILES"] = rectify ? "add_files -tb tb/map_left.bin\nadd_files -tb tb/map_right.bin\n" : "";
   v["CFG_MAP_FILES"] = rectify ? "tb.file=tb/map_left.bin\ntb.file=tb/map_right.bin\n" : "";
+  v["TCL_MAP_FILES"] = rectify ? "  add_files -tb tb/map_left.bin\n  add_files -tb tb/map_right.bin\n" : "";
   v["README_MAP_PORTS"] =
       rectify ? "| `map_left_in`, `map_right_in` | AXI4-Stream | 64 | remap tables, one entry per output pixel: source x in TDATA[31:0], y in [63:32], signed, " +
                     std::to_string(c.rectify == "bilinear" ? c.rectify_frac_bits : 0) + " fraction bits |\n"
@@ -324,7 +366,36 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                         : "                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,\n"
                           "                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance)");
   v["PASS_MAP_PARAMS"] = rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
+  v["DATAFLOW_MAP_PARAMS"] = rectify ? "\n                       hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
   v["PASS_MAP_ARGS"] = rectify ? " map_left_in, map_right_in," : "";
+  // The m_axi ports' depths (the words C/RTL co-simulation moves), of the full and the reduced frame.
+  {
+    const int64_t chunks = p.disparities / p.parallel_units;
+    auto m_axi = [&](int64_t pixels) {
+      const std::string tokens = std::to_string(pixels * chunks);
+      return "#pragma HLS INTERFACE mode=m_axi port=disparity offset=slave bundle=disparity depth=" + std::to_string(pixels) +
+             "\n#pragma HLS INTERFACE mode=m_axi port=frame_cost_write offset=slave bundle=frame_write depth=" + tokens +
+             "\n#pragma HLS INTERFACE mode=m_axi port=frame_forward_write offset=slave bundle=frame_write depth=" + tokens +
+             "\n#pragma HLS INTERFACE mode=m_axi port=frame_cost_read offset=slave bundle=frame_read depth=" + tokens +
+             "\n#pragma HLS INTERFACE mode=m_axi port=frame_forward_read offset=slave bundle=frame_read depth=" + tokens + "\n";
+    };
+    v["M_AXI_PRAGMAS"] = "#ifndef PARALLAX_REDUCED_FRAME\n" + m_axi(int64_t(r.width_px) * r.height_px) + "#else\n" +
+                         m_axi(int64_t(r.width_px) * r.reduced_height_px) + "#endif\n";
+  }
+  // LOOP_TRIPCOUNT of the loops that run until their stage is done: the cycle model's firings per
+  // frame, of the full frame and of the reduced one.
+  std::string trip_table;
+  for (const char* key : {"TRIPCOUNT_COST", "TRIPCOUNT_AGGREGATE", "TRIPCOUNT_WTA_LR", "TRIPCOUNT_MEDIAN",
+                                 "TRIPCOUNT_AGGREGATE_BACK", "TRIPCOUNT_RECTIFY"})
+    v[key] = "";
+  for (const TripLoop& l : trip_loops(c)) {
+    v[l.key] = "#ifndef PARALLAX_REDUCED_FRAME\n" + tripcount_pragma(r.stage_fires, l.stages, "full") + "#else\n" +
+               tripcount_pragma(r.reduced_stage_fires, l.stages, "reduced") + "#endif\n";
+    for (const std::string& st : l.stages)
+      trip_table += std::string(trip_table.empty() ? "" : ", ") + st + " " + std::to_string(r.stage_fires.at(st));
+  }
+  v["TRIPCOUNT_TABLE"] = trip_table;
+  v["RECTIFY_FUNCTIONS"] = rectify ? fill("rectify_functions.cpp", template_text("rectify_functions.cpp"), v) : "";
   v["README_OUTPUT_PORTS"] =
       two_pass ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
                      " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
@@ -374,13 +445,39 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   add("tb/parallax_tb.cpp", "parallax_tb.cpp");
   add("Makefile", "Makefile");
   add("run_hls.tcl", "run_hls.tcl");
+  // The unified flow's configurations: the full frame, and the reduced frame of C/RTL
+  // co-simulation (a component of its own: the frame's size is compile-time).
+  const std::string id = identifier(c.name);
+  v["CFG_HEADER"] =
+      "# Design " + c.name + ", exported by `parallax export-hls`, for the Vitis unified flow (2023.2 and later;\n"
+      "# the only one from 2025.1), the full frame (`make vitis FLOW=vpp` runs these):\n"
+      "#   vitis-run --mode hls --csim --config hls_config.cfg --work_dir parallax_" + id + "\n"
+      "#   v++ -c --mode hls --config hls_config.cfg --work_dir parallax_" + id + "\n"
+      "#   vitis-run --mode hls --cosim --config hls_config.cfg --work_dir parallax_" + id + "   (COSIM_FULL=1 only)\n"
+      "#   vitis-run --mode hls --package --config hls_config.cfg --work_dir parallax_" + id + "\n"
+      "# C/RTL co-simulation runs by default on the reduced frame, a component of its own synthesised\n"
+      "# with -DPARALLAX_REDUCED_FRAME: hls_config_reduced.cfg.\n";
+  v["CFG_DEFINES"] = "";
+  v["CFG_GOLDEN"] = "golden_disparity.pgm";
   add("hls_config.cfg", "hls_config.cfg");
+  v["CFG_HEADER"] =
+      "# Design " + c.name + ", exported by `parallax export-hls`: the reduced frame of C/RTL co-simulation,\n"
+      "# the pair's first " + v["REDUCED_HEIGHT"] + " rows at the full width (-DPARALLAX_REDUCED_FRAME; the frame's size is\n"
+      "# compile-time, so this is a component of its own), checked bit for bit against\n"
+      "# tb/golden_disparity_reduced.pgm (`make vitis FLOW=vpp` runs these):\n"
+      "#   v++ -c --mode hls --config hls_config_reduced.cfg --work_dir parallax_" + id + "_reduced\n"
+      "#   vitis-run --mode hls --cosim --config hls_config_reduced.cfg --work_dir parallax_" + id + "_reduced\n";
+  v["CFG_DEFINES"] = " -DPARALLAX_REDUCED_FRAME";
+  v["CFG_GOLDEN"] = "golden_disparity_reduced.pgm";
+  add("hls_config_reduced.cfg", "hls_config.cfg");
   add("README.md", "README.md");
   files.push_back({"design.yaml", "# Exported by parallax export-hls from " + r.origin + "\n" + config::to_yaml(c), false});
   for (const auto& f : detail::copied_files()) files.push_back({f.name, *f.text, false});
   files.push_back({"tb/left.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.left.data()), true});
   files.push_back({"tb/right.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.right.data()), true});
   files.push_back({"tb/golden_disparity.pgm", pgm(r.width_px, r.height_px, c.disparities, r.golden.data(), nullptr), true});
+  files.push_back({"tb/golden_disparity_reduced.pgm",
+                   pgm(r.width_px, r.reduced_height_px, c.disparities, r.reduced_golden.data(), nullptr), true});
   if (rectify) {
     auto table = [](const std::vector<kern::MapEntry>& m) {
       std::string out;

@@ -72,6 +72,16 @@ struct ExportRequest {
   // Rectifying designs: the remap tables of the pair's size in the kernels' fixed point (the
   // pair is then the raw, unrectified images).
   std::vector<kern::MapEntry> map_left, map_right;
+  // The cycle model's firings per frame of each stage (sim::StageReport::fires by the cycle
+  // model's stage name): the trip counts of the top's `while (!stage.done())` loops, which fire
+  // their kernel once per iteration (LOOP_TRIPCOUNT, so that csynth reports a latency).
+  std::map<std::string, int64_t> stage_fires;
+  // The reduced frame of C/RTL co-simulation (PARALLAX_REDUCED_FRAME): the first
+  // reduced_height_px rows of the pair (reduced_frame_rows), the simulator's codes for them and
+  // its firings per stage.
+  int reduced_height_px = 0;
+  std::vector<uint16_t> reduced_golden;
+  std::map<std::string, int64_t> reduced_stage_fires;
 };
 
 struct GeneratedFile {
@@ -79,6 +89,10 @@ struct GeneratedFile {
   std::string content;  // text, or the bytes of a binary file
   bool binary = false;
 };
+
+// The rows of the reduced frame that C/RTL co-simulation runs by default: the design's first
+// min(height_px, 16) rows at its full width (the line buffers are sized by the width).
+int reduced_frame_rows(int height_px);
 
 // The names of the FIFOs of an exported top, in pipeline order (the cycle model's names).
 std::vector<std::string> export_fifo_names(const config::PipelineConfig& c);

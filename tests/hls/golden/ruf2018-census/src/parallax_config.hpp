@@ -19,9 +19,19 @@
 
 namespace parallax_design {
 
-// Structure of the design: fixed at synthesis.
+// Structure of the design: fixed at synthesis. The frame is kWidthPx x kFullHeightPx. With
+// PARALLAX_REDUCED_FRAME defined (`make csim-reduced`, and the default C/RTL co-simulation of
+// run_hls.tcl and hls_config_reduced.cfg) the same design is built for the frame's first
+// kReducedHeightPx rows, at the full width (the line buffers are sized by the width); the
+// testbench then checks it against the simulator's output for those rows.
 constexpr int kWidthPx = 640;
-constexpr int kHeightPx = 360;
+constexpr int kFullHeightPx = 360;
+constexpr int kReducedHeightPx = 16;
+#ifdef PARALLAX_REDUCED_FRAME
+constexpr int kHeightPx = kReducedHeightPx;
+#else
+constexpr int kHeightPx = kFullHeightPx;
+#endif
 constexpr int kPixels = kWidthPx * kHeightPx;
 constexpr int kCost = parallax::kern::kCostCensus;
 constexpr int kWindowW = 5;

@@ -4,7 +4,11 @@
 //
 // Each stage function holds its kernel object for one call (one frame; its memories are the
 // stage's RAMs and registers, and nothing needs dynamic initialisation), configures it at the
-// start of the frame and fires it in a pipelined loop until the frame is done: plan() says which streams the next firing reads and writes, fire() does it.
+// start of the frame and fires it in a pipelined loop until the frame is done: plan() says which
+// streams the next firing reads and writes, fire() does it. The loops' trip counts are known only at
+// run time; their LOOP_TRIPCOUNT pragmas give the cycle model's firings of the stage per frame
+// (for the full frame, and for the reduced one under PARALLAX_REDUCED_FRAME), so that synthesis
+// reports a latency. They affect the reports only, not the hardware.
 // Plans depend on the stage's own counters only, so a plan that reads and writes nothing means
 // the stage can never progress; the loop then stops rather than spin (the C simulation then
 // reports the tokens left behind).
@@ -112,6 +116,11 @@ void cost_stage(hls::stream<uint8_t>& left_px, hls::stream<uint8_t>& right_px, h
 cost_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
+#ifndef PARALLAX_REDUCED_FRAME
+#pragma HLS LOOP_TRIPCOUNT min=2305283 max=2305283 avg=2305283
+#else
+#pragma HLS LOOP_TRIPCOUNT min=103683 max=103683 avg=103683
+#endif
     const kern::CostPlan pl = stage.plan();
     if (!pl.read && !pl.write) break;
     stage.fire(pl, left_px, right_px, cost);
@@ -127,6 +136,11 @@ void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_b
 wta_lr_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
+#ifndef PARALLAX_REDUCED_FRAME
+#pragma HLS LOOP_TRIPCOUNT min=2325240 max=2325240 avg=2325240
+#else
+#pragma HLS LOOP_TRIPCOUNT min=103344 max=103344 avg=103344
+#endif
     const kern::WtaPlan pl = stage.plan();
     if (!pl.read && !pl.write) break;
     stage.fire(pl, sum, disp);
@@ -142,6 +156,11 @@ void median_stage(hls::stream<CodeBeat>& in_beats, hls::stream<CodeBeat>& out_be
 median_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
+#ifndef PARALLAX_REDUCED_FRAME
+#pragma HLS LOOP_TRIPCOUNT min=231683 max=231683 avg=231683
+#else
+#pragma HLS LOOP_TRIPCOUNT min=11523 max=11523 avg=11523
+#endif
     const kern::MedianPlan pl = stage.plan();
     if (!pl.read && !pl.write) break;
     stage.fire(pl, in, out);
@@ -159,6 +178,11 @@ void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& su
 aggregate_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
+#ifndef PARALLAX_REDUCED_FRAME
+#pragma HLS LOOP_TRIPCOUNT min=2304000 max=2304000 avg=2304000
+#else
+#pragma HLS LOOP_TRIPCOUNT min=102400 max=102400 avg=102400
+#endif
     const kern::AggPlan pl = stage.plan();
     stage.fire(pl, cost, no_forward, sum, no_tee);
   }
@@ -183,23 +207,13 @@ write_disparity_loop:
   }
 }
 
-}  // namespace
-
-void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
-                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,
-                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance) {
-#pragma HLS INTERFACE mode=axis port=left_in
-#pragma HLS INTERFACE mode=axis port=right_in
-#pragma HLS INTERFACE mode=axis port=disparity_out
-#pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control
-#pragma HLS INTERFACE mode=s_axilite port=p2 bundle=control
-#pragma HLS INTERFACE mode=s_axilite port=lr_tolerance bundle=control
-#pragma HLS INTERFACE mode=s_axilite port=return bundle=control
+// The DATAFLOW region: one process per stage, joined by the named streams. The registers come in
+// as plain values, read once by the top before the region starts: no AXI4-Lite access inside it.
+void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
+                       hls::stream<disparity_beat_t>& disparity_out, unsigned p1_value, unsigned p2_value,
+                       unsigned tolerance_value) {
+#pragma HLS INLINE off
 #pragma HLS DATAFLOW
-  const unsigned p1_value = p1.to_uint();
-  const unsigned p2_value = p2.to_uint();
-  const unsigned tolerance_value = lr_tolerance.to_uint();
-
   hls::stream<uint8_t> left_px("left_px");
 #pragma HLS STREAM variable=left_px depth=2
 #pragma HLS BIND_STORAGE variable=left_px type=fifo impl=srl
@@ -226,4 +240,23 @@ void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>&
   wta_lr_stage(sum, disp_lr, p1_value, p2_value, tolerance_value);
   median_stage(disp_lr, disp_out, p1_value, p2_value, tolerance_value);
   write_disparity(disp_out, disparity_out);
+}
+
+}  // namespace
+
+void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
+                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,
+                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance) {
+#pragma HLS INTERFACE mode=axis port=left_in
+#pragma HLS INTERFACE mode=axis port=right_in
+#pragma HLS INTERFACE mode=axis port=disparity_out
+#pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control
+#pragma HLS INTERFACE mode=s_axilite port=p2 bundle=control
+#pragma HLS INTERFACE mode=s_axilite port=lr_tolerance bundle=control
+#pragma HLS INTERFACE mode=s_axilite port=return bundle=control
+  // The AXI4-Lite registers, read once per call outside the DATAFLOW region.
+  const unsigned p1_value = p1.to_uint();
+  const unsigned p2_value = p2.to_uint();
+  const unsigned tolerance_value = lr_tolerance.to_uint();
+  parallax_dataflow(left_in, right_in, disparity_out, p1_value, p2_value, tolerance_value);
 }

@@ -6,6 +6,8 @@
 // comparison runs both ways: every golden pixel must come out of the top with the same code
 // (nothing missing, nothing different), and every beat the top writes must be a golden pixel in
 // order with the right framing (nothing extra). Writes tb/csim_disparity.pgm (the last frame).
+// Built with PARALLAX_REDUCED_FRAME (the reduced frame: the pair's first kHeightPx rows), it
+// compares with tb/golden_disparity_reduced.pgm and writes tb/csim_disparity_reduced.pgm.
 // Exit status 0 when bit-exact, 1 otherwise. Usage: parallax_tb [TB_DIR] (default: tb).
 #include <stdint.h>
 #include <stdio.h>
@@ -19,6 +21,16 @@
 namespace {
 
 using namespace parallax_design;
+
+#ifdef PARALLAX_REDUCED_FRAME
+const char kGoldenFile[] = "golden_disparity_reduced.pgm";  // the simulator's codes for the first kHeightPx rows
+const char kOutputFile[] = "csim_disparity_reduced.pgm";
+const char kFrameNote[] = " (reduced frame: the pair's first rows)";
+#else
+const char kGoldenFile[] = "golden_disparity.pgm";
+const char kOutputFile[] = "csim_disparity.pgm";
+const char kFrameNote[] = "";
+#endif
 
 struct Image {
   int width_px = 0, height_px = 0, maxval = 0;
@@ -87,18 +99,23 @@ int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : "tb";
   Image left, right, golden;
   if (!read_pgm(dir + "/left.pgm", left) || !read_pgm(dir + "/right.pgm", right) ||
-      !read_pgm(dir + "/golden_disparity.pgm", golden))
+      !read_pgm(dir + "/" + kGoldenFile, golden))
     return 1;
+  // The pair is the full frame; the design's frame (the reduced one: its first rows) is cut from it.
   const Image* images[3] = {&left, &right, &golden};
-  const char* names[3] = {"left.pgm", "right.pgm", "golden_disparity.pgm"};
+  const char* names[3] = {"left.pgm", "right.pgm", kGoldenFile};
+  const int heights[3] = {kFullHeightPx, kFullHeightPx, kHeightPx};
   for (int i = 0; i < 3; ++i)
-    if (images[i]->width_px != kWidthPx || images[i]->height_px != kHeightPx) {
-      fprintf(stderr, "%s/%s: %dx%d, the design processes %dx%d\n", dir.c_str(), names[i], images[i]->width_px,
-              images[i]->height_px, kWidthPx, kHeightPx);
+    if (images[i]->width_px != kWidthPx || images[i]->height_px != heights[i]) {
+      fprintf(stderr, "%s/%s: %dx%d, expected %dx%d\n", dir.c_str(), names[i], images[i]->width_px,
+              images[i]->height_px, kWidthPx, heights[i]);
       return 1;
     }
+  left.height_px = right.height_px = kHeightPx;
+  left.px.resize(size_t(kPixels));
+  right.px.resize(size_t(kPixels));
   if (golden.maxval != kDisparities) {
-    fprintf(stderr, "%s/golden_disparity.pgm: maxval %d is not the invalid code %d\n", dir.c_str(), golden.maxval,
+    fprintf(stderr, "%s/%s: maxval %d is not the invalid code %d\n", dir.c_str(), kGoldenFile, golden.maxval,
             kDisparities);
     return 1;
   }
@@ -184,10 +201,11 @@ int main(int argc, char** argv) {
     if (n < kPixels) missing += kPixels - n;
 #endif
   }
-  if (!write_pgm(dir + "/csim_disparity.pgm", out)) fprintf(stderr, "%s/csim_disparity.pgm: cannot write\n", dir.c_str());
+  if (!write_pgm(dir + "/" + kOutputFile, out)) fprintf(stderr, "%s/%s: cannot write\n", dir.c_str(), kOutputFile);
   const bool exact = mismatches == 0 && missing == 0 && extra == 0 && framing == 0;
-  printf("parallax_tb: design ruf2018-census, %d frame(s) of %dx%d, D=%d, PU=%d: %s\n", frames, kWidthPx, kHeightPx,
-         kDisparities, kParallelUnits, exact ? "bit-exact against the simulator's golden output" : "MISMATCH");
+  printf("parallax_tb: design ruf2018-census, %d frame(s) of %dx%d%s, D=%d, PU=%d: %s\n", frames, kWidthPx, kHeightPx,
+         kFrameNote, kDisparities, kParallelUnits,
+         exact ? "bit-exact against the simulator's golden output" : "MISMATCH");
   if (!exact)
     printf("parallax_tb: %lld different, %lld missing, %lld extra, %lld badly framed pixel(s)\n", mismatches, missing,
            extra, framing);
