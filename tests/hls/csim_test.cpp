@@ -83,6 +83,74 @@ std::string find_cycle(const std::map<std::string, std::set<std::string>>& g) {
   return "";
 }
 
+// The reduced frame of C/RTL co-simulation (`make csim-reduced`, -DPARALLAX_REDUCED_FRAME): the
+// pair's first 16 rows, bit-exact against the simulator's output for them.
+void expect_reduced_frame_bit_exact(const fs::path& out) {
+  const Shell reduced = shell("make -C " + out.string() + " csim-reduced");
+  EXPECT_EQ(reduced.status, 0) << reduced.output;
+  EXPECT_NE(reduced.output.find("(reduced frame: the pair's first rows)"), std::string::npos) << reduced.output;
+  EXPECT_NE(reduced.output.find("bit-exact against the simulator's golden output"), std::string::npos) << reduced.output;
+  const std::string golden = read_file(out / "tb/golden_disparity_reduced.pgm");
+  EXPECT_EQ(golden.substr(0, 3), "P5\n");
+  EXPECT_NE(golden.find(" 16\n"), std::string::npos) << "16 rows";
+  EXPECT_EQ(read_file(out / "tb/csim_disparity_reduced.pgm"), golden);
+}
+
+// The LOOP_TRIPCOUNT of every `while (!stage.done())` loop is its actual trip count: the top,
+// instrumented to count each loop's iterations per call, runs the C simulation of the full and
+// of the reduced frame, and every call of every loop must iterate exactly as its pragma says
+// (within min..max, and min = max for a loop of one stage).
+void expect_trip_counts_exact(const fs::path& out) {
+  const fs::path file = out / "src/parallax_top.cpp";
+  const std::string top = read_file(file);
+  struct Counts {
+    long long min[2], max[2];
+  };
+  std::map<std::string, Counts> pragma;  // by loop label; [0] full frame, [1] reduced
+  static const std::regex loop(R"((\w+_loop):\n\s*while \(!stage\.done\(\)\) \{\n#pragma HLS PIPELINE II=1\n)"
+                               R"(#ifndef PARALLAX_REDUCED_FRAME\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=\d+\n)"
+                               R"(#else\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=\d+\n#endif\n)");
+  for (auto it = std::sregex_iterator(top.begin(), top.end(), loop); it != std::sregex_iterator(); ++it)
+    pragma[(*it)[1]] = Counts{{std::stoll((*it)[2]), std::stoll((*it)[4])}, {std::stoll((*it)[3]), std::stoll((*it)[5])}};
+  ASSERT_GE(pragma.size(), 4u) << top;
+  // A counter per loop call, printed when the testbench exits.
+  const std::string probe =
+      "#include <stdio.h>\n"
+      "namespace px_probe {\n"
+      "struct Trips {\n"
+      "  const char* name[512];\n"
+      "  long long count[512];\n"
+      "  int n;\n"
+      "  ~Trips() { for (int i = 0; i < n; ++i) printf(\"trip %s %lld\\n\", name[i], count[i]); }\n"
+      "};\n"
+      "static Trips trips;\n"
+      "inline void begin(const char* s) { if (trips.n < 512) { trips.name[trips.n] = s; trips.count[trips.n++] = 0; } }\n"
+      "inline void step() { ++trips.count[trips.n - 1]; }\n"
+      "}  // namespace px_probe\n";
+  static const std::regex head(R"(\n(\w+_loop):\n(\s*)while \(!stage\.done\(\)\) \{\n)");
+  const std::string instrumented =
+      probe + std::regex_replace(top, head, "\n  px_probe::begin(\"$1\");\n$1:\n$2while (!stage.done()) {\n$2  px_probe::step();\n");
+  std::ofstream(file, std::ios::trunc) << instrumented;
+  for (int reduced = 0; reduced < 2; ++reduced) {
+    const Shell run = shell("make -C " + out.string() + (reduced ? " csim-reduced" : " csim"));
+    EXPECT_EQ(run.status, 0) << run.output;
+    static const std::regex trip(R"(trip (\w+) (\d+))");
+    std::map<std::string, int> calls;
+    for (auto it = std::sregex_iterator(run.output.begin(), run.output.end(), trip); it != std::sregex_iterator(); ++it) {
+      const std::string label = (*it)[1];
+      const long long n = std::stoll((*it)[2]);
+      ASSERT_EQ(pragma.count(label), 1u) << label;
+      const Counts& c = pragma[label];
+      EXPECT_GE(n, c.min[reduced]) << label << (reduced ? " (reduced frame)" : "");
+      EXPECT_LE(n, c.max[reduced]) << label << (reduced ? " (reduced frame)" : "");
+      ++calls[label];
+    }
+    // Every loop ran, as often as the others of its kind (two cameras' rectification per call).
+    EXPECT_EQ(calls.size(), pragma.size()) << run.output;
+  }
+  std::ofstream(file, std::ios::trunc) << top;
+}
+
 class HlsCsim : public ::testing::TestWithParam<Design> {};
 
 TEST_P(HlsCsim, BuildsAndMatchesTheSimulatorBitForBit) {
@@ -104,6 +172,9 @@ TEST_P(HlsCsim, BuildsAndMatchesTheSimulatorBitForBit) {
   EXPECT_EQ(clang.status, 0) << clang.output;
   EXPECT_NE(clang.output.find("bit-exact against"), std::string::npos) << clang.output;
 #endif
+
+  expect_reduced_frame_bit_exact(out);
+  expect_trip_counts_exact(out);
 
   // A golden file with one pixel changed must fail, naming the pixel.
   std::string golden = read_file(out / "tb/golden_disparity.pgm");
@@ -212,6 +283,8 @@ TEST_P(HlsCsimRectify, StreamsTheRemapTablesBitExactly) {
   const Shell csim = shell("make -C " + out.string() + " csim subset");
   EXPECT_EQ(csim.status, 0) << csim.output;
   EXPECT_NE(csim.output.find("bit-exact against the simulator's golden output"), std::string::npos) << csim.output;
+  expect_reduced_frame_bit_exact(out);
+  expect_trip_counts_exact(out);
   {
     std::string identity;  // entry (x, y) at (x << F, y << F), little-endian int32 pairs
     for (int y = 0; y < 90; ++y)

@@ -4,6 +4,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <regex>
+#include <set>
 
 #include "export_util.hpp"
 #include "parallax/config/config.hpp"
@@ -22,7 +25,8 @@ const fs::path kSource = PARALLAX_SOURCE_DIR;
 // The files the export generates (the rest are copies, checked below, and binary data).
 const char* const kGenerated[] = {"src/parallax_config.hpp", "src/parallax_top.hpp", "src/parallax_top.cpp",
                                   "tb/parallax_tb.cpp",      "Makefile",             "run_hls.tcl",
-                                  "hls_config.cfg",          "README.md",            "design.yaml"};
+                                  "hls_config.cfg",          "hls_config_reduced.cfg", "README.md",
+                                  "design.yaml"};
 
 TEST(HlsExport, GeneratedSourcesMatchGoldenFiles) {
   const fs::path out = fresh_dir("golden");
@@ -218,6 +222,206 @@ TEST(HlsExport, ProjectCarriesTheDirectivesAndSteps) {
   const std::string readme = read_file(out / "README.md");
   EXPECT_NE(readme.find("cycle 4610650 = 23.05 ms"), std::string::npos);
   EXPECT_NE(readme.find("| **total** | **140**"), std::string::npos);
+  fs::remove_all(out);
+}
+
+}  // namespace
+
+namespace {
+
+const char kPair[] = " --left data/kitti2015-640x360/training/image_2/000001_10.png"
+                     " --right data/kitti2015-640x360/training/image_3/000001_10.png";
+
+// The cycle model's stage of each loop of the top that runs until its stage is done.
+std::string loop_stage(const std::string& label) { return label.substr(0, label.size() - std::string("_loop").size()); }
+
+// The body of each function defined at the start of a line ("void name(" ... "{" ... "}"), by name.
+std::map<std::string, std::string> function_bodies(const std::string& src) {
+  std::map<std::string, std::string> out;
+  static const std::regex def(R"(\n(?:template <[^>]*>\n)?void (\w+)\()");
+  for (auto it = std::sregex_iterator(src.begin(), src.end(), def); it != std::sregex_iterator(); ++it) {
+    const std::size_t open = src.find(") {", std::size_t(it->position(0)));
+    const std::size_t semi = src.find(");", std::size_t(it->position(0)));
+    if (open == std::string::npos || (semi != std::string::npos && semi < open)) continue;  // a declaration
+    std::size_t i = open + 2;
+    int depth = 0;
+    const std::size_t start = i;
+    for (; i < src.size(); ++i) {
+      if (src[i] == '{') ++depth;
+      if (src[i] == '}' && --depth == 0) break;
+    }
+    out[(*it)[1]] = src.substr(start, i + 1 - start);
+  }
+  return out;
+}
+
+// Every loop of the top whose trip count is known only at run time (`while (!stage.done())`)
+// carries LOOP_TRIPCOUNT min = max = avg = its stage's firings per frame in `parallax sim --json`
+// for the same design and pair (full frame; the reduced frame's are checked by counting the
+// iterations in C simulation, csim_test.cpp).
+class HlsTripCount : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(HlsTripCount, EveryRunTimeLoopCarriesTheSimulatorsFirings) {
+  const fs::path out = fresh_dir("tripcount");
+  ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out, GetParam()).status, 0);
+  const auto sim = shell(std::string("cd ") + PARALLAX_SOURCE_DIR + " && " + PARALLAX_CLI +
+                         " sim --config configs/ruf2018-census.yaml " + GetParam() + kPair + " --json --no-sizing");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  std::map<std::string, long long> fires;
+  static const std::regex stage(R"re("fires":\s*(\d+),[^{}]*"name":\s*"(\w+)")re");
+  for (auto it = std::sregex_iterator(sim.output.begin(), sim.output.end(), stage); it != std::sregex_iterator(); ++it)
+    fires[(*it)[2]] = std::stoll((*it)[1]);
+  ASSERT_GE(fires.size(), 5u) << sim.output;
+
+  const std::string top = read_file(out / "src/parallax_top.cpp");
+  static const std::regex loop(R"((\w+_loop):\n\s*while \(!stage\.done\(\)\) \{\n#pragma HLS PIPELINE II=1\n)"
+                               R"(#ifndef PARALLAX_REDUCED_FRAME\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=(\d+)\n)"
+                               R"(#else\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=(\d+)\n#endif\n)");
+  std::set<std::string> labels;
+  for (auto it = std::sregex_iterator(top.begin(), top.end(), loop); it != std::sregex_iterator(); ++it) {
+    const std::string label = (*it)[1];
+    labels.insert(label);
+    ASSERT_EQ(fires.count(loop_stage(label)), 1u) << label << " has no stage in parallax sim --json";
+    const long long want = fires[loop_stage(label)];
+    EXPECT_EQ(std::stoll((*it)[2]), want) << label;
+    EXPECT_EQ(std::stoll((*it)[3]), want) << label;
+    EXPECT_EQ(std::stoll((*it)[4]), want) << label;
+    EXPECT_EQ((*it)[5], (*it)[6]) << label << ": reduced frame, min = max";
+    EXPECT_LT(std::stoll((*it)[5]), want / 10) << label << ": the reduced frame is 16 of 360 rows";
+  }
+  // Every run-time loop was matched, i.e. has its LOOP_TRIPCOUNT.
+  std::size_t whiles = 0;
+  for (std::size_t at = top.find("while (!stage.done())"); at != std::string::npos; at = top.find("while (!stage.done())", at + 1))
+    ++whiles;
+  EXPECT_EQ(labels.size(), whiles) << top;
+  std::set<std::string> want = {"cost_loop", "aggregate_loop", "wta_lr_loop", "median_loop"};
+  if (std::string(GetParam()).find("paths=8") != std::string::npos) want.insert("aggregate_back_loop");
+  EXPECT_EQ(labels, want);
+  fs::remove_all(out);
+}
+
+INSTANTIATE_TEST_SUITE_P(Designs, HlsTripCount, ::testing::Values("", "--set paths=8"),
+                         [](const ::testing::TestParamInfo<const char*>& i) {
+                           return std::string(i.param[0] ? "eight_paths" : "one_pass");
+                         });
+
+// The top reads the AXI4-Lite registers into locals and passes them to a separate DATAFLOW function
+// (INLINE off): no register port is touched inside a DATAFLOW region, one pass or two.
+TEST(HlsExport, RegistersAreReadOutsideTheDataflowRegion) {
+  for (const char* sets : {"", "--set paths=8"}) {
+    const fs::path out = fresh_dir("registers");
+    ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out, sets).status, 0);
+    const auto bodies = function_bodies(read_file(out / "src/parallax_top.cpp"));
+    ASSERT_EQ(bodies.count("parallax_top"), 1u);
+    ASSERT_EQ(bodies.count("parallax_dataflow"), 1u);
+    const std::string& top = bodies.at("parallax_top");
+    EXPECT_EQ(top.find("#pragma HLS DATAFLOW"), std::string::npos) << sets << top;
+    for (const char* s : {"#pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control", "= p1.to_uint();",
+                          "= p2.to_uint();", "= lr_tolerance.to_uint();", "parallax_dataflow("})
+      EXPECT_NE(top.find(s), std::string::npos) << sets << ": " << s;
+    EXPECT_NE(bodies.at("parallax_dataflow").find("#pragma HLS INLINE off\n#pragma HLS DATAFLOW\n"), std::string::npos);
+    static const std::regex port(R"(\b(p1|p2|lr_tolerance)\b|to_uint\(\))");
+    int regions = 0;
+    for (const auto& kv : bodies) {
+      if (kv.second.find("#pragma HLS DATAFLOW") == std::string::npos) continue;
+      ++regions;
+      EXPECT_FALSE(std::regex_search(kv.second, port)) << sets << ": a register port inside DATAFLOW " << kv.first << kv.second;
+    }
+    EXPECT_EQ(regions, std::string(sets).empty() ? 1 : 3) << sets;  // parallax_dataflow (+ forward_pass, backward_pass)
+    fs::remove_all(out);
+  }
+}
+
+// `make vitis` with either flow: the dry run (`make -n`) prints the commands; the configuration
+// files have the unified flow's keys and the reduced frame's define.
+TEST(HlsExport, MakeVitisRunsEitherFlow) {
+  const fs::path out = fresh_dir("flows");
+  ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out).status, 0);
+  const std::string make = "cd " + out.string() + " && env -u FLOW -u COSIM_FULL make -n vitis";
+  const std::string c = "parallax_ruf2018_census";
+
+  const auto tcl = shell(make + " FLOW=vitis_hls");
+  ASSERT_EQ(tcl.status, 0) << tcl.output;
+  EXPECT_EQ(tcl.output, "COSIM_FULL=0 vitis_hls -f run_hls.tcl\n");
+  const auto tcl_full = shell(make + " FLOW=vitis_hls COSIM_FULL=1");
+  EXPECT_EQ(tcl_full.output, "COSIM_FULL=1 vitis_hls -f run_hls.tcl\n");
+
+  const auto vpp = shell(make + " FLOW=vpp");
+  ASSERT_EQ(vpp.status, 0) << vpp.output;
+  EXPECT_EQ(vpp.output, "vitis-run --mode hls --csim --config hls_config.cfg --work_dir " + c + "\n"
+                        "v++ -c --mode hls --config hls_config.cfg --work_dir " + c + "\n"
+                        "v++ -c --mode hls --config hls_config_reduced.cfg --work_dir " + c + "_reduced\n"
+                        "vitis-run --mode hls --cosim --config hls_config_reduced.cfg --work_dir " + c + "_reduced\n"
+                        "vitis-run --mode hls --package --config hls_config.cfg --work_dir " + c + "\n");
+  const auto vpp_full = shell(make + " FLOW=vpp COSIM_FULL=1");
+  EXPECT_EQ(vpp_full.output, "vitis-run --mode hls --csim --config hls_config.cfg --work_dir " + c + "\n"
+                             "v++ -c --mode hls --config hls_config.cfg --work_dir " + c + "\n"
+                             "vitis-run --mode hls --cosim --config hls_config.cfg --work_dir " + c + "\n"
+                             "vitis-run --mode hls --package --config hls_config.cfg --work_dir " + c + "\n");
+  const auto bad = shell("cd " + out.string() + " && make vitis FLOW=quartus");
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(bad.output.find("give FLOW=vitis_hls or FLOW=vpp"), std::string::npos) << bad.output;
+
+  // Without FLOW: the command on the PATH (stand-ins here).
+  const fs::path bin = out / "fake-bin";
+  fs::create_directories(bin / "both");
+  fs::create_directories(bin / "vpp");
+  for (const fs::path& f : {bin / "both/vitis_hls", bin / "both/v++", bin / "vpp/v++"}) {
+    std::ofstream(f) << "#!/bin/sh\nexit 0\n";
+    fs::permissions(f, fs::perms::owner_all);
+  }
+  const std::string sys = "/usr/local/bin:/usr/bin:/bin";
+  const auto both = shell("cd " + out.string() + " && env -u FLOW PATH=" + (bin / "both").string() + ":" + sys + " make -n vitis");
+  EXPECT_EQ(both.output, "COSIM_FULL=0 vitis_hls -f run_hls.tcl\n");
+  const auto only_vpp = shell("cd " + out.string() + " && env -u FLOW PATH=" + (bin / "vpp").string() + ":" + sys + " make -n vitis");
+  EXPECT_NE(only_vpp.output.find("v++ -c --mode hls --config hls_config.cfg"), std::string::npos) << only_vpp.output;
+  const auto none = shell("cd " + out.string() + " && env -u FLOW PATH=" + sys + " make vitis");
+  EXPECT_EQ(none.status, 2) << none.output;  // make's status for a failed recipe
+  EXPECT_NE(none.output.find("neither vitis_hls nor v++ is on the PATH"), std::string::npos) << none.output;
+
+  // The configurations: part= before any section, the rest under [hls].
+  auto keys = [](const std::string& text, std::string& before) {
+    std::multimap<std::string, std::string> kv;
+    bool in_hls = false;
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      if (line == "[hls]") {
+        in_hls = true;
+        continue;
+      }
+      const auto eq = line.find('=');
+      if (!in_hls) before += line + "\n";
+      else if (eq != std::string::npos) kv.emplace(line.substr(0, eq), line.substr(eq + 1));
+    }
+    return kv;
+  };
+  std::string before;
+  const auto full = keys(read_file(out / "hls_config.cfg"), before);
+  EXPECT_EQ(before, "part=xczu3eg-sbva484-1-e\n");
+  for (const char* k : {"flow_target", "clock", "syn.top", "syn.file", "syn.cflags", "tb.file", "tb.cflags", "csim.argv",
+                        "cosim.argv", "package.output.format"})
+    EXPECT_EQ(full.count(k) > 0, true) << k;
+  EXPECT_EQ(full.find("clock")->second, "5.000ns");
+  EXPECT_EQ(full.find("syn.top")->second, "parallax_top");
+  EXPECT_EQ(full.find("syn.cflags")->second, "-std=c++14 -Isrc");
+  EXPECT_EQ(full.count("tb.file"), 4u);
+  before.clear();
+  const auto reduced = keys(read_file(out / "hls_config_reduced.cfg"), before);
+  EXPECT_EQ(before, "part=xczu3eg-sbva484-1-e\n");
+  EXPECT_EQ(reduced.find("syn.cflags")->second, "-std=c++14 -Isrc -DPARALLAX_REDUCED_FRAME");
+  EXPECT_EQ(reduced.find("tb.cflags")->second, "-std=c++14 -Isrc -DPARALLAX_REDUCED_FRAME");
+  std::set<std::string> tb;
+  for (auto r = reduced.equal_range("tb.file"); r.first != r.second; ++r.first) tb.insert(r.first->second);
+  EXPECT_EQ(tb.count("tb/golden_disparity_reduced.pgm"), 1u);
+  EXPECT_EQ(reduced.find("cosim.argv")->second, ".");
+  // The Tcl script: the reduced project with the define, the full cosim behind COSIM_FULL.
+  const std::string script = read_file(out / "run_hls.tcl");
+  for (const char* s : {"::env(COSIM_FULL)", "parallax_project parallax_ruf2018_census \"\" golden_disparity.pgm",
+                        "parallax_project parallax_ruf2018_census_reduced \"-DPARALLAX_REDUCED_FRAME\" golden_disparity_reduced.pgm",
+                        "add_files src/parallax_top.cpp -cflags \"-std=c++14 -Isrc $defines\"", "cosim_design -argv {.}"})
+    EXPECT_NE(script.find(s), std::string::npos) << s;
   fs::remove_all(out);
 }
 
