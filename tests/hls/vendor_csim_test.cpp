@@ -4,7 +4,7 @@
 // as against compat/, Parallax's stand-ins: a one-pass design, the two-pass design and a
 // rectifying design, each built both ways with warnings in the project's code as errors. Both C
 // simulations must report a bit-exact run, and their outputs must equal each other and the
-// simulator's golden file. Skipped when the vendor headers are absent (a fresh machine has no
+// simulator's golden file; the reduced frame (`make csim-reduced`) against the vendor's headers too. Skipped when the vendor headers are absent (a fresh machine has no
 // shared/).
 #include <gtest/gtest.h>
 
@@ -98,6 +98,12 @@ TEST_P(HlsVendorCsim, MatchesTheCompatBuildAndTheGoldenBitForBit) {
   // The vendor's streams do not stop on a read while empty or tokens left over; they warn.
   EXPECT_EQ(vend.output.find("WARNING: Hls::stream"), std::string::npos) << vend.output;
   const std::string vendor_pgm = read_file(out / "tb/csim_disparity.pgm");
+  // The reduced frame of C/RTL co-simulation, against the vendor's headers too.
+  const Shell reduced = shell("make -C " + out.string() + " csim-reduced WERROR=1 HLS_INCLUDE=" + vendor.string());
+  ASSERT_EQ(reduced.status, 0) << reduced.output;
+  EXPECT_NE(reduced.output.find(kBitExact), std::string::npos) << reduced.output;
+  EXPECT_EQ(reduced.output.find("WARNING: Hls::stream"), std::string::npos) << reduced.output;
+  EXPECT_TRUE(read_file(out / "tb/csim_disparity_reduced.pgm") == read_file(out / "tb/golden_disparity_reduced.pgm"));
 
   const std::string golden = read_file(out / "tb/golden_disparity.pgm");
   ASSERT_FALSE(golden.empty());
