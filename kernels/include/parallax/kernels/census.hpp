@@ -17,7 +17,6 @@ class CensusMatcher {
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
 
-  CensusMatcher() { PX_PRAGMA("HLS ARRAY_PARTITION variable=right_codes_ type=complete dim=1") }
   void configure(const StereoParams& p) {
     w_ = p.window_w;
     h_ = p.window_h;
@@ -55,12 +54,7 @@ class CensusMatcher {
     left_win_.move_to(left, x, y, w_, h_);
     right_win_.move_to(right, x, y, w_, h_);
     left_code_ = code(left_win_);
-  census_shift:
-    for (int k = Caps::trip(d_, kMaxD) - 1; k > 0; --k) {
-      PX_PRAGMA("HLS UNROLL")
-      if (k < d_) right_codes_[k] = right_codes_[k - 1];
-    }
-    right_codes_[0] = code(right_win_);
+    right_codes_.shift_in(code(right_win_), d_);
   }
 
   // Costs of lanes d0 .. d0 + n - 1: Hamming distance to the right code at x - d, or cost_max
@@ -73,14 +67,14 @@ class CensusMatcher {
       PX_PRAGMA("HLS UNROLL")
       if (i < n) {
         const int d = d0 + i;
-        out[i] = d <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ right_codes_[d])) : cost_max_;
+        out[i] = d <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ right_codes_.at(d))) : cost_max_;
       }
     }
   }
 
  private:
   // Dispatches the common window shapes to code with constant sides; same bits as the generic form.
-  typedef WindowRegs<uint8_t, kMaxWindow, Caps::window_rows> Window;
+  typedef WindowRegs<uint8_t, kMaxWindow, Caps::window_rows, Caps::fixed> Window;
   uint64_t code(const Window& win) const {
     if (w_ == 5 && h_ == 5) return code_generic(win, 5, 5);
     if (w_ == 3 && h_ == 3) return code_generic(win, 3, 3);
@@ -97,10 +91,10 @@ class CensusMatcher {
     const int centre_tap = taps / 2;
     uint64_t c = 0;
   census_rows:
-    for (int j = 0; j < Caps::window_rows; ++j) {
+    for (int j = 0; j < Caps::trip(h, Caps::window_rows); ++j) {
       PX_PRAGMA("HLS UNROLL")
     census_cols:
-      for (int i = 0; i < kMaxWindow; ++i) {
+      for (int i = 0; i < Caps::trip(w, kMaxWindow); ++i) {
         PX_PRAGMA("HLS UNROLL")
         // Tap k (raster order, centre skipped) lands in bit taps - 2 - k': the first tap is the
         // most significant used bit.
@@ -118,7 +112,7 @@ class CensusMatcher {
   uint16_t cost_max_ = 24;
   uint64_t left_code_ = 0;
   // The right codes of columns x .. x - D + 1: a shift register (one register per entry).
-  uint64_t right_codes_[kMaxD];
+  ShiftReg<uint64_t, kMaxD, Caps::fixed> right_codes_;
   Window left_win_, right_win_;  // the window registers of the two images
 };
 

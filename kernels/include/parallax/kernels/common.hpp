@@ -74,11 +74,13 @@ inline int clamp_int(int v, int lo, int hi) { return v < lo ? lo : (v > hi ? hi 
 inline int min_int(int a, int b) { return a < b ? a : b; }
 inline int max_int(int a, int b) { return a > b ? a : b; }
 
-// Population count of the low BITS bits of v as an explicit adder tree: level 1 adds the bits
-// in pairs (2-bit sums), level 2 adds pairs of those (4-bit sums), and so on, log2(64) = 6 levels
-// of narrow adders on fixed wiring, as synthesis builds it (no builtin, no multiplier). BITS <= 64.
+// Population count of the low BITS bits of v. Synthesis sees an explicit adder tree: level 1
+// adds the bits in pairs (2-bit sums), level 2 adds pairs of those (4-bit sums), and so on,
+// log2(64) = 6 levels of narrow adders on fixed wiring (no builtin, no multiplier). Software
+// builds count with the CPU's instruction (vectorised over lanes where the CPU has one); the
+// two forms are the same function (tests/kernels/common_test.cpp checks them against each other).
 template <int BITS>
-PX_INLINE int popcount_tree(uint64_t v) {
+PX_INLINE int popcount_adder_tree(uint64_t v) {
   static_assert(BITS >= 1 && BITS <= 64, "popcount of 1 to 64 bits");
   if (BITS < 64) v &= (uint64_t(1) << (BITS < 64 ? BITS : 0)) - 1u;
   v = (v & 0x5555555555555555ull) + ((v >> 1) & 0x5555555555555555ull);
@@ -89,6 +91,86 @@ PX_INLINE int popcount_tree(uint64_t v) {
   v = (v & 0x00000000FFFFFFFFull) + (v >> 32);
   return int(v);
 }
+
+template <int BITS>
+PX_INLINE int popcount_tree(uint64_t v) {
+#if defined(__GNUC__) && !defined(__SYNTHESIS__)
+  if (BITS < 64) v &= (uint64_t(1) << (BITS < 64 ? BITS : 0)) - 1u;
+  return __builtin_popcountll(v);
+#else
+  return popcount_adder_tree<BITS>(v);
+#endif
+}
+
+// A shift register of N entries, entry 0 the newest: what the stages that look back over the
+// last D columns keep (the Census right codes, the WTA/LR candidates and delayed results).
+// LITERAL (the exported, FIXED instantiations): every entry is a register (complete
+// partitioning) and a shift moves each along its fixed wire. Software instantiations keep the
+// same sequence in a ring with a moving base and a mirrored second copy, so a shift costs O(1)
+// instead of N moves and entries 0 .. N-1 are contiguous from the base; the entries read and
+// written are the same (the equivalence tests run the ring, the exported C simulation runs the
+// registers, both against one golden model).
+template <class T, int N, bool LITERAL>
+class ShiftReg;
+
+template <class T, int N>
+class ShiftReg<T, N, true> {
+ public:
+  ShiftReg() { PX_PRAGMA("HLS ARRAY_PARTITION variable=v_ type=complete dim=1") }
+  // Entries 1 .. n-1 take their predecessor's value, entry 0 takes x.
+  void shift_in(const T& x, int n) {
+  shift_reg_in:
+    for (int k = N - 1; k > 0; --k) {
+      PX_PRAGMA("HLS UNROLL")
+      if (k < n) v_[k] = v_[k - 1];
+    }
+    v_[0] = x;
+  }
+  // Entries 0 .. n-2 take their successor's value, entry n-1 takes x.
+  void shift_back(const T& x, int n) {
+  shift_reg_back:
+    for (int k = 0; k + 1 < N; ++k) {
+      PX_PRAGMA("HLS UNROLL")
+      if (k + 1 < n) v_[k] = v_[k + 1];
+    }
+    v_[n - 1] = x;
+  }
+  const T& at(int k) const { return v_[k]; }
+  void set(int k, const T& x) { v_[k] = x; }
+
+ private:
+  T v_[N];
+};
+
+template <class T, int N>
+class ShiftReg<T, N, false> {
+ public:
+  void shift_in(const T& x, int) {
+    base_ = (base_ - 1) & (kRing - 1);
+    v_[base_] = x;
+    v_[base_ + kRing] = x;
+  }
+  void shift_back(const T& x, int n) {
+    base_ = (base_ + 1) & (kRing - 1);
+    set(n - 1, x);
+  }
+  const T& at(int k) const { return v_[base_ + k]; }
+  void set(int k, const T& x) {
+    const int p = base_ + k;
+    v_[p] = x;
+    v_[p < kRing ? p + kRing : p - kRing] = x;
+  }
+
+ private:
+  static constexpr int ring_size() {
+    int r = 1;
+    while (r < N) r *= 2;
+    return r;
+  }
+  static constexpr int kRing = ring_size();
+  T v_[2 * kRing];
+  int base_ = 0;
+};
 
 }  // namespace kern
 }  // namespace parallax

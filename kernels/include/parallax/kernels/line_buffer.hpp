@@ -128,7 +128,10 @@ namespace kern {
 // row shifts the window one column and reads one new column, one pixel per row memory (what
 // keeps a hardware window stage at II = 1); any other move (a new row, a new frame) reloads it
 // whole. Contract: the pixels read are resident in the line buffer when move_to() is called.
-template <class T, int MAX_W, int MAX_H>
+// LITERAL (the exported, FIXED instantiations): registers that shift along fixed wires. Software
+// instantiations keep each row as a mirrored ring with a moving base (as ShiftReg, common.hpp),
+// so a shift costs one write per row instead of w moves; the pixels held are the same.
+template <class T, int MAX_W, int MAX_H, bool LITERAL = true>
 class WindowRegs {
  public:
   WindowRegs() { PX_PRAGMA("HLS ARRAY_PARTITION variable=v_ type=complete dim=0") }
@@ -143,25 +146,25 @@ class WindowRegs {
       const int first = x + reach - (w - 1);
     window_reload_rows:
       for (int j = 0; j < h; ++j) {  // a reload: a new row or frame (not in the II = 1 shift path)
-        {
-          const T* row = lb.row_clamped(y + j - ry);
-        window_reload_cols:
-          for (int i = 0; i < w; ++i)
-            v_[j][i] = row[lb.clamp_x(first + i)];
-        }
+        const T* row = lb.row_clamped(y + j - ry);
+      window_reload_cols:
+        for (int i = 0; i < w; ++i) put(j, i, row[lb.clamp_x(first + i)]);
       }
     } else {
       const int col = lb.clamp_x(x + reach);
+      if (!LITERAL) base_ = (base_ + 1) & (kRing - 1);
     window_shift_rows:
       for (int j = 0; j < MAX_H; ++j) {
         PX_PRAGMA("HLS UNROLL")
         if (j < h) {
-        window_shift_cols:
-          for (int i = 0; i + 1 < MAX_W && i + 1 < w; ++i) {
-            PX_PRAGMA("HLS UNROLL")
-            if (i + 1 < w) v_[j][i] = v_[j][i + 1];
+          if (LITERAL) {
+          window_shift_cols:
+            for (int i = 0; i + 1 < MAX_W; ++i) {
+              PX_PRAGMA("HLS UNROLL")
+              if (i + 1 < w) v_[j][i] = v_[j][i + 1];
+            }
           }
-          v_[j][w - 1] = lb.row_clamped(y + j - ry)[col];
+          put(j, w - 1, lb.row_clamped(y + j - ry)[col]);
         }
       }
     }
@@ -171,12 +174,28 @@ class WindowRegs {
   // Forget the position: the next move_to() reloads (call at the start of a frame).
   void reset() { x_ = -2, y_ = -1; }
   // Pixel (x + reach - (w - 1) + i, y + j - h/2), clamped to the image.
-  T at(int i, int j) const { return v_[j][i]; }
-  // Row j of the registers (for lane-parallel reads).
-  const T* row(int j) const { return v_[j]; }
+  T at(int i, int j) const { return v_[j][LITERAL ? i : base_ + i]; }
+  // Row j of the registers (for lane-parallel reads): entries 0 .. w - 1 are contiguous.
+  const T* row(int j) const { return v_[j] + (LITERAL ? 0 : base_); }
 
  private:
-  T v_[MAX_H][MAX_W];
+  static constexpr int ring_size() {
+    int r = 1;
+    while (r < MAX_W) r *= 2;
+    return r;
+  }
+  static constexpr int kRing = LITERAL ? MAX_W : ring_size();
+  void put(int j, int i, T v) {
+    if (LITERAL) {
+      v_[j][i] = v;
+    } else {
+      const int p = base_ + i;
+      v_[j][p] = v;
+      v_[j][p < kRing ? p + kRing : p - kRing] = v;
+    }
+  }
+  T v_[MAX_H][LITERAL ? MAX_W : 2 * kRing];
+  int base_ = 0;  // ring base (software instantiations only)
   int x_ = -2, y_ = -1;
 };
 

@@ -98,39 +98,46 @@ class Median {
  private:
   // Rank selection by counting on distinct keys (code * 64 + window index): the keys are a
   // permutation-free total order, so exactly one has (k*k - 1) / 2 smaller keys, and its code
-  // is the median. One comparator per pair of keys, n(n-1)/2 (a < b is !(b < a) for distinct
-  // keys), each feeding the rank counts of both: no data-dependent control flow.
+  // is the median; no data-dependent control flow. The exported (FIXED) instantiation builds the
+  // network synthesis should see: one comparator per pair of keys, n(n-1)/2, each counting for
+  // both keys (a < b is !(b < a) for distinct keys), as the resource model declares. Software
+  // instantiations count the same ranks with all n x n comparisons over 32-lane vectors (twice
+  // the comparisons, a tenth of the time on a CPU); the equivalence tests run the software form
+  // and the exported C simulation the pair form, both against one golden model.
   template <int K>
   DispCode window_median() const {
     static_assert(K <= kRows, "the window registers hold k x k codes");
     const int kN = K * K;
-    uint16_t key[kN];
-    uint8_t smaller[kN];
-  median_gather_rows:
-    for (int j = 0; j < K; ++j) {
+    const int kPad = (kN + 31) / 32 * 32;  // lanes padded with keys above every real key
+    uint16_t key[kPad];
+    uint16_t smaller[kPad];
+  median_gather:
+    for (int a = 0; a < kPad; ++a) {
       PX_PRAGMA("HLS UNROLL")
-    median_gather_cols:
-      for (int i = 0; i < K; ++i) {
-        PX_PRAGMA("HLS UNROLL")
-        key[j * K + i] = uint16_t((win_.at(i, j) << 6) | (j * K + i));
-        smaller[j * K + i] = 0;
-      }
+      key[a] = a < kN ? uint16_t((win_.at(a % K, a / K) << 6) | a) : uint16_t(0xFFFFu);
+      smaller[a] = 0;
     }
-  median_pairs:
-    for (int a = 0; a < kN; ++a) {
-      PX_PRAGMA("HLS UNROLL")
-      const uint16_t ka = key[a];
-      int above = 0;  // keys of the pairs (a, b > a) that are smaller than key a
-    median_pairs_inner:
-      for (int b = 0; b < kN; ++b) {
+    if (Caps::fixed) {
+    median_pairs:
+      for (int a = 0; a < kN; ++a) {
         PX_PRAGMA("HLS UNROLL")
-        if (b > a) {  // one comparator per pair
-          const int a_smaller = ka < key[b] ? 1 : 0;
-          smaller[b] = uint8_t(smaller[b] + a_smaller);
-          above += 1 - a_smaller;
+      median_pairs_inner:
+        for (int b = 0; b < kN; ++b) {
+          PX_PRAGMA("HLS UNROLL")
+          if (b > a) {
+            const int a_smaller = key[a] < key[b] ? 1 : 0;
+            smaller[b] = uint16_t(smaller[b] + a_smaller);
+            smaller[a] = uint16_t(smaller[a] + 1 - a_smaller);
+          }
         }
       }
-      smaller[a] = uint8_t(smaller[a] + above);
+    } else {
+    median_count:
+      for (int b = 0; b < kN; ++b) {
+        const uint16_t kb = key[b];
+      median_count_lanes:
+        for (int a = 0; a < kPad; ++a) smaller[a] = uint16_t(smaller[a] + (kb < key[a] ? 1 : 0));
+      }
     }
     const int want = (kN - 1) / 2;
     DispCode result = 0;
@@ -153,7 +160,7 @@ class Median {
   int x_ = 0, y_ = 0;
   bool done_ = true;
   LineBuffer<DispCode, Caps::max_width_px, kRows> lb_;
-  WindowRegs<DispCode, kRows, kRows> win_;  // the k x k window registers of the output position
+  WindowRegs<DispCode, kRows, kRows, Caps::fixed> win_;  // the k x k window registers of the output position
 };
 
 }  // namespace kern

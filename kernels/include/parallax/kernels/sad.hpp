@@ -118,8 +118,8 @@ class SadMatcher {
   int w_ = 5, h_ = 5, width_px_ = 1, disparities_ = 1;
   uint16_t cost_max_ = 0;
   // The left window's w + 1 columns and the right image's D + w columns, over the h rows.
-  WindowRegs<uint8_t, kMaxWindow + 1, Caps::window_rows> left_;
-  WindowRegs<uint8_t, Caps::max_disparities + kMaxWindow, Caps::window_rows> right_;
+  WindowRegs<uint8_t, kMaxWindow + 1, Caps::window_rows, Caps::fixed> left_;
+  WindowRegs<uint8_t, Caps::max_disparities + kMaxWindow, Caps::window_rows, Caps::fixed> right_;
   uint32_t last_[Caps::max_disparities];  // S(x - 1, d) of this row, where it was a real sum
 };
 

@@ -271,25 +271,23 @@ class SgmAggregate {
       }
     }
 
-    // Fetch the predecessor's lanes of the next firing's chunk.
+    // Fetch the predecessor's lanes of the next firing's chunk. (Lane loops run to PU: the
+    // compile-time LANES in the export, where PU = LANES.)
+    const int trip = Caps::trip(n, kLanes);
     Word next[kLanes];
   agg_fetch:
-    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+    for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
-      if (i < n) {
-        const int d = nlo + i;
-        if (k == kKindPixel) {
-          next[i] = pix_[d];
-        } else if (k == kKindRowUp) {
-          next[i] = row_[m][nx][d];
-        } else if (k == kKindRowLeft) {
-          next[i] = lag_[d];
-          lag_[d] = row_[m][nx][d];
-        } else {
-          next[i] = row_[m][nxr][d];
-        }
+      const int d = nlo + i;
+      if (k == kKindPixel) {
+        next[i] = pix_[d];
+      } else if (k == kKindRowUp) {
+        next[i] = row_[m][nx][d];
+      } else if (k == kKindRowLeft) {
+        next[i] = lag_[d];
+        lag_[d] = row_[m][nx][d];
       } else {
-        next[i] = Word(kNone);  // lanes beyond PU (software capacities only)
+        next[i] = row_[m][nxr][d];
       }
     }
 
@@ -297,7 +295,7 @@ class SgmAggregate {
     Word pred[kLanes + 2];
     pred[0] = first ? Word(kNone) : edge_[k];
   agg_pred:
-    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+    for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
       pred[i + 1] = ahead_[k][i];
     }
@@ -308,44 +306,36 @@ class SgmAggregate {
     const Word wm = Word(m_prev);
     const uint32_t p2 = uint32_t(p_.p2);
     const Word wm_p2 = sat_add(wm, Word(p2 > kNone ? kNone : p2));
-    uint32_t run_min = first ? kNone : run_min_[k];
+    Word lane_min = Word(kNone);
     Word lr[kLanes];
   agg_lanes:
-    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+    for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
-      if (i < n) {
-        Word v;
-        if (valid) {
-          const Word a = pred[i + 1];
-          const Word b = sat_add(pred[i], wp1);
-          const Word e = sat_add(pred[i + 2], wp1);
-          Word mm = a < b ? a : b;
-          mm = mm < e ? mm : e;
-          mm = mm < wm_p2 ? mm : wm_p2;
-          v = Word(Word(c.v[i]) + Word(mm - wm));
-        } else {
-          v = Word(c.v[i]);
-        }
-        lr[i] = v;
-        s.v[i] = Word(s.v[i] + v);
-        run_min = uint32_t(v) < run_min ? uint32_t(v) : run_min;
-      } else {
-        lr[i] = Word(kNone);
-      }
+      const Word a = pred[i + 1];
+      const Word b = sat_add(pred[i], wp1);
+      const Word e = sat_add(pred[i + 2], wp1);
+      Word mm = a < b ? a : b;
+      mm = mm < e ? mm : e;
+      mm = mm < wm_p2 ? mm : wm_p2;
+      // At the start of a path (no predecessor) Lr = C.
+      const Word v = valid ? Word(Word(c.v[i]) + Word(mm - wm)) : Word(c.v[i]);
+      lr[i] = v;
+      s.v[i] = Word(s.v[i] + v);
+      lane_min = v < lane_min ? v : lane_min;
     }
+    const uint32_t prior = first ? kNone : run_min_[k];
+    const uint32_t run_min = uint32_t(lane_min) < prior ? uint32_t(lane_min) : prior;
     run_min_[k] = run_min;
 
     // Store this chunk's Lr where the next row (row kinds) or the next pixel (pixel kind) reads it.
   agg_store:
-    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+    for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
-      if (i < n) {
-        if (k == kKindPixel) {
-          pix_[lo + i] = lr[i];
-          if (last && chunks_ == 1) next[i] = lr[i];  // the next pixel's predecessor is this one
-        } else {
-          row_[m][x_][lo + i] = lr[i];
-        }
+      if (k == kKindPixel) {
+        pix_[lo + i] = lr[i];
+        if (last && chunks_ == 1) next[i] = lr[i];  // the next pixel's predecessor is this one
+      } else {
+        row_[m][x_][lo + i] = lr[i];
       }
     }
     if (last) {
@@ -354,7 +344,7 @@ class SgmAggregate {
     }
     edge_[k] = ahead_[k][n - 1];
   agg_ahead:
-    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+    for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
       ahead_[k][i] = next[i];
     }

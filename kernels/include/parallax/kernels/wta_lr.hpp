@@ -30,12 +30,6 @@ class WtaLr {
   static constexpr int kLanes = Caps::lanes;
   static constexpr uint32_t kNoCost = 0xFFFFFFFFu;
 
-  WtaLr() {
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=left_d_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=right_cost_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=right_d_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=finished_d_ type=complete dim=1")
-  }
   void configure(const StereoParams& p, bool reverse) {
     p_ = p;
     reverse_ = reverse;
@@ -173,14 +167,7 @@ class WtaLr {
   }
 
   // The left results' delay line moves one column: entry k holds the result k columns back.
-  void shift_left(DispCode newest) {
-  wta_left_shift:
-    for (int k = Caps::trip(delay_ + 1, kMaxD) - 1; k > 0; --k) {
-      PX_PRAGMA("HLS UNROLL")
-      if (k <= delay_) left_d_[k] = left_d_[k - 1];
-    }
-    left_d_[0] = newest;
-  }
+  void shift_left(DispCode newest) { left_d_.shift_in(newest, delay_ + 1); }
 
   // One column passes (the first token of a pixel, or a flushing firing after the row's input):
   // the open right candidates move one entry along the stream, the one leaving the open window
@@ -190,33 +177,22 @@ class WtaLr {
   void shift_column() {
     if (!p_.lr_check) return;
     const bool row_start = x_ == 0 && !in_row_done_;
-    const DispCode leaving = reverse_ ? right_d_[0] : right_d_[d_ - 1];
-  wta_finished_shift:
-    for (int k = Caps::trip(d_ - 1, kMaxD - 1) - 1; k > 0; --k) {
-      PX_PRAGMA("HLS UNROLL")
-      if (k < d_ - 1) finished_d_[k] = finished_d_[k - 1];
-    }
-    finished_d_[0] = leaving;
-    if (!reverse_) {  // entry k takes entry k - 1
-    wta_open_shift_forward:
-      for (int k = Caps::trip(d_, kMaxD) - 1; k >= 0; --k) {
-        PX_PRAGMA("HLS UNROLL")
-        if (k < d_) {
-          const bool fresh = row_start || k == 0;
-          right_cost_[k] = fresh ? kNoCost : right_cost_[k == 0 ? 0 : k - 1];
-          right_d_[k] = fresh ? DispCode(0) : right_d_[k == 0 ? 0 : k - 1];
-        }
-      }
-    } else {  // entry k takes entry k + 1
-    wta_open_shift_reverse:
+    finished_d_.shift_in(reverse_ ? right_d_.at(0) : right_d_.at(d_ - 1), d_ - 1);
+    if (row_start) {
+    wta_open_reset:
       for (int k = 0; k < Caps::trip(d_, kMaxD); ++k) {
         PX_PRAGMA("HLS UNROLL")
         if (k < d_) {
-          const bool fresh = row_start || k + 1 >= d_;
-          right_cost_[k] = fresh ? kNoCost : right_cost_[k + 1 < kMaxD ? k + 1 : k];
-          right_d_[k] = fresh ? DispCode(0) : right_d_[k + 1 < kMaxD ? k + 1 : k];
+          right_cost_.set(k, uint32_t(kNoCost));
+          right_d_.set(k, 0);
         }
       }
+    } else if (!reverse_) {  // entry k takes entry k - 1; entry 0 is new
+      right_cost_.shift_in(uint32_t(kNoCost), d_);
+      right_d_.shift_in(0, d_);
+    } else {  // entry k takes entry k + 1; entry D - 1 is new
+      right_cost_.shift_back(uint32_t(kNoCost), d_);
+      right_d_.shift_back(0, d_);
     }
   }
 
@@ -232,10 +208,11 @@ class WtaLr {
       const int d = lo + i;
       if (i < lanes_ && d <= x_img) {
         const uint32_t s = t.v[i];
-        const uint32_t c = right_cost_[d];
-        const bool better = s < c || (rev && s == c);
-        right_cost_[d] = better ? s : c;
-        right_d_[d] = better ? DispCode(d) : right_d_[d];
+        const uint32_t c = right_cost_.at(d);
+        if (s < c || (rev && s == c)) {
+          right_cost_.set(d, s);
+          right_d_.set(d, DispCode(d));
+        }
       }
     }
   }
@@ -249,7 +226,7 @@ class WtaLr {
   DispCode emit() {
     const int xs = next_emit_++;
     const int lag = in_row_done_ ? time_ - xs : delay_;
-    const int d = left_d_[lag];
+    const int d = left_d_.at(lag);
     const int x_img = reverse_ ? p_.width_px - 1 - xs : xs;
     const DispCode invalid = DispCode(d_);
     if (d > x_img) return invalid;
@@ -257,10 +234,10 @@ class WtaLr {
       int dr;
       if (!reverse_) {
         const int age = lag + d;
-        dr = age < d_ ? right_d_[age] : finished_d_[age - d_];
+        dr = age < d_ ? right_d_.at(age) : finished_d_.at(age - d_);
       } else {
         const int ahead = d - lag;
-        dr = ahead >= 0 ? right_d_[ahead] : finished_d_[-ahead - 1];
+        dr = ahead >= 0 ? right_d_.at(ahead) : finished_d_.at(-ahead - 1);
       }
       const int diff = d > dr ? d - dr : dr - d;
       if (diff > p_.lr_tolerance) return invalid;
@@ -298,10 +275,13 @@ class WtaLr {
   bool in_row_done_ = false, done_ = true;
   uint32_t best_cost_ = 0;
   int best_d_ = 0;
-  DispCode left_d_[kMaxD];       // left WTA results of the last D columns (entry k: k columns back)
-  uint32_t right_cost_[kMaxD];   // open right candidates: running minimum ...
-  DispCode right_d_[kMaxD];      // ... and its disparity
-  DispCode finished_d_[kMaxD];   // finished right disparities (D - 1 used)
+  // Shift registers (common.hpp): the left WTA results of the last D columns (entry k: k columns
+  // back), the open right candidates' running minimum and its disparity, the finished right
+  // disparities (D - 1 used).
+  ShiftReg<DispCode, kMaxD, Caps::fixed> left_d_;
+  ShiftReg<uint32_t, kMaxD, Caps::fixed> right_cost_;
+  ShiftReg<DispCode, kMaxD, Caps::fixed> right_d_;
+  ShiftReg<DispCode, kMaxD, Caps::fixed> finished_d_;
 };
 
 }  // namespace kern
