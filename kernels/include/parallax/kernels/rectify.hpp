@@ -19,17 +19,33 @@ struct RectifyPlan {
 template <int MAX_W, int MAX_ROWS>
 class Rectify {
  public:
+  // One memory per buffered row; each row split into even and odd columns, so that a bilinear
+  // tap pair (two adjacent columns of one row) and the incoming pixel meet at most one read and
+  // one write per bank. A row is overwritten only after the outputs that read it (the plan), so
+  // no dependence between iterations.
+  Rectify() {
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=lb_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=lb_ type=cyclic factor=2 dim=2")
+    PX_PRAGMA("HLS DEPENDENCE variable=lb_ type=inter dependent=false")
+  }
   void configure(const RectifyParams& p) {
     p_ = p;
     ahead_ = p.buffer_rows / 2;
     start_frame();
   }
+  // Counters only (no division in the loop): the input's row, column and buffer slot, and the
+  // oldest resident row of the output row's window with its slot.
   void start_frame() {
-    in_count_ = 0;
+    in_row_ = 0;
+    in_col_ = 0;
+    in_slot_ = 0;
     x_ = 0;
     y_ = 0;
     done_ = false;
     window_misses_ = 0;
+    base_row_ = ahead_ - p_.buffer_rows + 1;
+    const int r = p_.buffer_rows;
+    base_slot_ = ((base_row_ % r) + r) % r;  // once per frame, outside the pipelined loop
   }
   bool done() const { return done_; }
 
@@ -57,10 +73,9 @@ class Rectify {
 
   RectifyPlan plan() const {
     RectifyPlan pl;
-    const int64_t total = int64_t(p_.width_px) * p_.height_px;
     const int last_row = min_int(y_ + ahead_, p_.height_px - 1);
-    pl.write = !done_ && in_count_ >= int64_t(last_row + 1) * p_.width_px;
-    pl.read_pixel = in_count_ < total && in_count_ / p_.width_px <= y_ + ahead_;
+    pl.write = !done_ && in_row_ > last_row;
+    pl.read_pixel = in_row_ < p_.height_px && in_row_ <= y_ + ahead_;
     return pl;
   }
 
@@ -71,14 +86,18 @@ class Rectify {
       out.write(p_.mode == kRectifyBilinear ? bilinear(m) : tap(m.x, m.y));
       if (++x_ == p_.width_px) {
         x_ = 0;
+        ++base_row_;
+        if (++base_slot_ == p_.buffer_rows) base_slot_ = 0;
         if (++y_ == p_.height_px) done_ = true;
       }
     }
     if (pl.read_pixel) {
-      const int yi = int(in_count_ / p_.width_px);
-      const int xi = int(in_count_ - int64_t(yi) * p_.width_px);
-      lb_[yi % p_.buffer_rows][xi] = in.read();
-      ++in_count_;
+      lb_[in_slot_][in_col_] = in.read();
+      if (++in_col_ == p_.width_px) {
+        in_col_ = 0;
+        ++in_row_;
+        if (++in_slot_ == p_.buffer_rows) in_slot_ = 0;
+      }
     }
   }
 
@@ -86,11 +105,14 @@ class Rectify {
   // Rows resident while producing output row y: [y + A - R + 1, y + A] within the image.
   uint8_t tap(int ix, int iy) {
     if (ix < 0 || ix >= p_.width_px || iy < 0 || iy >= p_.height_px) return 0;
-    if (iy > y_ + ahead_ || iy < y_ + ahead_ - p_.buffer_rows + 1) {
+    if (iy > y_ + ahead_ || iy < base_row_) {
       ++window_misses_;
       return 0;
     }
-    return lb_[iy % p_.buffer_rows][ix];
+    // Slot of a resident row: base_slot + (iy - base_row), wrapped once (no division).
+    int slot = base_slot_ + (iy - base_row_);
+    if (slot >= p_.buffer_rows) slot -= p_.buffer_rows;
+    return lb_[slot][ix];
   }
 
   uint8_t bilinear(const MapEntry& m) {
@@ -110,7 +132,8 @@ class Rectify {
 
   RectifyParams p_;
   int ahead_ = 0;
-  int64_t in_count_ = 0;
+  int in_row_ = 0, in_col_ = 0, in_slot_ = 0;  // next input pixel: row, column, buffer slot
+  int base_row_ = 0, base_slot_ = 0;           // oldest row of the output row's window, its slot
   int x_ = 0, y_ = 0;
   bool done_ = true;
   int64_t window_misses_ = 0;
