@@ -28,6 +28,9 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   r.part = opt.part;
   r.clock_mhz = opt.clock_mhz > 0 ? opt.clock_mhz : double(cfg_in.clock_mhz);
   const int sim_clock = int(std::lround(r.clock_mhz));
+  // The export's clock is the synthesis clock: the stages' II are derived at it.
+  config::PipelineConfig base = cfg_in;
+  base.clock_mhz = sim_clock;
   r.width_px = left.cols;
   r.height_px = left.rows;
 
@@ -35,11 +38,11 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   SimulateOptions so;
   so.clock_mhz = sim_clock;
   so.size_fifos = true;
-  const SimulationResult sized = simulate(cfg_in, left, right, so);
+  const SimulationResult sized = simulate(base, left, right, so);
   if (sized.cycle.deadlock)
     throw hlsx::ExportError("design '" + cfg_in.name + "' deadlocks with its configured FIFO depths: " +
                             sized.cycle.deadlock_message);
-  config::PipelineConfig cfg = cfg_in;
+  config::PipelineConfig cfg = base;
   for (const std::string& name : hlsx::export_fifo_names(cfg_in)) {
     hlsx::ExportFifo f;
     f.name = name;
@@ -92,7 +95,10 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
     if (f.why.rfind("backlog", 0) == 0)
       f.why += " (the whole design: " + std::to_string(extra) + " cycles later than with unbounded FIFOs)";
   r.golden = res.cycle.codes.code;
-  for (const auto& s : res.cycle.stages) r.stage_fires[s.name] = s.fires;
+  for (const auto& s : res.cycle.stages) {
+    r.stage_fires[s.name] = s.fires;
+    r.stage_timing.push_back({s.name, s.ii_cycles, s.latency_cycles});
+  }
 
   // 2b. The reduced frame of C/RTL co-simulation: the pair's first rows, the same depths; the
   // remap tables (rectifying designs) cut to those rows as the images are.

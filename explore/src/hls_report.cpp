@@ -107,7 +107,7 @@ std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& c
   const SimulationResult sim = simulate_timing(cfg, w, h);
   if (model_cycle) *model_cycle = sim.cycle;
   const sim::TimingModel timing = [&] {
-    sim::TimingModel t = sim::default_timing(cfg.stereo_params(w, h));
+    sim::TimingModel t = sim::default_timing(cfg.stereo_params(w, h), double(cfg.clock_mhz) * 1e6);
     for (const auto& kv : cycle_options(cfg, cfg.clock_mhz).timing) t[kv.first] = kv.second;
     return t;
   }();

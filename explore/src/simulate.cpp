@@ -13,6 +13,7 @@ namespace parallax::explore {
 sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz) {
   sim::CycleOptions o;
   o.clock_hz = double(clock_mhz) * 1e6;
+  o.synthesis_clock_hz = double(cfg.clock_mhz) * 1e6;  // the design's clock sets its II
   o.input = cfg.input == "camera" ? sim::InputKind::camera : sim::InputKind::memory;
   o.input_bytes_per_s = cfg.input_gbps * 1e9;
   o.camera_pixel_hz = cfg.camera_pixel_mhz * 1e6;
@@ -25,7 +26,7 @@ sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz
   o.row_banks = cfg.row_banks;
   for (const auto& kv : cfg.fifo_depths) o.fifo_depths[kv.first] = std::size_t(kv.second);
   const kern::StereoParams p = cfg.stereo_params(cfg.roi_width_px, cfg.roi_height_px);
-  const sim::TimingModel defaults = sim::default_timing(p);
+  const sim::TimingModel defaults = sim::default_timing(p, o.synthesis_clock_hz);
   // The stage's timing so far: an earlier override, else the default derived from the kernels.
   auto timing_of = [&](const std::string& stage) -> sim::StageTiming& {
     if (!o.timing.count(stage)) o.timing[stage] = defaults.count(stage) ? defaults.at(stage) : sim::StageTiming{};

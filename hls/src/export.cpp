@@ -395,6 +395,21 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
       trip_table += std::string(trip_table.empty() ? "" : ", ") + st + " " + std::to_string(r.stage_fires.at(st));
   }
   v["TRIPCOUNT_TABLE"] = trip_table;
+  // PIPELINE II of each stage's loop: the cycle model's (derived from the kernels' schedule
+  // declarations at this clock); the rectify loop serves both cameras.
+  auto ii_of = [&](std::initializer_list<const char*> stages) {
+    int ii = 1;
+    for (const auto& t : r.stage_timing)
+      for (const char* st : stages)
+        if (t.name == st) ii = std::max(ii, t.ii_cycles);
+    return std::to_string(ii);
+  };
+  v["II_COST"] = ii_of({"cost"});
+  v["II_AGGREGATE"] = ii_of({"aggregate"});
+  v["II_AGGREGATE_BACK"] = ii_of({"aggregate_back"});
+  v["II_WTA_LR"] = ii_of({"wta_lr"});
+  v["II_MEDIAN"] = ii_of({"median"});
+  v["II_RECTIFY"] = ii_of({"rectify_left", "rectify_right"});
   v["RECTIFY_FUNCTIONS"] = rectify ? fill("rectify_functions.cpp", template_text("rectify_functions.cpp"), v) : "";
   v["README_OUTPUT_PORTS"] =
       two_pass ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
@@ -471,6 +486,17 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["CFG_GOLDEN"] = "golden_disparity_reduced.pgm";
   add("hls_config_reduced.cfg", "hls_config.cfg");
   add("README.md", "README.md");
+  {
+    // stages.json: one entry per stage of the cycle model, its II and pipeline depth at the
+    // export's clock (the same as `parallax sim --json` stages[].ii_cycles / latency_cycles).
+    std::string js = "[\n";
+    for (std::size_t i = 0; i < r.stage_timing.size(); ++i) {
+      const auto& t = r.stage_timing[i];
+      js += "  {\"name\": \"" + t.name + "\", \"ii_cycles\": " + std::to_string(t.ii_cycles) +
+            ", \"depth_cycles\": " + std::to_string(t.depth_cycles) + "}" + (i + 1 < r.stage_timing.size() ? ",\n" : "\n");
+    }
+    files.push_back({"stages.json", js + "]\n", false});
+  }
   files.push_back({"design.yaml", "# Exported by parallax export-hls from " + r.origin + "\n" + config::to_yaml(c), false});
   for (const auto& f : detail::copied_files()) files.push_back({f.name, *f.text, false});
   files.push_back({"tb/left.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.left.data()), true});

@@ -8,14 +8,13 @@
 #include <memory>
 
 #include "engine.hpp"
+#include "parallax/sim/schedule.hpp"
 
 namespace parallax::sim {
 
-TimingModel default_timing(const kern::StereoParams& p) {
+TimingModel default_timing(const kern::StereoParams& p, double clock_hz) {
   // Latencies are pipeline depths of the kernels' per-firing work: a read, the lane arithmetic as
-  // balanced trees, a register. II is 1 where a firing depends on nothing computed by the
-  // previous one; the aggregation carries the previous pixel's path minimum from its last
-  // firing to the next pixel's first, which Vitis' SemiGlobalBM schedules at II = 2 (as here).
+  // balanced trees, a register. II comes from the kernels' own schedule declarations.
   const int taps = p.window_w * p.window_h;
   const int cost_latency = p.cost == kern::kCostCensus ? 2 + kern::bits_for(uint64_t(taps - 1))
                                                         : 2 + kern::bits_for(uint64_t(taps));
@@ -25,8 +24,8 @@ TimingModel default_timing(const kern::StereoParams& p) {
   TimingModel t;
   t["source"] = {1, 1};
   t["cost"] = {1, cost_latency};
-  t["aggregate"] = {2, agg_latency};
-  t["aggregate_back"] = {2, agg_latency};
+  t["aggregate"] = {1, agg_latency};
+  t["aggregate_back"] = {1, agg_latency};
   t["wta_lr"] = {1, wta_latency};
   t["median"] = {1, median_latency};
   t["sink"] = {1, 0};
@@ -35,6 +34,11 @@ TimingModel default_timing(const kern::StereoParams& p) {
   // Remap: nearest is a read; bilinear adds two multiply levels and the rounding shift.
   t["map_left"] = t["map_right"] = {1, 1};
   t["rectify_left"] = t["rectify_right"] = {1, 5};
+  // The backward pass has the same kinds of work as the forward one (the same kernel on the
+  // reversed stream): with no backward paths it is not in the graph, so its II is the forward's.
+  const kern::RectifyParams no_rectify{p.width_px, p.height_px, kern::kRectifyNone, 0, 1};
+  for (const StageSchedule& s : stage_schedules(p, no_rectify, clock_hz)) t[s.stage].ii_cycles = s.ii;
+  if ((p.path_mask & kern::kBackwardPaths) == 0) t["aggregate_back"].ii_cycles = t["aggregate"].ii_cycles;
   return t;
 }
 

@@ -363,7 +363,9 @@ class Engine {
     out.height_px = p.height_px;
     out.disparities = p.disparities;
     if (kData) out.code.assign(std::size_t(p.width_px) * p.height_px, 0);
-    timing_ = default_timing(p);
+    timing_ = default_timing(p, !setup.opt ? 200e6
+                                : setup.opt->synthesis_clock_hz > 0 ? setup.opt->synthesis_clock_hz
+                                                                    : setup.opt->clock_hz);
     if (setup.opt)
       for (const auto& kv : setup.opt->timing) timing_[kv.first] = kv.second;
     trace_.reset();
@@ -551,7 +553,7 @@ class Engine {
       if (n.still_blocked()) return false;
       while (!cost.done()) {
         const kern::CostPlan pl = cost.plan();
-        if (!pl.read && !pl.write) break;
+        if (!pl.read && !pl.write && !pl.prime) break;
         if (!n.attempt({Port{&l, pl.read}, Port{&r, pl.read}}, {Port{&out, pl.write}}, [&] {
               if constexpr (kData) {
                 cost.fire(pl, l, r, out);
@@ -620,7 +622,7 @@ class Engine {
       if (n.still_blocked()) return false;
       while (!st.done()) {
         const auto pl = st.plan();
-        if (!pl.read && !pl.write) break;
+        if (!pl.read && !pl.write && !pl.prime) break;
         if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] {
               if constexpr (kData) {
                 st.fire(pl, in, out);

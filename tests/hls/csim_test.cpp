@@ -107,7 +107,7 @@ void expect_trip_counts_exact(const fs::path& out) {
     long long min[2], max[2];
   };
   std::map<std::string, Counts> pragma;  // by loop label; [0] full frame, [1] reduced
-  static const std::regex loop(R"((\w+_loop):\n\s*while \(!stage\.done\(\)\) \{\n#pragma HLS PIPELINE II=1\n)"
+  static const std::regex loop(R"((\w+_loop):\n\s*while \(!stage\.done\(\)\) \{\n#pragma HLS PIPELINE II=\d+\n)"
                                R"(#ifndef PARALLAX_REDUCED_FRAME\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=\d+\n)"
                                R"(#else\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=\d+\n#endif\n)");
   for (auto it = std::sregex_iterator(top.begin(), top.end(), loop); it != std::sregex_iterator(); ++it)

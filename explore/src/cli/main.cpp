@@ -42,6 +42,7 @@
 #include "parallax/explore/metrics.hpp"
 #include "parallax/explore/simulate.hpp"
 #include "parallax/sim/func.hpp"
+#include "parallax/sim/schedule.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -317,6 +318,18 @@ void print_resources(const ResourceReport& r) {
   std::printf("fits %s: %s\n", d.name.c_str(), r.util.fits ? "yes" : "no");
   std::printf("power (estimate)     %.2f W static + %.2f W dynamic = %.2f W; %.1f mJ per frame\n", r.power.static_w,
               r.power.dynamic_w, r.power.total_w, r.power.energy_mj_per_frame);
+}
+
+// What sets each kernel stage's II (sim/schedule.hpp), at the design's own (synthesis) clock.
+std::map<std::string, std::string> ii_reasons(const config::PipelineConfig& cfg, int w, int h) {
+  std::map<std::string, std::string> out;
+  const kern::RectifyParams rect{w, h, cfg.rectify == "bilinear"  ? kern::kRectifyBilinear
+                                       : cfg.rectify == "nearest" ? kern::kRectifyNearest
+                                                                  : kern::kRectifyNone,
+                                 cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0, std::max(1, cfg.rectify_rows)};
+  for (const auto& s : sim::stage_schedules(cfg.stereo_params(w, h), rect, double(cfg.clock_mhz) * 1e6))
+    out[s.stage] = "II " + std::to_string(s.ii) + ": " + s.limit;
+  return out;
 }
 
 }  // namespace
@@ -873,12 +886,16 @@ int main(int argc, char** argv) {
         if (cfg.rectify != "none") j["rectify_window_misses"] = c.rectify_window_misses;
         if (res.unbounded_last_pixel_cycle >= 0) j["unbounded_fifos_last_pixel_cycle"] = res.unbounded_last_pixel_cycle;
         j["stages"] = json::array();
-        for (const auto& s : c.stages)
-          j["stages"].push_back({{"name", s.name}, {"ii_cycles", s.ii_cycles}, {"latency_cycles", s.latency_cycles},
-                                 {"fires", s.fires}, {"busy_cycles", s.busy_cycles},
-                                 {"input_stall_cycles", s.input_stall_cycles}, {"output_stall_cycles", s.output_stall_cycles},
-                                 {"port_conflict_cycles", s.port_conflict_cycles},
-                                 {"first_fire_cycle", s.first_fire_cycle}, {"last_fire_cycle", s.last_fire_cycle}});
+        const std::map<std::string, std::string> why = ii_reasons(cfg, l.cols, l.rows);
+        for (const auto& s : c.stages) {
+          json sj = {{"name", s.name}, {"ii_cycles", s.ii_cycles}, {"latency_cycles", s.latency_cycles},
+                     {"fires", s.fires}, {"busy_cycles", s.busy_cycles},
+                     {"input_stall_cycles", s.input_stall_cycles}, {"output_stall_cycles", s.output_stall_cycles},
+                     {"port_conflict_cycles", s.port_conflict_cycles},
+                     {"first_fire_cycle", s.first_fire_cycle}, {"last_fire_cycle", s.last_fire_cycle}};
+          if (why.count(s.name)) sj["ii_limit"] = why.at(s.name);
+          j["stages"].push_back(sj);
+        }
         j["fifos"] = json::array();
         for (const auto& f : c.fifos) {
           json fj = {{"name", f.name}, {"producer", f.producer}, {"consumer", f.consumer}, {"depth", f.depth},
@@ -904,6 +921,8 @@ int main(int argc, char** argv) {
           std::printf("%-15s %4d %4d %10lld %12lld %12lld %12lld %12lld %12lld\n", s.name.c_str(), s.ii_cycles,
                       s.latency_cycles, (long long)s.fires, (long long)s.busy_cycles, (long long)s.input_stall_cycles,
                       (long long)s.output_stall_cycles, (long long)s.first_fire_cycle, (long long)s.last_fire_cycle);
+        std::printf("\nII derived from the kernels' declarations at the design's %d MHz (docs/hls.md):\n", cfg.clock_mhz);
+        for (const auto& kv : ii_reasons(cfg, l.cols, l.rows)) std::printf("  %-13s %s\n", kv.first.c_str(), kv.second.c_str());
         if (c.rows_fast_forwarded > 0)
           std::printf("\n%lld of %d output rows repeated the previous rows' schedule exactly and were applied at once\n",
                       (long long)c.rows_fast_forwarded, l.rows);

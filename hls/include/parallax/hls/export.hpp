@@ -76,6 +76,15 @@ struct ExportRequest {
   // model's stage name): the trip counts of the top's `while (!stage.done())` loops, which fire
   // their kernel once per iteration (LOOP_TRIPCOUNT, so that csynth reports a latency).
   std::map<std::string, int64_t> stage_fires;
+  // The cycle model's II and pipeline depth of each stage at the export's clock (the II of the
+  // kernel stages derived from their schedule declarations): the PIPELINE pragmas are written
+  // from it, and stages.json lists it.
+  struct StageTiming {
+    std::string name;
+    int ii_cycles = 1;
+    int depth_cycles = 1;
+  };
+  std::vector<StageTiming> stage_timing;
   // The reduced frame of C/RTL co-simulation (PARALLAX_REDUCED_FRAME): the first
   // reduced_height_px rows of the pair (reduced_frame_rows), the simulator's codes for them and
   // its firings per stage.

@@ -45,16 +45,25 @@ class CensusMatcher {
     r.op("hamming_popcount", kOpPopcount, bits, pu);
   }
 
+  // Registers only (windows, codes, the right codes' shift register): no memory port to count.
+  template <class S>
+  void schedule(S&, const StereoParams&) const {}
+
   // Columns left of the output column that costs() may still read from the line buffers (the
   // right image's codes are kept in the shift register, so only the window's own half width).
   int columns_behind() const { return w_ / 2; }
 
   template <class LB>
   void begin_pixel(const LB& left, const LB& right, int x, int y) {
-    left_win_.move_to(left, x, y, w_, h_);
-    right_win_.move_to(right, x, y, w_, h_);
+    prime(left, right, x, y);
     left_code_ = code(left_win_);
     right_codes_.shift_in(code(right_win_), d_);
+  }
+  // Moves both windows one step to position x of row y (x < 0: the row's prologue).
+  template <class LB>
+  void prime(const LB& left, const LB& right, int x, int y) {
+    left_win_.step_to(left, x, y, w_, h_, w_ / 2);
+    right_win_.step_to(right, x, y, w_, h_, w_ / 2);
   }
 
   // Costs of lanes d0 .. d0 + n - 1: Hamming distance to the right code at x - d, or cost_max

@@ -15,6 +15,7 @@ namespace kern {
 struct CostPlan {
   bool read;   // reads one pixel from each of the left and right input streams
   bool write;  // writes one token of PU costs
+  bool prime;  // a prologue step of the window registers (the start of a row), no output
 };
 
 template <class Caps, class Matcher>
@@ -40,24 +41,34 @@ class CostStage {
     x_ = 0;
     y_ = 0;
     chunk_ = 0;
+    prime_ = 0;
     out_done_ = false;
   }
   bool done() const { return out_done_; }
 
   CostPlan plan() const {
     CostPlan pl;
+    pl.prime = false;
     if (chunk_ != 0) {  // the rest of a pixel's chunks: its window was ready at chunk 0
       pl.write = true;
       pl.read = false;
       return pl;
     }
-    pl.write = !out_done_ && left_.window_ready(x_, y_, rx_, ry_);
+    // A row starts with rx prologue steps of the window registers (positions -rx .. -1), each
+    // once its column is resident; then the outputs.
+    if (!out_done_ && x_ == 0 && prime_ < rx_) {
+      pl.prime = left_.window_ready(prime_ - rx_, y_, rx_, ry_);
+      pl.write = false;
+    } else {
+      pl.write = !out_done_ && left_.window_ready(x_, y_, rx_, ry_);
+    }
     pl.read = left_.input_allowed(x_, y_, matcher_.columns_behind(), ry_) && (chunk_ == 0 || !pl.write);
     return pl;
   }
 
   template <class InS, class OutS>
   void fire(const CostPlan& pl, InS& left_in, InS& right_in, OutS& out) {
+    if (pl.prime) matcher_.prime(left_, right_, prime_++ - rx_, y_);
     if (pl.write) {
       if (chunk_ == 0) matcher_.begin_pixel(left_, right_, x_, y_);
       Token t;
@@ -76,6 +87,7 @@ class CostStage {
   // no pixel is stored and no cost computed. plan() after step(pl) equals plan() after fire(pl),
   // so a scheduler can time the stage without its datapath (the cycle model's timing run).
   void step(const CostPlan& pl) {
+    if (pl.prime) ++prime_;
     if (pl.write) advance();
     if (pl.read) {
       left_.skip_push();
@@ -93,6 +105,7 @@ class CostStage {
     v(x_);
     v(y_);
     v(chunk_);
+    v(prime_);
     v(out_done_);
     left_.visit(v);
     right_.visit(v);
@@ -113,12 +126,27 @@ class CostStage {
     r.registers("cost_token", lanes_ * cost_bits(p_), 1);
   }
 
+  // Schedule of one firing (resources.hpp): each row memory of the two line buffers takes the
+  // incoming pixel (one write) and gives the window registers one column (one read, also in the
+  // row's prologue steps); the raster counters are the only recurrence.
+  template <class S>
+  void schedule(S& s) const {
+    s.memory("left_line_buffer", 1, 1, 2);
+    s.memory("right_line_buffer", 1, 1, 2);
+    matcher_.schedule(s, p_);
+    s.recurrence("raster_counters", 1);
+    s.chain(kOpAdd, bits_for(uint64_t(chunks_)), 1);
+    s.chain(kOpCompare, bits_for(uint64_t(chunks_)), 1);
+    s.chain(kOpRegister, bits_for(uint64_t(chunks_)), 1);
+  }
+
  private:
   void advance() {
     if (++chunk_ < chunks_) return;
     chunk_ = 0;
     if (++x_ < p_.width_px) return;
     x_ = 0;
+    prime_ = 0;
     if (++y_ < p_.height_px) return;
     out_done_ = true;
   }
@@ -126,6 +154,7 @@ class CostStage {
   StereoParams p_;
   int rx_ = 0, ry_ = 0, lanes_ = 1, chunks_ = 1;
   int x_ = 0, y_ = 0, chunk_ = 0;
+  int prime_ = 0;  // prologue steps of this row's window registers done (of rx)
   bool out_done_ = true;
   LineBuffer<uint8_t, Caps::max_width_px, kRows> left_;
   LineBuffer<uint8_t, Caps::max_width_px, kRows> right_;

@@ -122,12 +122,14 @@ namespace parallax {
 namespace kern {
 
 // The window registers of a window stage: the clamped pixels (x + reach - (w - 1) + i,
-// y + j - h/2), i < w, j < h, of the current output position (x, y). reach is how far the window
-// extends right of x: w/2 for a centred window (Census, median; the default), w/2 of the
-// matching window for SAD's wider left and right registers. Moving to the next pixel of the same
-// row shifts the window one column and reads one new column, one pixel per row memory (what
-// keeps a hardware window stage at II = 1); any other move (a new row, a new frame) reloads it
-// whole. Contract: the pixels read are resident in the line buffer when move_to() is called.
+// y + j - h/2), i < w, j < h, of the current position (x, y). reach is how far the window
+// extends right of x: w/2 for a centred window (Census, median), w/2 of the matching window for
+// SAD's wider left and right registers. The window moves one step per firing and reads one pixel
+// per row memory, what keeps a hardware window stage at II = 1: a row starts at x = -reach,
+// where every column is the row's first pixel (clamped: one read, broadcast), and each later step
+// shifts the window one column and reads column x + reach (clamped). The stages spend `reach`
+// prologue firings per row on the positions -reach .. -1 (CostStage, Median). Contract: the
+// pixels read are resident in the line buffer.
 // LITERAL (the exported, FIXED instantiations): registers that shift along fixed wires. Software
 // instantiations keep each row as a mirrored ring with a moving base (as ShiftReg, common.hpp),
 // so a shift costs one write per row instead of w moves; the pixels held are the same.
@@ -135,44 +137,34 @@ template <class T, int MAX_W, int MAX_H, bool LITERAL = true>
 class WindowRegs {
  public:
   WindowRegs() { PX_PRAGMA("HLS ARRAY_PARTITION variable=v_ type=complete dim=0") }
+  // Moves to (x, y): x = -reach starts row y, any other x follows x - 1 of the same row.
   template <class LB>
-  void move_to(const LB& lb, int x, int y, int w, int h) {
-    move_to(lb, x, y, w, h, w / 2);
-  }
-  template <class LB>
-  void move_to(const LB& lb, int x, int y, int w, int h, int reach) {
+  void step_to(const LB& lb, int x, int y, int w, int h, int reach) {
     const int ry = h / 2;
-    if (y != y_ || x != x_ + 1) {
-      const int first = x + reach - (w - 1);
-    window_reload_rows:
-      for (int j = 0; j < h; ++j) {  // a reload: a new row or frame (not in the II = 1 shift path)
-        const T* row = lb.row_clamped(y + j - ry);
-      window_reload_cols:
-        for (int i = 0; i < w; ++i) put(j, i, row[lb.clamp_x(first + i)]);
-      }
-    } else {
-      const int col = lb.clamp_x(x + reach);
-      if (!LITERAL) base_ = (base_ + 1) & (kRing - 1);
-    window_shift_rows:
-      for (int j = 0; j < MAX_H; ++j) {
-        PX_PRAGMA("HLS UNROLL")
-        if (j < h) {
-          if (LITERAL) {
-          window_shift_cols:
-            for (int i = 0; i + 1 < MAX_W; ++i) {
-              PX_PRAGMA("HLS UNROLL")
-              if (i + 1 < w) v_[j][i] = v_[j][i + 1];
-            }
+    const bool start = x == -reach;
+    const int col = start ? 0 : lb.clamp_x(x + reach);
+    if (!start && !LITERAL) base_ = (base_ + 1) & (kRing - 1);
+  window_rows:
+    for (int j = 0; j < MAX_H; ++j) {
+      PX_PRAGMA("HLS UNROLL")
+      if (j < h) {
+        const T pixel = lb.row_clamped(y + j - ry)[col];
+      window_cols:
+        for (int i = 0; i < (LITERAL ? MAX_W : 1); ++i) {
+          PX_PRAGMA("HLS UNROLL")
+          if (LITERAL && i < w) v_[j][i] = start || i + 1 == w ? pixel : v_[j][i + 1 < MAX_W ? i + 1 : i];
+        }
+        if (!LITERAL) {
+          if (start) {
+          window_fill:
+            for (int i = 0; i < w; ++i) put(j, i, pixel);
+          } else {
+            put(j, w - 1, pixel);
           }
-          put(j, w - 1, lb.row_clamped(y + j - ry)[col]);
         }
       }
     }
-    x_ = x;
-    y_ = y;
   }
-  // Forget the position: the next move_to() reloads (call at the start of a frame).
-  void reset() { x_ = -2, y_ = -1; }
   // Pixel (x + reach - (w - 1) + i, y + j - h/2), clamped to the image.
   T at(int i, int j) const { return v_[j][LITERAL ? i : base_ + i]; }
   // Row j of the registers (for lane-parallel reads): entries 0 .. w - 1 are contiguous.
@@ -186,17 +178,12 @@ class WindowRegs {
   }
   static constexpr int kRing = LITERAL ? MAX_W : ring_size();
   void put(int j, int i, T v) {
-    if (LITERAL) {
-      v_[j][i] = v;
-    } else {
-      const int p = base_ + i;
-      v_[j][p] = v;
-      v_[j][p < kRing ? p + kRing : p - kRing] = v;
-    }
+    const int p = base_ + i;
+    v_[j][p] = v;
+    v_[j][p < kRing ? p + kRing : p - kRing] = v;
   }
   T v_[MAX_H][LITERAL ? MAX_W : 2 * kRing];
   int base_ = 0;  // ring base (software instantiations only)
-  int x_ = -2, y_ = -1;
 };
 
 }  // namespace kern

@@ -14,6 +14,7 @@ namespace kern {
 struct MedianPlan {
   bool read;   // one input code
   bool write;  // one output code
+  bool prime;  // a prologue step of the window registers (the start of a row), no output
 };
 
 template <class Caps>
@@ -33,21 +34,26 @@ class Median {
     lb_.reset();
     x_ = 0;
     y_ = 0;
+    prime_ = 0;
     done_ = false;
   }
   bool done() const { return done_; }
 
   MedianPlan plan() const {
     MedianPlan pl;
-    pl.write = !done_ && lb_.window_ready(x_, y_, r_, r_);
+    // A row starts with r prologue steps of the window registers (positions -r .. -1).
+    const bool priming = !done_ && x_ == 0 && prime_ < r_;
+    pl.prime = priming && lb_.window_ready(prime_ - r_, y_, r_, r_);
+    pl.write = !priming && !done_ && lb_.window_ready(x_, y_, r_, r_);
     pl.read = lb_.input_allowed(x_, y_, r_, r_);
     return pl;
   }
 
   template <class InS, class OutS>
   void fire(const MedianPlan& pl, InS& in, OutS& out) {
+    if (pl.prime) win_.step_to(lb_, prime_++ - r_, y_, k_, k_, r_);
     if (pl.write) {
-      if (k_ > 1) win_.move_to(lb_, x_, y_, k_, k_);
+      if (k_ > 1) win_.step_to(lb_, x_, y_, k_, k_, r_);
       // Only the sizes the window registers hold are instantiated (kRows = k of the export).
       out.write(k_ == 1 ? lb_.at_clamped(x_, y_)
                         : k_ == 3 ? window_median<kRows < 3 ? 1 : 3>()
@@ -59,6 +65,7 @@ class Median {
 
   // The control path of fire(pl) alone (see CostStage::step).
   void step(const MedianPlan& pl) {
+    if (pl.prime) ++prime_;
     if (pl.write) advance();
     if (pl.read) lb_.skip_push();
   }
@@ -70,10 +77,22 @@ class Median {
   void visit(V& v) {
     v(x_);
     v(y_);
+    v(prime_);
     v(done_);
     lb_.visit(v);
   }
   void resync() { lb_.resync(); }
+
+  // Schedule of one firing (resources.hpp): each row memory of the line buffer takes the incoming
+  // code and gives the window registers one column (also in the row's prologue steps).
+  template <class S>
+  void schedule(S& s) const {
+    s.memory("median_line_buffer", 1, 1, 2);
+    s.recurrence("raster_counters", 1);
+    s.chain(kOpAdd, bits_for(uint64_t(width_px_)), 1);
+    s.chain(kOpCompare, bits_for(uint64_t(width_px_)), 1);
+    s.chain(kOpRegister, bits_for(uint64_t(width_px_)), 1);
+  }
 
   // Resources of this configuration (resources.hpp) for values of value_bits: the k-row line
   // buffer, the k x k window, and the rank network over n = k*k keys (the value and the window
@@ -152,12 +171,14 @@ class Median {
   void advance() {
     if (++x_ == width_px_) {
       x_ = 0;
+      prime_ = 0;
       if (++y_ == height_px_) done_ = true;
     }
   }
 
   int k_ = 1, r_ = 0, width_px_ = 0, height_px_ = 0;
   int x_ = 0, y_ = 0;
+  int prime_ = 0;  // prologue steps of this row's window registers done (of r)
   bool done_ = true;
   LineBuffer<DispCode, Caps::max_width_px, kRows> lb_;
   WindowRegs<DispCode, kRows, kRows, Caps::fixed> win_;  // the k x k window registers of the output position

@@ -71,6 +71,13 @@ constexpr int bits_for(uint64_t v) {
   return n;
 }
 
+// ceil(log2 n) for n >= 1: the levels of a balanced binary tree over n inputs.
+constexpr int ceil_log2(uint64_t n) {
+  int levels = 0;
+  for (uint64_t span = 1; span < n; span *= 2) ++levels;
+  return levels;
+}
+
 constexpr int popcount_u32(unsigned v) {
   int n = 0;
   for (; v != 0; v >>= 1) n += int(v & 1u);

@@ -71,6 +71,18 @@ class Rectify {
   }
   int64_t window_misses() const { return window_misses_; }
 
+  // Schedule of one firing (resources.hpp): a tap pair of two adjacent columns reads one even and
+  // one odd bank of a row memory, the incoming pixel writes one bank: at most one read and one
+  // write per bank. The counters are the recurrence.
+  template <class S>
+  void schedule(S& s) const {
+    s.memory("rectify_line_buffer", 1, 1, 2);
+    s.recurrence("raster_counters", 1);
+    s.chain(kOpAdd, bits_for(uint64_t(p_.width_px)), 1);
+    s.chain(kOpCompare, bits_for(uint64_t(p_.width_px)), 1);
+    s.chain(kOpRegister, bits_for(uint64_t(p_.width_px)), 1);
+  }
+
   RectifyPlan plan() const {
     RectifyPlan pl;
     const int last_row = min_int(y_ + ahead_, p_.height_px - 1);

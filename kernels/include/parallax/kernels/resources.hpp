@@ -9,6 +9,16 @@
 //   r.registers(name, width_bits, count)   state and pipeline registers;
 //   r.op(name, kind, width_bits, count)    operators of the datapath and the control counters;
 //   r.mul(name, a_bits, b_bits, count)     multipliers (their operand widths decide DSP binding).
+//
+// A stage's schedule(S& s) declares what limits the initiation interval of its pipelined loop
+// (issue 14; sim/ derives II = max(1, ResMII, RecMII) from it, docs/hls.md):
+//   s.memory(name, reads, writes, ports)   one physical memory after partitioning and its
+//       accesses in the busiest firing (every branch of the loop body counts: synthesis schedules
+//       the loop for all of them); ports: 2 for a dual-port RAM, 1 for a single-port one;
+//   s.recurrence(name, distance)           a value one firing produces and the firing `distance`
+//       later uses (a loop-carried dependence), followed by
+//   s.chain(kind, width_bits, count)        the operators on the path from that use to the value's
+//       next definition, in order (count of them in series); kOpMemRead for a memory read.
 #pragma once
 
 #include "parallax/kernels/params.hpp"
@@ -23,7 +33,9 @@ enum OpKind {
   kOpPopcount,   // population count of width_bits inputs
   kOpXor,        // bitwise XOR
   kOpMul,        // multiplier; width_bits = the wider operand, see the name's suffix for both
-  kOpKindCount
+  kOpKindCount,
+  kOpMemRead = kOpKindCount,  // a memory read (schedule chains only)
+  kOpRegister                 // a register write (schedule chains only)
 };
 
 inline const char* op_kind_name(OpKind k) {

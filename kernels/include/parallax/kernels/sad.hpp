@@ -21,8 +21,6 @@ class SadMatcher {
     width_px_ = p.width_px;
     disparities_ = p.disparities;
     cost_max_ = uint16_t(cost_max(p));
-    left_.reset();
-    right_.reset();
   }
 
   // Hardware (resources.hpp): the left window and D + w right columns of h pixels in registers;
@@ -38,6 +36,12 @@ class SadMatcher {
     r.op("sad_adder_tree", kOpAdd, cost_bits(p), (taps - 1) * pu);
   }
 
+  // The previous pixel's sums: PU lane banks, one read and one write each per firing.
+  template <class S>
+  void schedule(S& s, const StereoParams&) const {
+    s.memory("sad_last_sums", 1, 1, 2);
+  }
+
   // Columns left of the output column that costs() may still read from the line buffers: the
   // right window at x - d reaches x - D + 1 - w/2, and the slide's trailing column one more.
   // (The registers below hold them; this keeps the line buffers' overwrite rule, and so the
@@ -51,9 +55,14 @@ class SadMatcher {
   // Contract: once per pixel, in raster order, before costs() is called for every d in [0, D).
   template <class LB>
   void begin_pixel(const LB& left, const LB& right, int x, int y) {
+    prime(left, right, x, y);
+  }
+  // Moves both registers one step to position x of row y (x < 0: the row's prologue).
+  template <class LB>
+  void prime(const LB& left, const LB& right, int x, int y) {
     const int rw = w_ / 2;
-    left_.move_to(left, x, y, w_ + 1, h_, rw);                 // columns x - 1 - rw .. x + rw
-    right_.move_to(right, x, y, disparities_ + w_, h_, rw);    // columns x + rw - (D + w - 1) .. x + rw
+    left_.step_to(left, x, y, w_ + 1, h_, rw);                 // columns x - 1 - rw .. x + rw
+    right_.step_to(right, x, y, disparities_ + w_, h_, rw);    // columns x + rw - (D + w - 1) .. x + rw
   }
 
   // Costs of lanes d0 .. d0 + n - 1. Away from the borders the window sum slides:

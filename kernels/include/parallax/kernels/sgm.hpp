@@ -188,6 +188,36 @@ class SgmAggregate {
   // row-left path delays the previous row's column by one pixel in registers. Every path holds
   // the predecessor's lanes of the next chunk and lane lo - 1. Per lane and path: two +P1 adds,
   // the min of four, + C - M, and the running minimum; per lane the sum over paths.
+  // Schedule of one firing (resources.hpp). Each row memory's bank sees one read (the next
+  // chunk's lanes) and one write (this chunk's); each row-minimum memory one read (chunk 0) and
+  // one write (the last chunk). The pixel path's minimum M is written by a pixel's last firing
+  // and used by the next firing; the lanes' minimum is taken off that path (see
+  // aggregate_kind), so the chain from M to M is the subtraction, the min with C + P2, the
+  // running minimum and its register. The running minimum itself recurs every firing.
+  template <class S>
+  void schedule(S& s) const {
+    const int pb = path_bits(p_);
+  agg_schedule_kinds:
+    for (int k = 1; k < kKindCount; ++k) {
+      if (((kinds_ >> k) & 1u) == 0) continue;
+      s.memory(k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right", 1, 1, 2);
+      s.memory(k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right", 1, 1, 2);
+    }
+    if ((kinds_ & (1u << kKindPixel)) != 0) {
+      s.recurrence("pixel_path_minimum", 1);
+      s.chain(kOpAdd, pb + 1, 1);      // min_d (C_d + t_d) - M
+      s.chain(kOpCompare, pb + 1, 1);  // min with min_d C_d + P2
+      s.chain(kOpMux, pb + 1, 1);
+      s.chain(kOpCompare, pb, 1);      // running minimum over the chunks
+      s.chain(kOpMux, pb, 1);
+      s.chain(kOpRegister, pb, 1);
+    }
+    s.recurrence("running_minimum", 1);
+    s.chain(kOpCompare, pb, 1);
+    s.chain(kOpMux, pb, 1);
+    s.chain(kOpRegister, pb, 1);
+  }
+
   template <class R>
   void declare(R& r, int packing, int banks) const {
     const int pb = path_bits(p_);
@@ -306,7 +336,12 @@ class SgmAggregate {
     const Word wm = Word(m_prev);
     const uint32_t p2 = uint32_t(p_.p2);
     const Word wm_p2 = sat_add(wm, Word(p2 > kNone ? kNone : p2));
-    Word lane_min = Word(kNone);
+    // The lanes' minimum, kept off the recurrence through M: with t_d = min(Lr(q,d),
+    // Lr(q,d±1) + P1), Lr(p,d) = C_d + min(t_d - M, P2), so min_d Lr(p,d) =
+    // min(min_d (C_d + t_d) - M, min_d C_d + P2): both inner minima are independent of M, and
+    // the chain from M to the next M is a subtraction and two compare-selects (docs/kernels.md).
+    uint32_t ct_min = 0xFFFFFFFFu;  // min_d (C_d + t_d)
+    uint32_t c_min = 0xFFFFFFFFu;   // min_d C_d
     Word lr[kLanes];
   agg_lanes:
     for (int i = 0; i < trip; ++i) {
@@ -314,17 +349,23 @@ class SgmAggregate {
       const Word a = pred[i + 1];
       const Word b = sat_add(pred[i], wp1);
       const Word e = sat_add(pred[i + 2], wp1);
-      Word mm = a < b ? a : b;
-      mm = mm < e ? mm : e;
-      mm = mm < wm_p2 ? mm : wm_p2;
+      Word t = a < b ? a : b;
+      t = t < e ? t : e;
+      const Word mm = t < wm_p2 ? t : wm_p2;
+      const uint32_t cost = c.v[i];
       // At the start of a path (no predecessor) Lr = C.
-      const Word v = valid ? Word(Word(c.v[i]) + Word(mm - wm)) : Word(c.v[i]);
+      const Word v = valid ? Word(Word(cost) + Word(mm - wm)) : Word(cost);
       lr[i] = v;
       s.v[i] = Word(s.v[i] + v);
-      lane_min = v < lane_min ? v : lane_min;
+      const uint32_t ct = cost + uint32_t(t);
+      ct_min = ct < ct_min ? ct : ct_min;
+      c_min = cost < c_min ? cost : c_min;
     }
+    const uint32_t cp2 = c_min + p2;
+    const uint32_t ct_m = ct_min - m_prev;
+    const uint32_t lane_min = !valid ? c_min : (ct_m < cp2 ? ct_m : cp2);
     const uint32_t prior = first ? kNone : run_min_[k];
-    const uint32_t run_min = uint32_t(lane_min) < prior ? uint32_t(lane_min) : prior;
+    const uint32_t run_min = lane_min < prior ? lane_min : prior;
     run_min_[k] = run_min;
 
     // Store this chunk's Lr where the next row (row kinds) or the next pixel (pixel kind) reads it.

@@ -20,6 +20,7 @@ namespace kern {
 struct WtaPlan {
   bool read;   // one aggregate token
   bool write;  // one disparity code
+  bool prime;  // always false (no window registers)
 };
 
 template <class Caps, class Word>
@@ -51,6 +52,7 @@ class WtaLr {
 
   WtaPlan plan() const {
     WtaPlan pl;
+    pl.prime = false;
     if (done_) {
       pl.read = pl.write = false;
       return pl;
@@ -105,6 +107,25 @@ class WtaLr {
   // with the LR check the right candidates of the D open columns and the D - 1 finished right
   // disparities in shift registers, a compare-select per lane (lane i of chunk c reaches entry
   // c*PU + i through a D/PU-input multiplexer) and the D-input read of the right disparity.
+  // Schedule of one firing (resources.hpp): registers only; the recurrences are the best cost of
+  // the pixel across its chunks and each open right candidate's running minimum (a compare and
+  // a select into a register, behind the shift's select).
+  template <class S>
+  void schedule(S& s) const {
+    const int ab = aggregate_bits(p_);
+    s.recurrence("best_cost", 1);
+    s.chain(kOpCompare, ab, 1);
+    s.chain(kOpMux, ab, 1);
+    s.chain(kOpRegister, ab, 1);
+    if (p_.lr_check) {
+      s.recurrence("right_candidates", 1);
+      s.chain(kOpMux, ab, 1);
+      s.chain(kOpCompare, ab, 1);
+      s.chain(kOpMux, ab, 1);
+      s.chain(kOpRegister, ab, 1);
+    }
+  }
+
   template <class R>
   void declare(R& r) const {
     const int ab = aggregate_bits(p_);

@@ -31,12 +31,18 @@ using TimingModel = std::map<std::string, StageTiming>;
 //   source, cost, aggregate, wta_lr, median, sink; two-pass designs add ddr_write,
 //   ddr_read and aggregate_back; rectifying designs add map_left, map_right, rectify_left and
 //   rectify_right.
-TimingModel default_timing(const kern::StereoParams& p);
+// II of the kernel stages is derived from the kernels' schedule declarations at clock_hz
+// (schedule.hpp: memory ports and loop-carried recurrences); the other stages fire at II = 1.
+// Latencies are pipeline depths of the kernels' per-firing work.
+TimingModel default_timing(const kern::StereoParams& p, double clock_hz = 200e6);
 
 enum class InputKind { memory, camera };
 
 struct CycleOptions {
   double clock_hz = 200e6;  // processing clock
+  // The clock the design was synthesised for, which sets the stages' II (default_timing); 0: the
+  // processing clock. A bitstream built for 200 MHz and run at 100 MHz keeps its cycles.
+  double synthesis_clock_hz = 0;
   InputKind input = InputKind::memory;
   // Memory-mapped input: the left+right pixel pairs stream from DDR at this rate.
   double input_bytes_per_s = 4.0e9;

@@ -117,12 +117,12 @@ cost_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
 #ifndef PARALLAX_REDUCED_FRAME
-#pragma HLS LOOP_TRIPCOUNT min=2305283 max=2305283 avg=2305283
+#pragma HLS LOOP_TRIPCOUNT min=2306001 max=2306001 avg=2306001
 #else
-#pragma HLS LOOP_TRIPCOUNT min=103683 max=103683 avg=103683
+#pragma HLS LOOP_TRIPCOUNT min=103713 max=103713 avg=103713
 #endif
     const kern::CostPlan pl = stage.plan();
-    if (!pl.read && !pl.write) break;
+    if (!pl.read && !pl.write && !pl.prime) break;
     stage.fire(pl, left_px, right_px, cost);
   }
 }
@@ -142,7 +142,7 @@ wta_lr_loop:
 #pragma HLS LOOP_TRIPCOUNT min=103344 max=103344 avg=103344
 #endif
     const kern::WtaPlan pl = stage.plan();
-    if (!pl.read && !pl.write) break;
+    if (!pl.read && !pl.write && !pl.prime) break;
     stage.fire(pl, sum, disp);
   }
 }
@@ -157,12 +157,12 @@ median_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
 #ifndef PARALLAX_REDUCED_FRAME
-#pragma HLS LOOP_TRIPCOUNT min=231683 max=231683 avg=231683
+#pragma HLS LOOP_TRIPCOUNT min=232401 max=232401 avg=232401
 #else
-#pragma HLS LOOP_TRIPCOUNT min=11523 max=11523 avg=11523
+#pragma HLS LOOP_TRIPCOUNT min=11553 max=11553 avg=11553
 #endif
     const kern::MedianPlan pl = stage.plan();
-    if (!pl.read && !pl.write) break;
+    if (!pl.read && !pl.write && !pl.prime) break;
     stage.fire(pl, in, out);
   }
 }
@@ -177,7 +177,7 @@ void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& su
   kern::NoStream<CostToken> no_tee;
 aggregate_loop:
   while (!stage.done()) {
-#pragma HLS PIPELINE II=1
+#pragma HLS PIPELINE II=2
 #ifndef PARALLAX_REDUCED_FRAME
 #pragma HLS LOOP_TRIPCOUNT min=2304000 max=2304000 avg=2304000
 #else

@@ -1,0 +1,70 @@
+// The initiation interval of each stage, derived from what its kernel declares (issue 14):
+// II = max(1, ResMII, RecMII), ResMII from the accesses per firing of each memory over its ports,
+// RecMII from the operator chain of each loop-carried recurrence against the clock (operator
+// delays: sim/data/operator_delays.csv, with their sources; the budget per cycle is the period
+// less Vitis' default 27 % clock uncertainty).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "parallax/kernels/params.hpp"
+#include "parallax/kernels/resources.hpp"
+
+namespace parallax::sim {
+
+// Vitis HLS's default clock uncertainty: 27 % of the period (UG1702, HLS General Options).
+constexpr double kClockUncertainty = 0.27;
+
+struct OperatorDelay {
+  std::string kind;  // add, compare, mux, xor, memory_read, register
+  int min_bits = 1, max_bits = 64;
+  double delay_ns = 0;
+  std::string source;
+};
+
+// The table of sim/data/operator_delays.csv (compiled in).
+const std::vector<OperatorDelay>& operator_delays();
+// Delay of one operator of this kind and width (the row whose width range holds it).
+double operator_delay_ns(kern::OpKind kind, int width_bits);
+
+struct MemoryPorts {
+  std::string name;
+  int reads = 0, writes = 0, ports = 2;
+  int mii() const { return (reads + writes + ports - 1) / ports; }
+};
+
+struct ChainOp {
+  kern::OpKind kind;
+  int width_bits = 1;
+  int count = 1;
+};
+
+struct Recurrence {
+  std::string name;
+  int distance = 1;
+  std::vector<ChainOp> chain;
+  double delay_ns() const;
+};
+
+// A stage's declarations and what follows from them at one clock.
+struct StageSchedule {
+  std::string stage;
+  std::vector<MemoryPorts> memories;
+  std::vector<Recurrence> recurrences;
+  int res_mii = 1;
+  int rec_mii = 1;
+  int ii = 1;
+  std::string limit;  // what sets II: "memory NAME: R reads + W writes on P ports" or "recurrence NAME: X ns over D firings"
+};
+
+// II of one stage from its declarations at clock_hz.
+void derive_ii(StageSchedule& s, double clock_hz);
+
+// The schedules of the design's kernel stages (cost, aggregate, aggregate_back for two passes,
+// wta_lr, median, rectify_left/right when rectifying), derived at clock_hz. Stages without a
+// declaration (source, sink, maps, DDR) fire at II = 1.
+std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const kern::RectifyParams& rectify,
+                                           double clock_hz);
+
+}  // namespace parallax::sim

@@ -1,0 +1,188 @@
+// II derived from the kernels' own schedule declarations (schedule.hpp).
+#include "parallax/sim/schedule.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <sstream>
+
+#include "parallax/kernels/caps.hpp"
+#include "parallax/kernels/census.hpp"
+#include "parallax/kernels/median.hpp"
+#include "parallax/kernels/rectify.hpp"
+#include "parallax/kernels/sad.hpp"
+#include "parallax/kernels/sgm.hpp"
+#include "parallax/kernels/wta_lr.hpp"
+
+namespace parallax::res::data {
+extern const char* const operator_delays_csv;
+}
+
+namespace parallax::sim {
+namespace {
+
+[[noreturn]] void table_error(const std::string& what) {
+  std::fprintf(stderr, "parallax: internal error: sim/data/operator_delays.csv: %s\n", what.c_str());
+  std::abort();
+}
+
+// Fields of one CSV line; a field may be double-quoted (and then hold commas).
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> f(1);
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') quoted = !quoted;
+    else if (c == ',' && !quoted) f.emplace_back();
+    else f.back() += c;
+  }
+  return f;
+}
+
+std::vector<OperatorDelay> parse_delays() {
+  std::vector<OperatorDelay> rows;
+  std::istringstream in(res::data::operator_delays_csv);
+  std::string line;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header) {
+      header = false;
+      continue;
+    }
+    const auto f = csv_fields(line);
+    if (f.size() != 5) table_error("a row has " + std::to_string(f.size()) + " fields, not 5: " + line);
+    rows.push_back({f[0], std::atoi(f[1].c_str()), std::atoi(f[2].c_str()), std::atof(f[3].c_str()), f[4]});
+  }
+  if (rows.empty()) table_error("no rows");
+  return rows;
+}
+
+const char* kind_key(kern::OpKind k) {
+  switch (k) {
+    case kern::kOpAdd: return "add";
+    case kern::kOpCompare: return "compare";
+    case kern::kOpMux: return "mux";
+    case kern::kOpXor: return "xor";
+    case kern::kOpMemRead: return "memory_read";
+    case kern::kOpRegister: return "register";
+    default: return "";
+  }
+}
+
+// What a kernel's schedule() calls (resources.hpp).
+struct Collector {
+  StageSchedule* s;
+  void memory(const char* name, int reads, int writes, int ports) { s->memories.push_back({name, reads, writes, ports}); }
+  void recurrence(const char* name, int distance) { s->recurrences.push_back({name, distance, {}}); }
+  void chain(kern::OpKind kind, int width_bits, int count) {
+    if (s->recurrences.empty()) table_error("a chain operator before any recurrence");
+    if (count > 0) s->recurrences.back().chain.push_back({kind, width_bits, count});
+  }
+};
+
+template <class Stage>
+StageSchedule collect(const std::string& name, const Stage& stage, double clock_hz) {
+  StageSchedule s;
+  s.stage = name;
+  Collector c{&s};
+  stage.schedule(c);
+  derive_ii(s, clock_hz);
+  return s;
+}
+
+// Large enough for any valid design (schedule() reads only the configuration).
+using ScheduleCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, kern::kMaxDisparities>;
+
+}  // namespace
+
+const std::vector<OperatorDelay>& operator_delays() {
+  static const std::vector<OperatorDelay> rows = parse_delays();
+  return rows;
+}
+
+double operator_delay_ns(kern::OpKind kind, int width_bits) {
+  const std::string key = kind_key(kind);
+  for (const auto& r : operator_delays())
+    if (r.kind == key && width_bits >= r.min_bits && width_bits <= r.max_bits) return r.delay_ns;
+  table_error("no delay for " + (key.empty() ? std::string("this operator") : key) + " of " + std::to_string(width_bits) +
+              " bits");
+}
+
+double Recurrence::delay_ns() const {
+  double d = 0;
+  for (const auto& op : chain) d += op.count * operator_delay_ns(op.kind, op.width_bits);
+  return d;
+}
+
+void derive_ii(StageSchedule& s, double clock_hz) {
+  const double budget_ns = 1e9 / clock_hz * (1.0 - kClockUncertainty);
+  s.res_mii = 1;
+  s.rec_mii = 1;
+  s.limit = "";
+  for (const auto& m : s.memories)
+    if (m.mii() > s.res_mii) {
+      s.res_mii = m.mii();
+      s.limit = "memory " + m.name + ": " + std::to_string(m.reads) + " reads + " + std::to_string(m.writes) +
+                " writes on " + std::to_string(m.ports) + " ports";
+    }
+  std::string rec_limit;
+  for (const auto& r : s.recurrences) {
+    const double d = r.delay_ns();
+    const int mii = std::max(1, int(std::ceil(d / (budget_ns * r.distance) - 1e-9)));
+    if (mii > s.rec_mii || rec_limit.empty()) {
+      if (mii >= s.rec_mii) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "recurrence %s: %.2f ns over %d firing(s) of %.2f ns", r.name.c_str(), d,
+                      r.distance, budget_ns);
+        rec_limit = buf;
+      }
+      s.rec_mii = std::max(s.rec_mii, mii);
+    }
+  }
+  s.ii = std::max({1, s.res_mii, s.rec_mii});
+  if (s.rec_mii > s.res_mii || s.limit.empty()) s.limit = rec_limit;
+}
+
+std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const kern::RectifyParams& rectify,
+                                           double clock_hz) {
+  std::vector<StageSchedule> out;
+  if (p.cost == kern::kCostCensus) {
+    auto cost = std::make_unique<kern::CensusCostStage<ScheduleCaps>>();
+    cost->configure(p);
+    out.push_back(collect("cost", *cost, clock_hz));
+  } else {
+    auto cost = std::make_unique<kern::SadCostStage<ScheduleCaps>>();
+    cost->configure(p);
+    out.push_back(collect("cost", *cost, clock_hz));
+  }
+  {
+    auto agg = std::make_unique<kern::SgmAggregate<ScheduleCaps, uint32_t>>();
+    agg->configure(p, kern::stream_kinds(p.path_mask, false), false, false);
+    out.push_back(collect("aggregate", *agg, clock_hz));
+    if ((p.path_mask & kern::kBackwardPaths) != 0) {
+      agg->configure(p, kern::stream_kinds(p.path_mask, true), true, false);
+      out.push_back(collect("aggregate_back", *agg, clock_hz));
+    }
+  }
+  {
+    auto wta = std::make_unique<kern::WtaLr<ScheduleCaps, uint32_t>>();
+    wta->configure(p, false);
+    out.push_back(collect("wta_lr", *wta, clock_hz));
+  }
+  {
+    auto median = std::make_unique<kern::Median<ScheduleCaps>>();
+    median->configure(p);
+    out.push_back(collect("median", *median, clock_hz));
+  }
+  if (rectify.mode != kern::kRectifyNone) {
+    auto rect = std::make_unique<kern::Rectify<kern::kMaxWidthPx, 256>>();
+    rect->configure(rectify);
+    out.push_back(collect("rectify_left", *rect, clock_hz));
+    out.push_back(collect("rectify_right", *rect, clock_hz));
+  }
+  return out;
+}
+
+}  // namespace parallax::sim

@@ -1,0 +1,97 @@
+// unit: each stage's II derived from what its kernel declares (sim/schedule.hpp): known cases,
+// mutations that must raise it, and the cycle model using it.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "parallax/sim/cycle.hpp"
+#include "parallax/sim/schedule.hpp"
+
+namespace parallax::sim {
+namespace {
+
+kern::StereoParams seed() {
+  kern::StereoParams p{640, 360, kern::kCostCensus, 5, 5, 60, 6, kern::kForwardPaths, 8, 32, true, 1, 5};
+  return p;
+}
+
+const kern::RectifyParams kNoRectify{640, 360, kern::kRectifyNone, 0, 1};
+
+StageSchedule stage(const kern::StereoParams& p, double mhz, const std::string& name) {
+  for (const auto& s : stage_schedules(p, kNoRectify, mhz * 1e6))
+    if (s.stage == name) return s;
+  ADD_FAILURE() << "no stage " << name;
+  return {};
+}
+
+TEST(DerivedII, SeedDesignAt200MHz) {
+  // The pixel path's minimum recurs from one firing to the next: a subtraction and two
+  // compare-selects into a register, 3.88 ns against 3.65 ns of a 5 ns cycle: II = 2.
+  const StageSchedule agg = stage(seed(), 200, "aggregate");
+  EXPECT_EQ(agg.ii, 2);
+  EXPECT_EQ(agg.rec_mii, 2);
+  EXPECT_EQ(agg.res_mii, 1);
+  EXPECT_NE(agg.limit.find("pixel_path_minimum"), std::string::npos) << agg.limit;
+  // Shift registers (WTA/LR), window registers with one column per row memory (cost, median),
+  // the median's network off any recurrence: II = 1.
+  for (const char* name : {"cost", "wta_lr", "median"}) EXPECT_EQ(stage(seed(), 200, name).ii, 1) << name;
+}
+
+TEST(DerivedII, ClockAndPathsMoveTheAggregation) {
+  EXPECT_EQ(stage(seed(), 100, "aggregate").ii, 1);  // 7.30 ns per cycle hold the chain
+  kern::StereoParams no_pixel_path = seed();
+  no_pixel_path.path_mask = kern::kPath45 | kern::kPath90 | kern::kPath135;
+  EXPECT_EQ(stage(no_pixel_path, 200, "aggregate").ii, 1);  // no recurrence through M
+  // A faster clock never lowers the II.
+  int last = 1;
+  for (double mhz = 50; mhz <= 600; mhz += 50) {
+    const int ii = stage(seed(), mhz, "aggregate").ii;
+    EXPECT_GE(ii, last) << mhz << " MHz";
+    last = ii;
+  }
+  EXPECT_GE(last, 3);
+}
+
+TEST(DerivedII, AnAddedAccessRaisesResMII) {
+  StageSchedule cost = stage(seed(), 200, "cost");
+  ASSERT_EQ(cost.ii, 1);
+  cost.memories.front().reads += 2;  // e.g. a window reloaded from the line buffer
+  derive_ii(cost, 200e6);
+  EXPECT_EQ(cost.res_mii, 2);
+  EXPECT_EQ(cost.ii, 2);
+  EXPECT_NE(cost.limit.find("left_line_buffer: 3 reads + 1 writes on 2 ports"), std::string::npos) << cost.limit;
+}
+
+TEST(DerivedII, ALongerChainRaisesRecMII) {
+  StageSchedule wta = stage(seed(), 200, "wta_lr");
+  ASSERT_EQ(wta.ii, 1);
+  for (int i = 0; i < 4; ++i) wta.recurrences.front().chain.push_back({kern::kOpAdd, 16, 1});
+  derive_ii(wta, 200e6);
+  EXPECT_EQ(wta.ii, 2);
+}
+
+TEST(DerivedII, DelaysComeFromTheTableWithSources) {
+  ASSERT_FALSE(operator_delays().empty());
+  for (const auto& d : operator_delays()) {
+    EXPECT_GT(d.delay_ns, 0.0) << d.kind;
+    EXPECT_FALSE(d.source.empty()) << d.kind;
+  }
+  EXPECT_DOUBLE_EQ(operator_delay_ns(kern::kOpAdd, 8), 0.80);
+  EXPECT_DOUBLE_EQ(operator_delay_ns(kern::kOpAdd, 32), 0.88);
+  EXPECT_DOUBLE_EQ(operator_delay_ns(kern::kOpMux, 8), 0.36);
+}
+
+TEST(DerivedII, TheCycleModelUsesIt) {
+  for (double mhz : {100.0, 200.0, 300.0}) {
+    const TimingModel t = default_timing(seed(), mhz * 1e6);
+    for (const auto& s : stage_schedules(seed(), kNoRectify, mhz * 1e6))
+      EXPECT_EQ(t.at(s.stage).ii_cycles, s.ii) << s.stage << " at " << mhz << " MHz";
+  }
+  kern::StereoParams eight = seed();
+  eight.path_mask = kern::kAllPaths;
+  const TimingModel t = default_timing(eight, 200e6);
+  EXPECT_EQ(t.at("aggregate_back").ii_cycles, stage(eight, 200, "aggregate_back").ii);
+}
+
+}  // namespace
+}  // namespace parallax::sim
