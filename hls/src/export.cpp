@@ -14,6 +14,7 @@
 
 #include "embedded.hpp"
 #include "parallax/kernels/params.hpp"
+#include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/resources/model.hpp"
 
@@ -183,13 +184,20 @@ std::string tripcount_pragma(const std::map<std::string, int64_t>& fires, const 
 
 int reduced_frame_rows(int height_px) { return std::min(height_px, kReducedRows); }
 
+// The FIFOs of the design's variant, in the pipeline table's order (kernels/pipeline.hpp).
+std::vector<const kern::PipelineFifo*> export_fifos(const config::PipelineConfig& c) {
+  kern::StereoParams p{};
+  p.path_mask = c.path_mask;
+  const unsigned conditions = kern::pipeline_conditions(p, c.rectify != "none");
+  std::vector<const kern::PipelineFifo*> fifos;
+  for (const kern::PipelineFifo& f : kern::kPipelineFifos)
+    if (kern::pipeline_has(f.when, conditions)) fifos.push_back(&f);
+  return fifos;
+}
+
 std::vector<std::string> export_fifo_names(const config::PipelineConfig& c) {
   std::vector<std::string> names;
-  if (c.rectify != "none") names = {"raw_left_px", "raw_right_px", "map_left", "map_right"};
-  for (const char* n : {"left_px", "right_px", "cost"}) names.push_back(n);
-  if ((c.path_mask & kern::kBackwardPaths) != 0)
-    for (const char* n : {"cost_to_ddr", "fwd_to_ddr", "cost_from_ddr", "fwd_from_ddr"}) names.push_back(n);
-  for (const char* n : {"sum", "disp_lr", "disp_out"}) names.push_back(n);
+  for (const kern::PipelineFifo* f : export_fifos(c)) names.push_back(f->name);
   return names;
 }
 
@@ -304,20 +312,21 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   // FIFOs: depth constants, stream declarations (per pass for two-pass designs), README rows.
   const bool two_pass = (c.path_mask & kern::kBackwardPaths) != 0;
   std::string depths, streams, pass2_streams, fifo_rows;
-  for (const std::string& name : export_fifo_names(c)) {
+  for (const kern::PipelineFifo* d : export_fifos(c)) {
+    const std::string name = d->name;
     const ExportFifo& f = *std::find_if(r.fifos.begin(), r.fifos.end(), [&](const ExportFifo& x) { return x.name == name; });
     const std::string k = depth_constant(name);
     depths += "constexpr int " + k + " = " + std::to_string(f.depth) + ";\n";
-    const std::string type = name == "map_left" || name == "map_right" ? "kern::MapEntry"
-                             : name.size() > 3 && name.compare(name.size() - 3, 3, "_px") == 0 ? "uint8_t"
-                             : name == "cost" || name == "cost_to_ddr" || name == "cost_from_ddr" ? "CostBeat"
-                             : name == "sum" || name == "fwd_to_ddr" || name == "fwd_from_ddr"    ? "SumBeat"
-                                                                                                  : "CodeBeat";
+    // The stream's type by its token (the design's widths, see the beats in parallax_top.cpp).
+    const std::string type = d->token == kern::kTokenMapEntry ? "kern::MapEntry"
+                             : d->token == kern::kTokenPixel  ? "uint8_t"
+                             : d->token == kern::kTokenCost   ? "CostBeat"
+                             : d->token == kern::kTokenSum    ? "SumBeat"
+                                                              : "CodeBeat";
     const res::MemoryItem* m = find_memory(inv, "fifos", name);
     const res::MemoryMapping mapping =
         res::map_memory(res::MemoryKind::fifo, f.depth, m ? m->width_bits : 8, false);
-    const bool second = two_pass && (name == "cost_from_ddr" || name == "fwd_from_ddr" || name == "sum" ||
-                                     name == "disp_lr" || name == "disp_out");
+    const bool second = two_pass && d->pass == 2;
     std::string& s = second ? pass2_streams : streams;
     s += "  hls::stream<" + type + "> " + name + "(\"" + name + "\");\n";
     s += "#pragma HLS STREAM variable=" + name + " depth=" + std::to_string(f.depth) + "\n";

@@ -23,6 +23,7 @@
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/median.hpp"
+#include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/rectify.hpp"
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
@@ -368,6 +369,7 @@ class Engine {
                                                                     : setup.opt->clock_hz);
     if (setup.opt)
       for (const auto& kv : setup.opt->timing) timing_[kv.first] = kv.second;
+    conditions_ = kern::pipeline_conditions(p, rectifying());
     trace_.reset();
     if (kTimed && setup.opt && !setup.opt->vcd_path.empty())
       trace_ = std::make_unique<Trace>(setup.opt->vcd_from, setup.opt->vcd_to);
@@ -406,7 +408,7 @@ class Engine {
     if ((p.path_mask & kern::kBackwardPaths) != 0 ||
         tokens.size() != std::size_t(frame_pixels()) * std::size_t(p.disparities / p.parallel_units))
       internal_error("run_from_costs: a one-pass design and the tokens of its cost stage are needed");
-    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "replay", "aggregate");
+    auto costs = make_graph_fifo<CostTok>("cost", kTokenDepth, "replay", "aggregate");
     NodeT& n_rep = node("replay");
     int64_t got = 0;
     const std::unique_ptr<BackEnd> be = one_pass_back_end(*costs, out, got);
@@ -432,6 +434,7 @@ class Engine {
     setup_ = RunSetup{};
     rep_ = nullptr;
     timing_ = default_timing(p);
+    conditions_ = kern::pipeline_conditions(p, false);
     trace_.reset();
     graph_ = std::make_unique<Graph<kTimed>>(nullptr);
     input_rate_ = Rate{};
@@ -440,7 +443,7 @@ class Engine {
   void record_with(CostStage& cost, const GreyImage& left, const GreyImage& right, std::vector<CostTok>& tokens) {
     cost.configure(p_);
     std::unique_ptr<FrontEnd> fe = front_end(left, right);
-    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "recorder");
+    auto costs = make_graph_fifo<CostTok>("cost", kTokenDepth, "cost", "recorder");
     NodeT& n_cost = node("cost");
     auto record = [&]() -> bool {
       bool fired = false;
@@ -463,14 +466,27 @@ class Engine {
     const auto it = setup_.opt->fifo_depths.find(name);
     return it != setup_.opt->fifo_depths.end() ? it->second : setup_.opt->fifo_depth;
   }
+  // A FIFO of the pipeline (kernels/pipeline.hpp): producer and consumer come from the table.
   template <class T>
-  std::unique_ptr<Fifo<T>> make_fifo(const std::string& name, std::size_t func_depth, const std::string& producer,
-                                     const std::string& consumer) {
+  std::unique_ptr<Fifo<T>> make_fifo(const std::string& name, std::size_t func_depth) {
+    const kern::PipelineFifo* d = kern::pipeline_fifo(name.c_str(), conditions_);
+    if (!d) internal_error("FIFO '" + name + "' is not in this variant of the pipeline table (kernels/pipeline.hpp)");
+    return make_graph_fifo<T>(name, func_depth, d->producer, d->consumer);
+  }
+  // A FIFO of the simulator's own cost recording and replay, which are not pipeline stages.
+  template <class T>
+  std::unique_ptr<Fifo<T>> make_graph_fifo(const std::string& name, std::size_t func_depth, const std::string& producer,
+                                           const std::string& consumer) {
     auto f = std::make_unique<Fifo<T>>(name, depth_of(name, func_depth), kTimed);
     graph_->add_fifo(f.get(), producer, consumer);
     return f;
   }
+  // A stage of the pipeline table (or the recording's own "replay" and "recorder").
   NodeT& node(const std::string& name) {
+    bool known = name == "replay" || name == "recorder";
+    for (const kern::PipelineStage& st : kern::kPipelineStages)
+      known = known || (name == st.name && kern::pipeline_has(st.when, conditions_));
+    if (!known) internal_error("stage '" + name + "' is not in this variant of the pipeline table (kernels/pipeline.hpp)");
     const auto it = timing_.find(name);
     return graph_->add_node(name, it != timing_.end() ? it->second : StageTiming{});
   }
@@ -694,18 +710,18 @@ class Engine {
     FrontEnd& f = *fe;
     NodeT& n_src = node("source");
     if (!rectifying()) {
-      f.out_l = make_fifo<uint8_t>("left_px", kPixelDepth, "source", "cost");
-      f.out_r = make_fifo<uint8_t>("right_px", kPixelDepth, "source", "cost");
+      f.out_l = make_fifo<uint8_t>("left_px", kPixelDepth);
+      f.out_r = make_fifo<uint8_t>("right_px", kPixelDepth);
       f.pumps.push_back(source_pump(n_src, left, right, *f.out_l, *f.out_r, f.next_src));
       return fe;
     }
     const kern::RectifyParams& rp = setup_.opt->rectify;
-    f.raw_l = make_fifo<uint8_t>("raw_left_px", kPixelDepth, "source", "rectify_left");
-    f.raw_r = make_fifo<uint8_t>("raw_right_px", kPixelDepth, "source", "rectify_right");
-    f.map_l = make_fifo<kern::MapEntry>("map_left", kPixelDepth, "map_left", "rectify_left");
-    f.map_r = make_fifo<kern::MapEntry>("map_right", kPixelDepth, "map_right", "rectify_right");
-    f.out_l = make_fifo<uint8_t>("left_px", kPixelDepth, "rectify_left", "cost");
-    f.out_r = make_fifo<uint8_t>("right_px", kPixelDepth, "rectify_right", "cost");
+    f.raw_l = make_fifo<uint8_t>("raw_left_px", kPixelDepth);
+    f.raw_r = make_fifo<uint8_t>("raw_right_px", kPixelDepth);
+    f.map_l = make_fifo<kern::MapEntry>("map_left", kPixelDepth);
+    f.map_r = make_fifo<kern::MapEntry>("map_right", kPixelDepth);
+    f.out_l = make_fifo<uint8_t>("left_px", kPixelDepth);
+    f.out_r = make_fifo<uint8_t>("right_px", kPixelDepth);
     f.pumps.push_back(source_pump(n_src, left, right, *f.raw_l, *f.raw_r, f.next_src));
     if (!rect_l_) rect_l_ = std::make_unique<RectifyStage>();
     if (!rect_r_) rect_r_ = std::make_unique<RectifyStage>();
@@ -778,9 +794,9 @@ class Engine {
     wta_.configure(p_, false);
     median_.configure(p_);
     auto be = std::make_unique<BackEnd>();
-    be->sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate", "wta_lr");
-    be->disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
-    be->filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
+    be->sums = make_fifo<SumTok>("sum", kTokenDepth);
+    be->disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth);
+    be->filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth);
     NodeT& n_agg = node("aggregate");
     NodeT& n_wta = node("wta_lr");
     NodeT& n_med = node("median");
@@ -799,7 +815,7 @@ class Engine {
     std::unique_ptr<FrontEnd> fe = front_end(left, right);
     Fifo<uint8_t>& in_l = *fe->out_l;
     Fifo<uint8_t>& in_r = *fe->out_r;
-    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "aggregate");
+    auto costs = make_fifo<CostTok>("cost", kTokenDepth);
     NodeT& n_cost = node("cost");
     int64_t got = 0;
     const std::unique_ptr<BackEnd> be = one_pass_back_end(*costs, out, got);
@@ -831,9 +847,9 @@ class Engine {
     std::unique_ptr<FrontEnd> fe = front_end(left, right);
     Fifo<uint8_t>& in_l = *fe->out_l;
     Fifo<uint8_t>& in_r = *fe->out_r;
-    auto costs = make_fifo<CostTok>("cost", kTokenDepth, "cost", "aggregate");
-    auto tee = make_fifo<CostTok>("cost_to_ddr", kTokenDepth, "aggregate", "ddr_write");
-    auto fwd = make_fifo<SumTok>("fwd_to_ddr", kTokenDepth, "aggregate", "ddr_write");
+    auto costs = make_fifo<CostTok>("cost", kTokenDepth);
+    auto tee = make_fifo<CostTok>("cost_to_ddr", kTokenDepth);
+    auto fwd = make_fifo<SumTok>("fwd_to_ddr", kTokenDepth);
     NodeT& n_cost = node("cost");
     NodeT& n_agg = node("aggregate");
     NodeT& n_wr = node("ddr_write");
@@ -874,11 +890,11 @@ class Engine {
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, true), true, false);
     wta_.configure(p_, true);
     median_.configure(p_);
-    auto back_c = make_fifo<CostTok>("cost_from_ddr", kTokenDepth, "ddr_read", "aggregate_back");
-    auto back_f = make_fifo<SumTok>("fwd_from_ddr", kTokenDepth, "ddr_read", "aggregate_back");
-    auto sums = make_fifo<SumTok>("sum", kTokenDepth, "aggregate_back", "wta_lr");
-    auto disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth, "wta_lr", "median");
-    auto filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth, "median", "sink");
+    auto back_c = make_fifo<CostTok>("cost_from_ddr", kTokenDepth);
+    auto back_f = make_fifo<SumTok>("fwd_from_ddr", kTokenDepth);
+    auto sums = make_fifo<SumTok>("sum", kTokenDepth);
+    auto disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth);
+    auto filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth);
     NodeT& n_rd = node("ddr_read");
     NodeT& n_back = node("aggregate_back");
     NodeT& n_wta = node("wta_lr");
@@ -1123,6 +1139,7 @@ class Engine {
   TimingModel timing_;
   std::unique_ptr<Trace> trace_;
   std::unique_ptr<Graph<kTimed>> graph_;
+  unsigned conditions_ = 0;  // the pipeline variant (kernels/pipeline.hpp) of the current run
   kern::CensusCostStage<Caps> census_;
   kern::SadCostStage<Caps> sad_;
   kern::SgmAggregate<Caps, Word> agg_;

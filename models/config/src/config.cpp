@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "parallax/kernels/pipeline.hpp"
+
 namespace parallax::config {
 namespace {
 
@@ -221,18 +223,15 @@ std::vector<FieldError> validate(const PipelineConfig& c) {
   need(c.row_banks >= 0, "row_banks", "must be >= 0 (0 = one memory per word)");
   for (const auto& kv : c.fifo_depths)
     need(kv.second >= 1, ("fifo_depth_" + kv.first).c_str(), "must be >= 1");
-  // The cycle model's stage names (sim::default_timing); tests/sim checks the two lists agree.
-  static const char* kStages[] = {"source",   "cost",     "aggregate", "aggregate_back", "wta_lr",
-                                  "median",   "sink",     "ddr_write", "ddr_read",       "map_left",
-                                  "map_right", "rectify_left", "rectify_right"};
+  // The pipeline's stage names (kernels/pipeline.hpp, the cycle model's stages).
   auto known_stage = [](const std::string& n) {
-    for (const char* k : kStages)
-      if (n == k) return true;
+    for (const kern::PipelineStage& st : kern::kPipelineStages)
+      if (n == st.name) return true;
     return false;
   };
   auto stage_list = [] {
     std::string l;
-    for (const char* k : kStages) l += (l.empty() ? "" : ", ") + std::string(k);
+    for (const kern::PipelineStage& st : kern::kPipelineStages) l += (l.empty() ? "" : ", ") + std::string(st.name);
     return l;
   };
   for (const auto& kv : c.stage_ii) {
