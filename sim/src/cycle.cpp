@@ -54,8 +54,12 @@ int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int
     if (d_first > d_last) return;
     for (int w = d_first / packing; w <= d_last / packing; ++w) ++access[std::size_t(w % banks)];
   };
-  touch(lo - 1, hi + 1);  // reads of the previous row's lanes (and the two neighbours)
-  touch(lo, hi);          // writes of this row's lanes
+  // The kernel's schedule (sgm.hpp): a firing reads the lanes of the next firing's chunk (the
+  // next column's first chunk after the last) and writes its own.
+  const int chunks = p.disparities / p.parallel_units;
+  const int next_lo = chunk + 1 == chunks ? 0 : lo + p.parallel_units;
+  touch(next_lo, next_lo + p.parallel_units - 1);  // reads
+  touch(lo, hi);                                   // writes
   int worst = 0;
   for (int a : access) worst = std::max(worst, (a + 1) / 2);
   return std::max(0, worst - ii_cycles);

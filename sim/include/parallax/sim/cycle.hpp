@@ -127,7 +127,7 @@ struct CycleReport {
 };
 
 // Extra cycles a firing of chunk `chunk` needs beyond II because the path-cost row memories'
-// accesses (per row path: read lanes [lo-1, lo+PU], write lanes [lo, lo+PU-1]) exceed two ports
+// accesses (per row path: read the next firing's chunk, write lanes [lo, lo+PU-1]) exceed two ports
 // per memory within II cycles: max over memories of ceil(accesses / 2) - II, at least 0.
 int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int row_banks, int chunk, int ii_cycles);
 
