@@ -33,13 +33,11 @@ class CensusMatcher {
   // D/PU-input multiplexer (none when PU = D).
   template <class R>
   void declare(R& r, const StereoParams& p) const {
-    const int taps = w_ * h_;
-    const int bits = taps - 1;
+    const int bits = code_bits();
     const int pu = p.parallel_units;
-    r.registers("census_windows", 8, 2 * taps);
+    DeclareStorage<R> st(r);
+    storage(st, p);
     r.op("census_compares", kOpCompare, 8, 2 * bits);
-    r.registers("census_left_code", bits, 1);
-    r.registers("right_codes", bits, p.disparities);
     if (p.disparities > pu) r.op("right_code_select", kOpMux, bits, pu * (p.disparities / pu - 1));
     r.op("hamming_xor", kOpXor, bits, pu);
     r.op("hamming_popcount", kOpPopcount, bits, pu);
@@ -123,6 +121,18 @@ class CensusMatcher {
   // The right codes of columns x .. x - D + 1: a shift register (one register per entry).
   ShiftReg<uint64_t, kMaxD, Caps::fixed> right_codes_;
   Window left_win_, right_win_;  // the window registers of the two images
+  int code_bits() const { return w_ * h_ - 1; }
+
+ public:
+  // Storage descriptor (resources.hpp) of the members above: the w x h window registers of each
+  // image, the left code and the D right codes of w*h - 1 bits.
+  template <class V>
+  void storage(V& v, const StereoParams&) const {
+    left_win_.storage(v, "census_left_window", w_, h_, 8);
+    right_win_.storage(v, "census_right_window", w_, h_, 8);
+    v.registers("census_left_code", left_code_, 1, code_bits());
+    right_codes_.storage(v, "right_codes", d_, code_bits());
+  }
 };
 
 template <class Caps>

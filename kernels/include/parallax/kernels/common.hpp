@@ -137,6 +137,14 @@ class ShiftReg<T, N, true> {
   }
   const T& at(int k) const { return v_[k]; }
   void set(int k, const T& x) { v_[k] = x; }
+  // Storage descriptor (resources.hpp): entries 0 .. used-1 are registers of width_bits; used is
+  // N (the whole register) or less when the last entries are never shifted into (n < N).
+  template <class V>
+  void storage(V& v, const char* name, int used, int width_bits) const {
+    if (used == N) v.registers(name, v_, used, width_bits);
+    else if (used > 0) v.registers_part(name, v_, used, width_bits);
+    else v.unused(name, v_);
+  }
 
  private:
   T v_[N];
@@ -155,6 +163,12 @@ class ShiftReg<T, N, false> {
     set(n - 1, x);
   }
   const T& at(int k) const { return v_[base_ + k]; }
+  // Storage descriptor (resources.hpp): the hardware is the literal form's used registers.
+  template <class V>
+  void storage(V& v, const char* name, int used, int width_bits) const {
+    if (used > 0) v.registers_part(name, v_, used, width_bits);
+    else v.unused(name, v_);
+  }
   void set(int k, const T& x) {
     const int p = base_ + k;
     v_[p] = x;

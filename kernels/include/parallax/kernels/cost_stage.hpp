@@ -159,6 +159,17 @@ class CostStage {
   LineBuffer<uint8_t, Caps::max_width_px, kRows> left_;
   LineBuffer<uint8_t, Caps::max_width_px, kRows> right_;
   Matcher matcher_;  // mutable state: cost() may keep running sums
+
+ public:
+  // Storage descriptor (resources.hpp) of the members above: the two line buffers (the window's
+  // rows, one memory per row) and the matcher's registers and memories; declare() declares
+  // exactly these (the line buffers here, the matcher's in its own declare()).
+  template <class V>
+  void storage(V& v) const {
+    left_.storage(v, "left_line_buffer", 8);
+    right_.storage(v, "right_line_buffer", 8);
+    matcher_.storage(v, p_);
+  }
 };
 
 }  // namespace kern

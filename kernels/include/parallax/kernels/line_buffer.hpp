@@ -66,10 +66,16 @@ class LineBuffer {
   }
   void resync() { in_slot_ = slot(in_row_); }
 
-  // Hardware: one memory per row slot (the window reads all rows in one cycle), W words deep.
+  // Hardware: one memory per row slot (the window reads all rows in one cycle), W words deep
+  // (storage descriptor, resources.hpp: the slots in use of mem_).
+  template <class V>
+  void storage(V& v, const char* name, int value_bits) const {
+    v.memory(name, mem_, width_px_, value_bits, rows_, false, 1);
+  }
   template <class R>
   void declare(R& r, const char* name, int value_bits) const {
-    r.memory(name, width_px_, value_bits, rows_, false);
+    DeclareStorage<R> s(r);
+    storage(s, name, value_bits);
   }
   bool input_done() const { return in_row_ >= height_px_; }
 
@@ -167,6 +173,12 @@ class WindowRegs {
   }
   // Pixel (x + reach - (w - 1) + i, y + j - h/2), clamped to the image.
   T at(int i, int j) const { return v_[j][LITERAL ? i : base_ + i]; }
+  // Storage descriptor (resources.hpp): w x h of the registers hold pixels (the rest, sized for
+  // the largest window, are never written in the literal form).
+  template <class V>
+  void storage(V& v, const char* name, int w, int h, int width_bits) const {
+    v.window(name, v_, w, h, width_bits);
+  }
   // Row j of the registers (for lane-parallel reads): entries 0 .. w - 1 are contiguous.
   const T* row(int j) const { return v_[j] + (LITERAL ? 0 : base_); }
 

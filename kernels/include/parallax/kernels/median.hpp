@@ -102,17 +102,47 @@ class Median {
   template <class R>
   void declare(R& r, int value_bits) const {
     declare_raster_control(r, width_px_, height_px_, 1);
-    lb_.declare(r, "median_line_buffer", value_bits);
-    r.registers("median_window", value_bits, k_ * k_);
-    if (k_ > 1) {
-      const int n = k_ * k_;
-      r.op("rank_compares", kOpCompare, value_bits + bits_for(uint64_t(n - 1)), n * (n - 1) / 2);
-      r.op("rank_counts", kOpPopcount, n - 1, n);
-      r.op("rank_pick", kOpCompare, bits_for(uint64_t(n)), n);
-      r.op("rank_select", kOpMux, value_bits, n);
+    declare_storage(r, *this, value_bits);
+    const RankNetwork net = rank_network();
+    if (net.keys > 1) {
+      // Keys: the value and the window index (bits_for(n - 1) of the kKeyIndexBits the key
+      // reserves); a rank counts the comparisons its key takes part in.
+      r.op("rank_compares", kOpCompare, value_bits + bits_for(uint64_t(net.keys - 1)), net.pairs);
+      r.op("rank_counts", kOpPopcount, net.max_per_key, net.keys);
+      r.op("rank_pick", kOpCompare, bits_for(uint64_t(net.keys)), net.keys);
+      r.op("rank_select", kOpMux, value_bits, net.keys);
     }
     r.registers("median_out", value_bits, 1);
   }
+
+  // Storage descriptor (resources.hpp) of the members: the k-row line buffer (one memory per
+  // row) and the k x k window registers.
+  template <class V>
+  void storage(V& v, int value_bits) const {
+    lb_.storage(v, "median_line_buffer", value_bits);
+    win_.storage(v, "median_window", k_, k_, value_bits);
+  }
+
+  // The rank network the instantiation builds for its k (the dispatch of fire()): the
+  // comparators rank_pairs<n>() visits (n(n-1)/2), the keys and the most comparisons one key
+  // takes part in; none for k = 1 (pass-through).
+  struct RankNetwork {
+    int keys, pairs, max_per_key;
+  };
+  RankNetwork rank_network() const {
+    PairCount c;
+    if (k_ == 3) rank_pairs<fitted(3) * fitted(3)>(c);
+    else if (k_ == 5) rank_pairs<fitted(5) * fitted(5)>(c);
+    else if (k_ > 1) rank_pairs<fitted(7) * fitted(7)>(c);
+    RankNetwork n;
+    n.keys = c.keys;
+    n.pairs = c.pairs;
+    n.max_per_key = 0;
+    for (int a = 0; a < c.keys; ++a) n.max_per_key = c.per_key[a] > n.max_per_key ? c.per_key[a] : n.max_per_key;
+    return n;
+  }
+  // Bits of a key below the code: the window index (code << kKeyIndexBits | index).
+  static constexpr int kKeyIndexBits = 6;
 
  private:
   // Rank selection by counting on distinct keys (code * 64 + window index): the keys are a
@@ -133,23 +163,12 @@ class Median {
   median_gather:
     for (int a = 0; a < kPad; ++a) {
       PX_PRAGMA("HLS UNROLL")
-      key[a] = a < kN ? uint16_t((win_.at(a % K, a / K) << 6) | a) : uint16_t(0xFFFFu);
+      key[a] = a < kN ? uint16_t((win_.at(a % K, a / K) << kKeyIndexBits) | a) : uint16_t(0xFFFFu);
       smaller[a] = 0;
     }
     if (Caps::fixed) {
-    median_pairs:
-      for (int a = 0; a < kN; ++a) {
-        PX_PRAGMA("HLS UNROLL")
-      median_pairs_inner:
-        for (int b = 0; b < kN; ++b) {
-          PX_PRAGMA("HLS UNROLL")
-          if (b > a) {
-            const int a_smaller = key[a] < key[b] ? 1 : 0;
-            smaller[b] = uint16_t(smaller[b] + a_smaller);
-            smaller[a] = uint16_t(smaller[a] + 1 - a_smaller);
-          }
-        }
-      }
+      RankPair<kPad> pair(key, smaller);
+      rank_pairs<kN>(pair);
     } else {
     median_count:
       for (int b = 0; b < kN; ++b) {
@@ -163,10 +182,51 @@ class Median {
   median_pick:
     for (int a = 0; a < kN; ++a) {
       PX_PRAGMA("HLS UNROLL")
-      if (smaller[a] == want) result = DispCode(key[a] >> 6);
+      if (smaller[a] == want) result = DispCode(key[a] >> kKeyIndexBits);
     }
     return result;
   }
+
+  // The pair network of n keys: one comparator per pair a < b, visited by the loops the exported
+  // (FIXED) instantiation unrolls; declare() counts the comparators with the same loops.
+  template <int N, class F>
+  static PX_INLINE void rank_pairs(F& f) {
+  median_pairs:
+    for (int a = 0; a < N; ++a) {
+      PX_PRAGMA("HLS UNROLL")
+    median_pairs_inner:
+      for (int b = 0; b < N; ++b) {
+        PX_PRAGMA("HLS UNROLL")
+        if (b > a) f(a, b);
+      }
+    }
+  }
+  // A comparator of the network: each comparison counts for both keys (a < b is !(b < a) for
+  // distinct keys).
+  template <int P>
+  struct RankPair {
+    const uint16_t (&key)[P];
+    uint16_t (&smaller)[P];
+    RankPair(const uint16_t (&k)[P], uint16_t (&s)[P]) : key(k), smaller(s) {}
+    PX_INLINE void operator()(int a, int b) {
+      const int a_smaller = key[a] < key[b] ? 1 : 0;
+      smaller[b] = uint16_t(smaller[b] + a_smaller);
+      smaller[a] = uint16_t(smaller[a] + 1 - a_smaller);
+    }
+  };
+  // Counts the comparators of the network (declarations only).
+  struct PairCount {
+    int keys = 0, pairs = 0;
+    int per_key[kMaxMedian * kMaxMedian] = {};
+    void operator()(int a, int b) {
+      ++pairs;
+      ++per_key[a];
+      ++per_key[b];
+      keys = b + 1 > keys ? b + 1 : keys;
+    }
+  };
+  // The window size the registers hold for a median of k (fire(): only those are instantiated).
+  static constexpr int fitted(int k) { return kRows < k ? 1 : k; }
 
   void advance() {
     if (++x_ == width_px_) {

@@ -56,7 +56,7 @@ class Rectify {
   void declare(R& r) const {
     declare_raster_control(r, p_.width_px, p_.height_px, 1);
     const bool bilinear = p_.mode == kRectifyBilinear;
-    r.memory("rectify_line_buffer", p_.width_px, 8, p_.buffer_rows, bilinear);
+    declare_storage(r, *this);
     r.registers("map_entry", 64, 1);
     r.op("tap_window_tests", kOpCompare, 16, bilinear ? 8 : 4);
     if (bilinear) {
@@ -150,6 +150,15 @@ class Rectify {
   bool done_ = true;
   int64_t window_misses_ = 0;
   uint8_t lb_[MAX_ROWS][MAX_W];
+
+ public:
+  // Storage descriptor (resources.hpp) of lb_: one memory per buffered row, W deep (bilinear:
+  // true dual port for the tap pair). Not yet described: the even/odd column banks of the
+  // constructor's cyclic partitioning (docs/resources.md).
+  template <class V>
+  void storage(V& v) const {
+    v.memory("rectify_line_buffer", lb_, p_.width_px, 8, p_.buffer_rows, p_.mode == kRectifyBilinear, 1);
+  }
 };
 
 }  // namespace kern

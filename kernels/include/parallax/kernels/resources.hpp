@@ -47,6 +47,57 @@ inline const char* op_kind_name(OpKind k) {
                       : "mul";
 }
 
+// Storage descriptors (issue 14, item 4). Every member array that becomes hardware is described
+// once, beside its declaration, by the kernel's storage(V& v) method (and ShiftReg, WindowRegs
+// and LineBuffer describe their own arrays), which hands the visitor the member itself, the
+// elements this configuration uses and the bits the design needs per element:
+//   v.registers(name, member, count, width_bits)        complete partitioning, one register per
+//       element; in an exported (FIXED) instantiation count is the member's whole extent;
+//   v.registers_part(name, member, count, width_bits)   the first count elements of a member
+//       sized for a larger case (the rest are never written there; synthesis drops them);
+//   v.window(name, member, cols, rows, width_bits)      window registers member[rows][>= cols];
+//   v.memory(name, member, depth, width_bits, copies, true_dual_port, per_word)  a memory of
+//       `copies` partitions of depth words, each word per_word elements of the member.
+//   v.unused(name, member)   a member this configuration never writes (no hardware: synthesis
+//       removes it), e.g. the LR registers without the check, a path kind's state when inactive.
+// declare() turns the description into r.registers / r.memory through DeclareStorage, so the
+// model's registers and memories are computed from the same expressions that size and partition
+// the members; tests/resources/storage_test.cpp checks the description against the members'
+// extents (sizeof) in FIXED instantiations.
+template <class R>
+class DeclareStorage {
+ public:
+  explicit DeclareStorage(R& r) : r_(r) {}
+  template <class M>
+  void registers(const char* name, const M&, int count, int width_bits) {
+    r_.registers(name, width_bits, count);
+  }
+  template <class M>
+  void registers_part(const char* name, const M&, int count, int width_bits) {
+    r_.registers(name, width_bits, count);
+  }
+  template <class M>
+  void window(const char* name, const M&, int cols, int rows, int width_bits) {
+    r_.registers(name, width_bits, cols * rows);
+  }
+  template <class M>
+  void unused(const char*, const M&) {}
+  template <class M>
+  void memory(const char* name, const M&, int64_t depth, int width_bits, int copies, bool true_dual_port, int) {
+    r_.memory(name, depth, width_bits, copies, true_dual_port);
+  }
+
+ private:
+  R& r_;
+};
+
+// Declares what a kernel's storage() describes.
+template <class R, class K, class... A>
+void declare_storage(R& r, const K& kernel, const A&... a) {
+  DeclareStorage<R> s(r);
+  kernel.storage(s, a...);
+}
+
 // Control of a raster stage: column, row and chunk counters with their end compares.
 template <class R>
 void declare_raster_control(R& r, int width_px, int height_px, int chunks) {

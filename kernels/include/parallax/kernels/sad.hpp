@@ -29,8 +29,8 @@ class SadMatcher {
   void declare(R& r, const StereoParams& p) const {
     const int taps = w_ * h_;
     const int pu = p.parallel_units;
-    r.registers("sad_left_window", 8, taps);
-    r.registers("sad_right_columns", 8, h_ * (p.disparities + w_));
+    DeclareStorage<R> st(r);
+    storage(st, p);
     r.op("sad_differences", kOpAdd, 9, 2 * taps * pu);
     r.op("sad_abs_select", kOpMux, 8, taps * pu);
     r.op("sad_adder_tree", kOpAdd, cost_bits(p), (taps - 1) * pu);
@@ -130,6 +130,18 @@ class SadMatcher {
   WindowRegs<uint8_t, kMaxWindow + 1, Caps::window_rows, Caps::fixed> left_;
   WindowRegs<uint8_t, Caps::max_disparities + kMaxWindow, Caps::window_rows, Caps::fixed> right_;
   uint32_t last_[Caps::max_disparities];  // S(x - 1, d) of this row, where it was a real sum
+
+ public:
+  // Storage descriptor (resources.hpp) of the members above: the left window's w + 1 columns and
+  // the right image's D + w columns over h rows; the previous sums in PU lane banks (cyclic
+  // partitioning by LANES: PU memories of D/PU words of the cost width).
+  template <class V>
+  void storage(V& v, const StereoParams& p) const {
+    left_.storage(v, "sad_left_window", w_ + 1, h_, 8);
+    right_.storage(v, "sad_right_columns", disparities_ + w_, h_, 8);
+    const int pu = Caps::parallel_units(p.parallel_units);
+    v.memory("sad_last_sums", last_, (disparities_ + pu - 1) / pu, cost_bits(p), pu, false, 1);
+  }
 };
 
 template <class Caps>

@@ -222,27 +222,14 @@ class SgmAggregate {
   void declare(R& r, int packing, int banks) const {
     const int pb = path_bits(p_);
     const int ab = aggregate_bits(p_);
-    const int d = p_.disparities;
-    const int pu = p_.parallel_units;
+    const int d = d_;
+    const int pu = lanes_;
     declare_raster_control(r, p_.width_px, p_.height_px, d / pu);
-    const int q = packing < 1 ? 1 : (packing > d ? d : packing);
-    const int words = (d + q - 1) / q;
-    const int memories = banks <= 0 || banks > words ? words : banks;
-    const int words_per_memory = (words + memories - 1) / memories;
+    DeclareStorage<R> st(r);
+    storage(st, packing, banks);
   agg_declare_paths:
     for (int k = 0; k < kKindCount; ++k) {
       if (((kinds_ >> k) & 1u) == 0) continue;
-      if (k == kKindPixel) {
-        r.registers("pixel_path_previous", pb, d);
-        r.registers("pixel_path_min", pb, 1);
-      } else {
-        const char* row = k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right";
-        const char* mins = k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right";
-        r.memory(row, int64_t(p_.width_px) * words_per_memory, q * pb, memories, false);
-        r.memory(mins, p_.width_px, pb, 1, false);
-        if (k == kKindRowLeft) r.registers("row_left_delay", pb, d + 1);
-      }
-      r.registers("path_predecessor_lanes", pb, pu + 1);
       if (d > pu) r.op("path_predecessor_select", kOpMux, pb, pu * (d / pu - 1));
       r.op("path_p1_adds", kOpAdd, pb + 1, 2 * pu);
       r.op("path_p2_add", kOpAdd, pb + 1, 1);
@@ -251,7 +238,6 @@ class SgmAggregate {
       r.op("path_cost_minus_min", kOpAdd, pb + 1, 2 * pu);
       r.op("path_running_min", kOpCompare, pb, pu);
       r.op("path_running_min_select", kOpMux, pb, pu);
-      r.registers("path_min", pb, 2);
     }
     r.op("sum_over_paths", kOpAdd, ab, pu * slots());
     r.registers("cost_in", pu * cost_bits(p_), 1);
@@ -426,6 +412,51 @@ class SgmAggregate {
   Word mlag_ = 0;     // row-left path: the previous row's minimum of column x - 1
   Word row_[kRowMemories][kMaxW][kMaxD];  // row kinds: previous-row Lr per column
   Word row_min_[kRowMemories][kMaxW];     // row kinds: previous-row min_d Lr per column
+
+ public:
+  // Storage descriptor (resources.hpp) of the members above, per active path kind, with the
+  // path-cost width: the pixel path's pix_ (D) and pix_min_; a row kind's row memory
+  // row_[kind - 1] (`packing` disparities per word, the ceil(D / packing) words of a column in
+  // `banks` memories, 0: one memory per word, W deep each) and its row minima row_min_[kind - 1]
+  // (one memory, W deep); the row-left kind's lag_ (D) and mlag_; every kind's ahead_ (PU),
+  // edge_, mq_ and run_min_.
+  template <class V>
+  void storage(V& v, int packing, int banks) const {
+    const int pb = path_bits(p_);
+    const int q = packing < 1 ? 1 : (packing > d_ ? d_ : packing);
+    const int words = (d_ + q - 1) / q;
+    const int memories = banks <= 0 || banks > words ? words : banks;
+    const int words_per_memory = (words + memories - 1) / memories;
+  agg_storage_kinds:
+    for (int k = 0; k < kKindCount; ++k) {
+      if (((kinds_ >> k) & 1u) == 0) {  // an inactive kind's state is never written: no hardware
+        if (k == kKindPixel) v.unused("pixel_path_previous", pix_);
+        if (k == kKindRowLeft) v.unused("row_left_delay", lag_);
+        if (k != kKindPixel) v.unused("row_path", row_[k - 1]);
+        if (k != kKindPixel) v.unused("row_min", row_min_[k - 1]);
+        v.unused("path_predecessor_lanes", ahead_[k]);
+        continue;
+      }
+      if (k == kKindPixel) {
+        v.registers("pixel_path_previous", pix_, d_, pb);
+        v.registers("pixel_path_min", pix_min_, 1, pb);
+      } else {
+        const int m = k - 1;
+        v.memory(k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right", row_[m],
+                 int64_t(p_.width_px) * words_per_memory, q * pb, memories, false, q);
+        v.memory(k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right", row_min_[m],
+                 p_.width_px, pb, 1, false, 1);
+        if (k == kKindRowLeft) {
+          v.registers("row_left_delay", lag_, d_, pb);
+          v.registers("row_left_delay_min", mlag_, 1, pb);
+        }
+      }
+      v.registers("path_predecessor_lanes", ahead_[k], lanes_, pb);
+      v.registers("path_predecessor_edge", edge_[k], 1, pb);
+      v.registers("path_min_previous", mq_[k], 1, pb);
+      v.registers("path_min_running", run_min_[k], 1, pb);
+    }
+  }
 };
 
 }  // namespace kern

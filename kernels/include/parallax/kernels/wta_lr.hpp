@@ -139,12 +139,9 @@ class WtaLr {
     }
     r.op("wta_first_lane", kOpCompare, ab, pu);
     r.op("wta_best", kOpCompare, ab, 1);
-    r.registers("wta_best", ab + db, 1);
-    r.registers("left_disparities", db, (p_.lr_check ? d - 1 : 0) + 1);
+    declare_storage(r, *this);
     r.op("emit_counter", kOpAdd, bits_for(uint64_t(p_.width_px)), 1);
     if (p_.lr_check) {
-      r.registers("right_candidates", ab + db, d);
-      r.registers("right_disparities", db, d - 1);
       if (d > pu) r.op("right_candidate_select", kOpMux, ab + db, pu * (d / pu - 1));
       r.op("right_compare", kOpCompare, ab, pu);
       r.op("right_select", kOpMux, ab + db, pu);
@@ -303,6 +300,24 @@ class WtaLr {
   ShiftReg<uint32_t, kMaxD, Caps::fixed> right_cost_;
   ShiftReg<DispCode, kMaxD, Caps::fixed> right_d_;
   ShiftReg<DispCode, kMaxD, Caps::fixed> finished_d_;
+
+ public:
+  // Storage descriptor (resources.hpp) of the members above: the best cost and disparity of the
+  // pixel; the left results' delay line (delay_ + 1 entries: D with the LR check, 1 without);
+  // with the LR check the D open right candidates (cost and disparity) and the D - 1 finished
+  // right disparities (the shift lengths shift_left() and shift_column() use).
+  template <class V>
+  void storage(V& v) const {
+    const int ab = aggregate_bits(p_);
+    const int db = disparity_bits(p_);
+    v.registers("wta_best_cost", best_cost_, 1, ab);
+    v.registers("wta_best_disparity", best_d_, 1, db);
+    left_d_.storage(v, "left_disparities", delay_ + 1, db);
+    const int lr = p_.lr_check ? 1 : 0;  // without the check: never written (no hardware)
+    right_cost_.storage(v, "right_candidate_costs", lr * d_, ab);
+    right_d_.storage(v, "right_candidate_disparities", lr * d_, db);
+    finished_d_.storage(v, "right_disparities", lr * (d_ - 1), db);
+  }
 };
 
 }  // namespace kern
