@@ -13,6 +13,7 @@
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/median.hpp"
+#include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/rectify.hpp"
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
@@ -96,8 +97,7 @@ void add_fifo(Inventory& inv, const config::PipelineConfig& cfg, const std::stri
 Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int height_px) {
   const kern::StereoParams p = cfg.stereo_params(width_px, height_px);
   Inventory inv;
-  const int cb = kern::cost_bits(p), ab = kern::aggregate_bits(p), db = kern::disparity_bits(p);
-  const int pu = p.parallel_units;
+  const int db = kern::disparity_bits(p);
   if (cfg.rectify != "none") {
     const int mode = cfg.rectify == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest;
     const kern::RectifyParams rp{width_px, height_px, mode, mode == kern::kRectifyBilinear ? cfg.rectify_frac_bits : 0,
@@ -145,25 +145,11 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
     Collector c(inv, "median");
     med->declare(c, db);
   }
-  // The FIFOs of the cycle model's graph (sim/src/engine.hpp), same names.
-  if (cfg.rectify != "none") {
-    add_fifo(inv, cfg, "raw_left_px", 8);
-    add_fifo(inv, cfg, "raw_right_px", 8);
-    add_fifo(inv, cfg, "map_left", 64);
-    add_fifo(inv, cfg, "map_right", 64);
-  }
-  add_fifo(inv, cfg, "left_px", 8);
-  add_fifo(inv, cfg, "right_px", 8);
-  add_fifo(inv, cfg, "cost", pu * cb);
-  if (two_pass) {
-    add_fifo(inv, cfg, "cost_to_ddr", pu * cb);
-    add_fifo(inv, cfg, "fwd_to_ddr", pu * ab);
-    add_fifo(inv, cfg, "cost_from_ddr", pu * cb);
-    add_fifo(inv, cfg, "fwd_from_ddr", pu * ab);
-  }
-  add_fifo(inv, cfg, "sum", pu * ab);
-  add_fifo(inv, cfg, "disp_lr", db);
-  add_fifo(inv, cfg, "disp_out", db);
+  // The FIFOs of the design's variant, from the pipeline table (kernels/pipeline.hpp), at their
+  // tokens' widths.
+  const unsigned conditions = kern::pipeline_conditions(p, cfg.rectify != "none");
+  for (const kern::PipelineFifo& f : kern::kPipelineFifos)
+    if (kern::pipeline_has(f.when, conditions)) add_fifo(inv, cfg, f.name, kern::token_bits(f.token, p));
   return inv;
 }
 
