@@ -92,8 +92,15 @@ StageSchedule collect(const std::string& name, const Stage& stage, double clock_
   return s;
 }
 
-// Large enough for any valid design (schedule() reads only the configuration).
-using ScheduleCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, kern::kMaxDisparities>;
+// schedule() reads only the configuration, never the memories: one column of capacity keeps the
+// objects small (any D and PU fit).
+using ScheduleCaps = kern::Caps<1, kern::kMaxDisparities, kern::kMaxDisparities>;
+
+// Default-initialised (no zeroing of memories the declarations never read).
+template <class T>
+std::unique_ptr<T> make_stage() {
+  return std::unique_ptr<T>(new T);
+}
 
 }  // namespace
 
@@ -149,16 +156,16 @@ std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const ke
                                            double clock_hz) {
   std::vector<StageSchedule> out;
   if (p.cost == kern::kCostCensus) {
-    auto cost = std::make_unique<kern::CensusCostStage<ScheduleCaps>>();
+    auto cost = make_stage<kern::CensusCostStage<ScheduleCaps>>();
     cost->configure(p);
     out.push_back(collect("cost", *cost, clock_hz));
   } else {
-    auto cost = std::make_unique<kern::SadCostStage<ScheduleCaps>>();
+    auto cost = make_stage<kern::SadCostStage<ScheduleCaps>>();
     cost->configure(p);
     out.push_back(collect("cost", *cost, clock_hz));
   }
   {
-    auto agg = std::make_unique<kern::SgmAggregate<ScheduleCaps, uint32_t>>();
+    auto agg = make_stage<kern::SgmAggregate<ScheduleCaps, uint32_t>>();
     agg->configure(p, kern::stream_kinds(p.path_mask, false), false, false);
     out.push_back(collect("aggregate", *agg, clock_hz));
     if ((p.path_mask & kern::kBackwardPaths) != 0) {
@@ -167,17 +174,17 @@ std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const ke
     }
   }
   {
-    auto wta = std::make_unique<kern::WtaLr<ScheduleCaps, uint32_t>>();
+    auto wta = make_stage<kern::WtaLr<ScheduleCaps, uint32_t>>();
     wta->configure(p, false);
     out.push_back(collect("wta_lr", *wta, clock_hz));
   }
   {
-    auto median = std::make_unique<kern::Median<ScheduleCaps>>();
+    auto median = make_stage<kern::Median<ScheduleCaps>>();
     median->configure(p);
     out.push_back(collect("median", *median, clock_hz));
   }
   if (rectify.mode != kern::kRectifyNone) {
-    auto rect = std::make_unique<kern::Rectify<kern::kMaxWidthPx, 256>>();
+    auto rect = make_stage<kern::Rectify<1, 1>>();
     rect->configure(rectify);
     out.push_back(collect("rectify_left", *rect, clock_hz));
     out.push_back(collect("rectify_right", *rect, clock_hz));
