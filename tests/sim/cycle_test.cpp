@@ -175,9 +175,10 @@ TEST(Timing, AggregationClosedForm) {
 }
 
 // The cost stage's line buffer must hold rh rows and rw pixels of the next row before its first
-// token: with one pair per cycle the aggregation fires first at (rh * W + rw) + 2 + L_cost
+// token: with one pair per cycle the aggregation fires first at (rh * W + rw) + 2 + L_cost + rw
 // (pixel i arrives at cycle i, is visible one cycle later, is read by the cost stage at that
-// cycle, whose next firing writes the token, visible L_cost cycles later).
+// cycle, whose next firing writes the token, visible L_cost cycles later; the row's rw prologue
+// steps of the window registers read no input, so the reads fall rw cycles behind the arrivals).
 TEST(Timing, LineBufferFillLatency) {
   for (const auto& win : {std::make_pair(3, 3), std::make_pair(5, 5), std::make_pair(7, 5), std::make_pair(9, 7)})
     for (int w : {40, 97}) {
@@ -188,7 +189,7 @@ TEST(Timing, LineBufferFillLatency) {
       const sim::CycleReport r = sim::run_cycle(sp.left, sp.right, p, one_pair_per_cycle());
       const int rh = win.second / 2, rw = win.first / 2;
       const int cost_latency = sim::default_timing(p).at("cost").latency_cycles;
-      EXPECT_EQ(stage(r, "aggregate").first_fire_cycle, int64_t(rh) * w + rw + 2 + cost_latency)
+      EXPECT_EQ(stage(r, "aggregate").first_fire_cycle, int64_t(rh) * w + rw + 2 + cost_latency + rw)
           << win.first << "x" << win.second << " W=" << w;
     }
 }

@@ -62,7 +62,9 @@ class CostStage {
     } else {
       pl.write = !out_done_ && left_.window_ready(x_, y_, rx_, ry_);
     }
-    pl.read = left_.input_allowed(x_, y_, matcher_.columns_behind(), ry_) && (chunk_ == 0 || !pl.write);
+    // A prologue step reads no input: a row then takes as many input pixels as it has outputs, so
+    // the input does not drift ahead row after row (the schedule stays periodic).
+    pl.read = !pl.prime && left_.input_allowed(x_, y_, matcher_.columns_behind(), ry_) && (chunk_ == 0 || !pl.write);
     return pl;
   }
 

@@ -45,7 +45,7 @@ class Median {
     const bool priming = !done_ && x_ == 0 && prime_ < r_;
     pl.prime = priming && lb_.window_ready(prime_ - r_, y_, r_, r_);
     pl.write = !priming && !done_ && lb_.window_ready(x_, y_, r_, r_);
-    pl.read = lb_.input_allowed(x_, y_, r_, r_);
+    pl.read = !pl.prime && lb_.input_allowed(x_, y_, r_, r_);  // as CostStage::plan()
     return pl;
   }
 

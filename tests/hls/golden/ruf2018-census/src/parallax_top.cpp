@@ -117,9 +117,9 @@ cost_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
 #ifndef PARALLAX_REDUCED_FRAME
-#pragma HLS LOOP_TRIPCOUNT min=2306001 max=2306001 avg=2306001
+#pragma HLS LOOP_TRIPCOUNT min=2306003 max=2306003 avg=2306003
 #else
-#pragma HLS LOOP_TRIPCOUNT min=103713 max=103713 avg=103713
+#pragma HLS LOOP_TRIPCOUNT min=103715 max=103715 avg=103715
 #endif
     const kern::CostPlan pl = stage.plan();
     if (!pl.read && !pl.write && !pl.prime) break;
@@ -157,9 +157,9 @@ median_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
 #ifndef PARALLAX_REDUCED_FRAME
-#pragma HLS LOOP_TRIPCOUNT min=232401 max=232401 avg=232401
+#pragma HLS LOOP_TRIPCOUNT min=232403 max=232403 avg=232403
 #else
-#pragma HLS LOOP_TRIPCOUNT min=11553 max=11553 avg=11553
+#pragma HLS LOOP_TRIPCOUNT min=11555 max=11555 avg=11555
 #endif
     const kern::MedianPlan pl = stage.plan();
     if (!pl.read && !pl.write && !pl.prime) break;
