@@ -2,6 +2,7 @@
 // synthesisable subset's language level.
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
+#include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/kernels/median.hpp"
 #include "parallax/kernels/rectify.hpp"
 #include "parallax/kernels/resources.hpp"
@@ -17,3 +18,8 @@ template class parallax::kern::SgmAggregate<TinyCaps, uint16_t>;
 template class parallax::kern::WtaLr<TinyCaps, uint16_t>;
 template class parallax::kern::Median<TinyCaps>;
 template class parallax::kern::Rectify<64, 8>;
+// The frame buffer's packing, at a width of several limbs.
+template void parallax::kern::frame_pack(const parallax::kern::Lanes<uint16_t, 4>&, const parallax::kern::Lanes<uint16_t, 4>&,
+                                         int, int, int, uint32_t (&)[4]);
+template void parallax::kern::frame_unpack(const uint32_t (&)[4], int, int, int, parallax::kern::Lanes<uint16_t, 4>&,
+                                           parallax::kern::Lanes<uint16_t, 4>&);
