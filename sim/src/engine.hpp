@@ -22,6 +22,7 @@
 
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
+#include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/kernels/median.hpp"
 #include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/rectify.hpp"
@@ -660,16 +661,16 @@ class Engine {
   }
 
   // The sink takes one code per cycle; `reverse` restores raster order after the backward pass.
-  std::function<bool()> sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got, bool reverse) {
+  std::function<bool()> sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got) {
     const int64_t total = frame_pixels();
-    return [this, &n, &in, &out, &got, total, reverse] {
+    return [this, &n, &in, &out, &got, total] {
       bool fired = false;
       if (n.still_blocked()) return false;
       while (got < total) {
         const int64_t i = got;
         if (!n.attempt({Port{&in, true}}, {}, [&] {
               if constexpr (kData)
-                out.code[std::size_t(reverse ? total - 1 - i : i)] = in.read();
+                out.code[std::size_t(i)] = in.read();
               else
                 in.skip_read();
             }))
@@ -805,7 +806,7 @@ class Engine {
         agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, costs, nullptr, *be->sums, nullptr));
     be->pumps.push_back(wta_pump(n_wta, *be->sums, *be->disp));
     be->pumps.push_back(median_pump(n_med, *be->disp, *be->filtered));
-    be->pumps.push_back(sink_pump(n_sink, *be->filtered, out, got, false));
+    be->pumps.push_back(sink_pump(n_sink, *be->filtered, out, got));
     return be;
   }
 
@@ -831,16 +832,34 @@ class Engine {
   }
 
   // Pass 1 writes C and F to the frame buffer through `ddr_write`; pass 2 starts when the last
-  // token is written and reads them back in reverse pixel order through `ddr_read`.
+  // word is written and reads them back in reverse pixel order through `ddr_read`. The layout is
+  // kernels/frame_buffer.hpp's: each firing's pair of tokens packed into `beats` power-of-two words;
+  // ddr_write reverses the pixels on chip in segments (a ping-pong buffer) and writes each segment
+  // at ascending addresses, so that ddr_read reads words 0 .. N-1 in order. Its loop, as exported:
+  // seg_tokens firings that only fill the first segment, then one firing per word written, which
+  // also takes in the next segment's tokens (one per `beats` words) while there are any. The map
+  // writer (the sink) reverses the codes the same way.
   template <class CostStage>
   void run_two_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
-    const std::size_t pixels = std::size_t(frame_pixels());
-    const int chunks = p_.disparities / p_.parallel_units;
-    const int64_t tokens = int64_t(pixels) * chunks;
+    const int64_t pixels = frame_pixels();
+    const int chunks = kern::frame_chunks(p_);
+    const int beats = kern::frame_beats(p_);
+    const int word_limbs = kern::frame_word_bits(p_) / 32;
+    const int pair_limbs = kern::frame_limbs_of(kern::frame_pair_bits(p_));
+    const int64_t words = kern::frame_words(p_);
+    const int64_t seg_pixels = kern::frame_segment_pixels(p_);
+    const int64_t seg_tokens = seg_pixels * chunks, seg_words = seg_tokens * beats;
+    const int64_t segments = pixels / seg_pixels;
+    const int cost_w = kern::cost_bits(p_), sum_w = kern::aggregate_bits(p_);
     if (kData) {
-      frame_cost_.resize(std::size_t(tokens));
-      frame_fwd_.resize(std::size_t(tokens));
+      frame_.assign(std::size_t(words) * std::size_t(word_limbs), 0u);
+      segment_.assign(2 * std::size_t(seg_tokens) * std::size_t(pair_limbs), 0u);
     }
+    if (rep_) {
+      rep_->ddr_word_bits = kern::frame_word_bits(p_);
+      rep_->ddr_bytes_written = rep_->ddr_bytes_read = rep_->map_bytes_written = 0;
+    }
+    const int word_bytes = kern::frame_word_bytes(p_);
     const Rate ddr = ddr_rate();
     cost.configure(p_);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
@@ -853,25 +872,48 @@ class Engine {
     NodeT& n_cost = node("cost");
     NodeT& n_agg = node("aggregate");
     NodeT& n_wr = node("ddr_write");
-    int64_t stored = 0;
+    const int64_t write_firings = seg_tokens + words;
+    int64_t wr_step = 0, stored = 0;
     auto write_pump = [&]() -> bool {
       bool fired = false;
       if (n_wr.still_blocked()) return false;
-      while (stored < tokens) {
-        const int64_t i = stored;
-        if (!n_wr.attempt({Port{tee.get(), true}, Port{fwd.get(), true}}, {},
+      while (wr_step < write_firings) {
+        const int64_t t = wr_step;
+        const bool writes = t >= seg_tokens;
+        const int64_t w = t - seg_tokens;  // the word written (writes)
+        const bool reads = !writes || (w < words - seg_words && w % beats == 0);
+        if (!n_wr.attempt({Port{tee.get(), reads}, Port{fwd.get(), reads}}, {},
                           [&] {
                             if constexpr (kData) {
-                              frame_cost_[std::size_t(i)] = tee->read();
-                              frame_fwd_[std::size_t(i)] = fwd->read();
-                            } else {
+                              if (writes) {  // before the fill: the two halves differ
+                                const int64_t seg = w / seg_words, k = w % seg_words;
+                                const int64_t slot = (seg % 2) * seg_tokens + kern::reversed_slot(k / beats, chunks, seg_pixels);
+                                uint32_t pair[kPairLimbs] = {};
+                                const uint32_t* from = &segment_[std::size_t(slot) * std::size_t(pair_limbs)];
+                                for (int i = 0; i < pair_limbs; ++i) pair[i] = from[i];
+                                uint32_t word[kern::kFrameWordMaxBits / 32];
+                                kern::frame_beat_of(pair, int(k % beats), word_limbs, word);
+                                const int64_t address = kern::reversed_block_base(segments, seg_words, seg) + k;
+                                for (int i = 0; i < word_limbs; ++i)
+                                  frame_[std::size_t(address) * std::size_t(word_limbs) + std::size_t(i)] = word[i];
+                              }
+                              if (reads) {
+                                const int64_t token = writes ? seg_tokens + w / beats : t;
+                                const int64_t slot = ((token / seg_tokens) % 2) * seg_tokens + token % seg_tokens;
+                                uint32_t pair[kPairLimbs];
+                                kern::frame_pack(tee->read(), fwd->read(), p_.parallel_units, cost_w, sum_w, pair);
+                                uint32_t* to = &segment_[std::size_t(slot) * std::size_t(pair_limbs)];
+                                for (int i = 0; i < pair_limbs; ++i) to[i] = pair[i];
+                              }
+                            } else if (reads) {
                               tee->skip_read();
                               fwd->skip_read();
                             }
                           },
-                          ddr.at(i)))
+                          writes ? ddr.at(w) : 0))
           break;
-        ++stored;
+        if (writes) ++stored;
+        ++wr_step;
         fired = true;
       }
       return fired;
@@ -881,11 +923,12 @@ class Engine {
     pass1.push_back(
         agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *fwd, tee.get()));
     pass1.push_back(write_pump);
-    if (!schedule(pass1, [&] { return stored >= tokens; })) {
+    if (!schedule(pass1, [&] { return wr_step >= write_firings; })) {
       collect_front_end(*fe);
       collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd));
       return;
     }
+    if (rep_) rep_->ddr_bytes_written = stored * word_bytes;
     const int64_t pass2_start = n_wr.t_next() + ddr_latency_cycles();
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, true), true, false);
     wta_.configure(p_, true);
@@ -902,42 +945,99 @@ class Engine {
     NodeT& n_sink = node("sink");
     Rate rd = ddr;
     rd.start = pass2_start;
-    int64_t read_tok = 0, got = 0;
+    int64_t read_word = 0, got = 0;
+    uint32_t pair[kPairLimbs] = {};  // the pair being collected from its beats
     auto read_pump = [&]() -> bool {
       bool fired = false;
       if (n_rd.still_blocked()) return false;
-      while (read_tok < tokens) {
-        const int64_t i = read_tok;
-        // Reverse pixel order, ascending chunk order inside a pixel.
-        const std::size_t pix = pixels - 1 - std::size_t(i) / std::size_t(chunks);
-        const std::size_t idx = pix * std::size_t(chunks) + std::size_t(i) % std::size_t(chunks);
-        if (!n_rd.attempt({}, {Port{back_c.get(), true}, Port{back_f.get(), true}},
+      while (read_word < words) {
+        const int64_t i = read_word;  // ascending addresses
+        const bool last_beat = i % beats == beats - 1;
+        if (!n_rd.attempt({}, {Port{back_c.get(), last_beat}, Port{back_f.get(), last_beat}},
                           [&] {
                             if constexpr (kData) {
-                              back_c->write(frame_cost_[idx]);
-                              back_f->write(frame_fwd_[idx]);
-                            } else {
-                              (void)idx;
+                              uint32_t word[kern::kFrameWordMaxBits / 32];
+                              for (int k = 0; k < word_limbs; ++k)
+                                word[k] = frame_[std::size_t(i) * std::size_t(word_limbs) + std::size_t(k)];
+                              kern::frame_set_beat(pair, int(i % beats), word_limbs, word);
+                              if (last_beat) {
+                                CostTok c;
+                                SumTok f;
+                                kern::frame_unpack(pair, p_.parallel_units, cost_w, sum_w, c, f);
+                                back_c->write(c);
+                                back_f->write(f);
+                              }
+                            } else if (last_beat) {
                               back_c->skip_write();
                               back_f->skip_write();
                             }
                           },
                           rd.at(i)))
           break;
-        ++read_tok;
+        ++read_word;
         fired = true;
       }
       return fired;
     };
-    const int64_t total = int64_t(pixels);
+    const int64_t total = pixels;
     schedule({read_pump,
               agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums, nullptr),
-              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
-              sink_pump(n_sink, *filtered, out, got, true)},
+              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered), map_sink_pump(n_sink, *filtered, out, got)},
              [&] { return got >= total; });
+    if (rep_) {
+      rep_->ddr_bytes_read = read_word * word_bytes;
+      rep_->map_bytes_written = got * kern::kMapCodeBytes;
+    }
     collect_front_end(*fe);
     collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd), std::move(back_c),
             std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
+  }
+
+  // The map writer of a two-pass design: the codes arrive in reverse raster order; the writer
+  // buffers segments of them (ping-pong, kernels/frame_buffer.hpp) and writes each segment
+  // reversed at ascending addresses, so that the map lands in raster order. Its loop: seg firings
+  // that only fill the first segment, then one firing per code written, which also takes in the
+  // next code while there are any. A code leaves when it is written to memory.
+  std::function<bool()> map_sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got) {
+    const int64_t total = frame_pixels();
+    const int64_t seg = kern::map_segment_pixels(p_);
+    if (kData) map_segment_.assign(2 * std::size_t(seg), 0);
+    auto step = std::make_shared<int64_t>(0);
+    return [this, &n, &in, &out, &got, total, seg, step] {
+      bool fired = false;
+      if (n.still_blocked()) return false;
+      while (*step < seg + total) {
+        const int64_t t = *step;
+        const bool writes = t >= seg;
+        const int64_t w = t - seg;
+        const bool reads = !writes || w < total - seg;
+        if (!n.attempt({Port{&in, reads}}, {}, [&] {
+              if constexpr (kData) {
+                if (writes) {
+                  const int64_t s = w / seg, k = w % seg;
+                  out.code[std::size_t(kern::reversed_block_base(total / seg, seg, s) + k)] =
+                      map_segment_[std::size_t((s % 2) * seg + kern::reversed_slot(k, 1, seg))];
+                }
+                if (reads) {
+                  const int64_t code = writes ? seg + w : t;
+                  map_segment_[std::size_t(((code / seg) % 2) * seg + code % seg)] = in.read();
+                }
+              } else if (reads) {
+                in.skip_read();
+              }
+            }))
+          break;
+        ++*step;
+        fired = true;
+        if (!writes) continue;
+        if (rep_) {
+          if (w == 0) rep_->first_pixel_cycle = n.report().last_fire_cycle;
+          rep_->last_pixel_cycle = n.report().last_fire_cycle;
+        }
+        ++got;
+      }
+      return fired;
+    };
   }
 
   // --- periodic fast-forward (the timing run of one-pass designs) ------------------------------
@@ -1081,12 +1181,12 @@ class Engine {
     ff_.history.clear();
   }
 
+  // One frame-buffer word (kernels/frame_buffer.hpp: the packed power-of-two word) per token of
+  // this rate.
   Rate ddr_rate() const {
     Rate r;
     if (!kTimed || !setup_.opt) return r;
-    const int bytes_c = (p_.parallel_units * kern::cost_bits(p_) + 7) / 8;
-    const int bytes_f = (p_.parallel_units * kern::aggregate_bits(p_) + 7) / 8;
-    r.cycles_per_token = double(bytes_c + bytes_f) * setup_.opt->clock_hz / setup_.opt->ddr_bytes_per_s;
+    r.cycles_per_token = double(kern::frame_word_bytes(p_)) * setup_.opt->clock_hz / setup_.opt->ddr_bytes_per_s;
     return r;
   }
   int64_t ddr_latency_cycles() const {
@@ -1146,8 +1246,11 @@ class Engine {
   kern::WtaLr<Caps, Word> wta_;
   kern::Median<Caps> median_;
   std::unique_ptr<RectifyStage> rect_l_, rect_r_;
-  std::vector<CostTok> frame_cost_;  // the frame buffer standing for off-chip memory
-  std::vector<SumTok> frame_fwd_;
+  // The frame buffer standing for off-chip memory: words of 32-bit limbs (kernels/frame_buffer.hpp),
+  // the on-chip reversal buffers of ddr_write (pairs) and of the map writer (codes).
+  static constexpr int kPairLimbs = kern::frame_limbs_of(Caps::lanes * (16 + 32));
+  std::vector<uint32_t> frame_, segment_;
+  std::vector<kern::DispCode> map_segment_;
 };
 
 using TinyCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 8>;  // PU <= 8: 16-byte tokens

@@ -13,6 +13,7 @@
 
 #include "../kernels/equiv_util.hpp"
 #include "engine.hpp"
+#include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/reference/stereo.hpp"
 #include "parallax/sim/cycle.hpp"
 #include "parallax/sim/func.hpp"
@@ -53,6 +54,10 @@ void expect_same_report(const sim::CycleReport& a, const sim::CycleReport& b, co
   EXPECT_EQ(a.input_period_cycles, b.input_period_cycles) << what;
   EXPECT_EQ(a.input_overrun, b.input_overrun) << what;
   EXPECT_EQ(a.rectify_window_misses, b.rectify_window_misses) << what;
+  EXPECT_EQ(a.ddr_word_bits, b.ddr_word_bits) << what;
+  EXPECT_EQ(a.ddr_bytes_written, b.ddr_bytes_written) << what;
+  EXPECT_EQ(a.ddr_bytes_read, b.ddr_bytes_read) << what;
+  EXPECT_EQ(a.map_bytes_written, b.map_bytes_written) << what;
   ASSERT_EQ(a.stages.size(), b.stages.size()) << what;
   for (std::size_t i = 0; i < a.stages.size(); ++i) {
     const sim::StageReport &x = a.stages[i], &y = b.stages[i];
@@ -192,6 +197,54 @@ TEST(Timing, LineBufferFillLatency) {
       EXPECT_EQ(stage(r, "aggregate").first_fire_cycle, int64_t(rh) * w + rw + 2 + cost_latency + rw)
           << win.first << "x" << win.second << " W=" << w;
     }
+}
+
+// Two passes: the DDR traffic is the frame buffer's packed power-of-two words (kernels/
+// frame_buffer.hpp), each written once by pass 1 and read once by pass 2: pixels x chunks x beats
+// x word bytes, not the tokens' bytes; the map adds 2 bytes per pixel. The writers' loops are the
+// exported ones: ddr_write takes the first segment in before its first write and drains the last
+// segment after the last pair; pass 2 reads one word per firing, at the DDR rate, from the last
+// write + the DDR latency on; the map writer drains its last segment after the last code.
+TEST(Timing, TwoPassDdrTrafficIsThePackedWords) {
+  struct Case {
+    int cost, d, pu, word_bits, beats;
+  } cases[] = {{kern::kCostCensus, 32, 8, 128, 1},   // 8 x (5 + 10) = 120 bits
+               {kern::kCostCensus, 16, 1, 32, 1},    // 15 bits
+               {kern::kCostSad, 64, 64, 1024, 2}};   // 64 x (13 + 16) = 1856 bits: two beats
+  for (const Case& c : cases) {
+    StereoParams p = params(37, 9, c.d, c.pu, kern::kAllPaths);
+    p.cost = c.cost;
+    const std::string what = describe(p);
+    const int64_t pixels = int64_t(p.width_px) * p.height_px, chunks = c.d / c.pu;
+    ASSERT_EQ(kern::frame_word_bits(p), c.word_bits) << what;
+    ASSERT_EQ(kern::frame_beats(p), c.beats) << what;
+    sim::CycleOptions o = one_pair_per_cycle();
+    o.ddr_bytes_per_s = double(c.word_bits / 8) * o.clock_hz / 4.0;  // one word every 4 cycles
+    const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 21);
+    const sim::CycleReport r = run_both_modes(sp.left, sp.right, p, o, what);
+    ASSERT_FALSE(r.deadlock) << r.deadlock_message;
+    const int64_t words = pixels * chunks * c.beats;
+    EXPECT_EQ(r.ddr_word_bits, c.word_bits) << what;
+    EXPECT_EQ(r.ddr_bytes_written, words * (c.word_bits / 8)) << what;
+    EXPECT_EQ(r.ddr_bytes_read, r.ddr_bytes_written) << what;
+    EXPECT_EQ(r.map_bytes_written, pixels * 2) << what;
+    const int64_t seg_tokens = kern::frame_segment_pixels(p) * chunks, seg_words = seg_tokens * c.beats;
+    const auto& wr = stage(r, "ddr_write");
+    const auto& rd = stage(r, "ddr_read");
+    EXPECT_EQ(wr.fires, seg_tokens + words) << what;
+    EXPECT_EQ(rd.fires, words) << what;
+    EXPECT_EQ(stage(r, "sink").fires, pixels + kern::map_segment_pixels(p)) << what;
+    EXPECT_GE(wr.last_fire_cycle - stage(r, "aggregate").last_fire_cycle, seg_words) << what;
+    EXPECT_GE(stage(r, "sink").last_fire_cycle - stage(r, "median").last_fire_cycle, kern::map_segment_pixels(p)) << what;
+    const int64_t ddr_latency = int64_t(std::ceil(o.ddr_latency_s * o.clock_hz));
+    EXPECT_EQ(rd.first_fire_cycle, wr.last_fire_cycle + 1 + ddr_latency) << what;
+    EXPECT_EQ(rd.last_fire_cycle - rd.first_fire_cycle, (words - 1) * 4) << what << ": pass 2 reads at the DDR rate";
+  }
+  const StereoParams one = params(37, 9, 32, 8, kern::kForwardPaths);
+  const StereoPair sp = make_pair(Pattern::kRandom, one.width_px, one.height_px, 22);
+  const sim::CycleReport r = sim::run_timing(sp.left, sp.right, one, one_pair_per_cycle());
+  EXPECT_EQ(r.ddr_word_bits, 0);
+  EXPECT_EQ(r.ddr_bytes_written + r.ddr_bytes_read + r.map_bytes_written, 0);
 }
 
 // Camera input: pixels at the pixel clock with blanking; a fast pipeline is input-bound and its

@@ -884,6 +884,13 @@ int main(int argc, char** argv) {
         j["rows_fast_forwarded"] = c.rows_fast_forwarded;
         j["input_period_cycles"] = c.input_period_cycles;
         if (cfg.rectify != "none") j["rectify_window_misses"] = c.rectify_window_misses;
+        if (c.ddr_word_bits > 0)  // two passes: the frame buffer's and the map's traffic per frame
+          j["ddr"] = {{"word_bits", c.ddr_word_bits},
+                      {"frame_bytes_written", c.ddr_bytes_written},
+                      {"frame_bytes_read", c.ddr_bytes_read},
+                      {"map_bytes_written", c.map_bytes_written},
+                      {"gbytes_per_s_at_fps", double(c.ddr_bytes_written + c.ddr_bytes_read + c.map_bytes_written) * res.fps / 1e9},
+                      {"ddr_gbps", cfg.ddr_gbps}};
         if (res.unbounded_last_pixel_cycle >= 0) j["unbounded_fifos_last_pixel_cycle"] = res.unbounded_last_pixel_cycle;
         j["stages"] = json::array();
         const std::map<std::string, std::string> why = ii_reasons(cfg, l.cols, l.rows);
@@ -913,8 +920,16 @@ int main(int argc, char** argv) {
         std::printf("last pixel         cycle %lld (%.3f ms)\n", (long long)c.last_pixel_cycle, res.fpga_last_pixel_ms);
         std::printf("latency_ms         %.3f (host copies %.3f + %.3f, host %.3f)\n", res.latency_ms, res.copy_in_ms,
                     res.copy_out_ms, cfg.host_latency_ms);
-        std::printf("frame_interval_ms  %.3f (%s)\nfps                %.2f\n\n", res.frame_interval_ms,
+        std::printf("frame_interval_ms  %.3f (%s)\nfps                %.2f\n", res.frame_interval_ms,
                     res.interval_limit.c_str(), res.fps);
+        if (c.ddr_word_bits > 0)
+          std::printf("ddr per frame      %lld B written + %lld B read (frame buffer, %d-bit words), map %lld B; "
+                      "%.2f GB/s at %.2f fps (ddr_gbps %.2f)\n",
+                      (long long)c.ddr_bytes_written, (long long)c.ddr_bytes_read, c.ddr_word_bits,
+                      (long long)c.map_bytes_written,
+                      double(c.ddr_bytes_written + c.ddr_bytes_read + c.map_bytes_written) * res.fps / 1e9, res.fps,
+                      cfg.ddr_gbps);
+        std::printf("\n");
         std::printf("%-15s %4s %4s %10s %12s %12s %12s %12s %12s\n", "stage", "II", "lat", "fires", "busy", "in_stall",
                     "out_stall", "first_fire", "last_fire");
         for (const auto& s : c.stages)

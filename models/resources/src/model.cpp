@@ -12,6 +12,7 @@
 
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
+#include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/kernels/median.hpp"
 #include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/rectify.hpp"
@@ -128,6 +129,11 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
     Collector c(inv, "aggregate");
     agg->declare(c, cfg.row_packing, cfg.row_banks);
     if (two_pass) {
+      // The frame buffer's writer: its on-chip reversal (kernels/frame_buffer.hpp).
+      Collector w(inv, "ddr_write");
+      kern::declare_frame_segment_buffer(w, p);
+    }
+    if (two_pass) {
       agg->configure(p, kern::stream_kinds(p.path_mask, true), true, false);
       Collector b(inv, "aggregate_back");
       agg->declare(b, cfg.row_packing, cfg.row_banks);
@@ -144,6 +150,11 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
     med->configure(p);
     Collector c(inv, "median");
     med->declare(c, db);
+  }
+  if (two_pass) {
+    // The map writer of two passes: the codes' on-chip reversal (kernels/frame_buffer.hpp).
+    Collector c(inv, "sink");
+    kern::declare_map_segment_buffer(c, p);
   }
   // The FIFOs of the design's variant, from the pipeline table (kernels/pipeline.hpp), at their
   // tokens' widths.
