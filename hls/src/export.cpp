@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "embedded.hpp"
+#include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/kernels/params.hpp"
 #include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/sgm.hpp"
@@ -345,21 +346,60 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["TWO_PASS"] = two_pass ? "true" : "false";
   v["TWO_PASS_01"] = two_pass ? "1" : "0";
   v["PIXELS"] = std::to_string(int64_t(r.width_px) * r.height_px);
-  v["FRAME_TOKENS"] = std::to_string(int64_t(r.width_px) * r.height_px * (p.disparities / p.parallel_units));
-  v["TWO_PASS_TYPES"] =
-      two_pass ? "\n// The frame buffer between the passes (DDR, m_axi): per firing of pass 1 one cost token and one\n"
-                 "// token of forward sums, kPixels x kChunks of each, pixel-major.\n"
-                 "typedef parallax::kern::Lanes<uint16_t, parallax_design::kParallelUnits> cost_token_t;\n"
-                 "typedef parallax::kern::Lanes<parallax_design::AggWord, parallax_design::kParallelUnits> sum_token_t;\n"
-                 "constexpr int kFrameTokens = parallax_design::kPixels * parallax_design::kChunks;\n"
+  // The frame buffer's layout (kernels/frame_buffer.hpp), of the full and the reduced frame: the
+  // config's constants come from the same functions at compile time, checked against these.
+  kern::StereoParams reduced_p = p;
+  reduced_p.height_px = r.reduced_height_px;
+  const std::string frame_check =
+      two_pass ? "#ifndef PARALLAX_REDUCED_FRAME\nstatic_assert(kFrameWords == " + std::to_string(kern::frame_words(p)) +
+                     " && kFrameSegmentPixels == " + std::to_string(kern::frame_segment_pixels(p)) +
+                     " && kMapSegmentPixels == " + std::to_string(kern::map_segment_pixels(p)) +
+                     ",\n              \"the export's frame-buffer layout (m_axi depths, README)\");\n#else\nstatic_assert(kFrameWords == " +
+                     std::to_string(kern::frame_words(reduced_p)) +
+                     " && kFrameSegmentPixels == " + std::to_string(kern::frame_segment_pixels(reduced_p)) +
+                     " && kMapSegmentPixels == " + std::to_string(kern::map_segment_pixels(reduced_p)) +
+                     ",\n              \"the export's frame-buffer layout (m_axi depths, README)\");\n#endif\n"
                : "";
+  v["TWO_PASS_TYPES"] =
+      two_pass
+          ? "\n#include \"parallax/kernels/frame_buffer.hpp\"\n\n"
+            "// The frame buffer between the passes (DDR, m_axi; layout in parallax/kernels/frame_buffer.hpp):\n"
+            "// per firing of pass 1 one pair of PU costs and PU forward sums (" + std::to_string(kern::frame_pair_bits(p)) +
+                " bits), packed into kFrameBeats\n"
+                "// word(s) of kFrameWordBits bits, the pixels in reverse raster order. Pass 1 reverses them on chip\n"
+                "// in segments of kFrameSegmentPixels pixels (one burst each); pass 2 reads words 0 .. kFrameWords-1.\n"
+                "// The map writer reverses the codes the same way, in segments of kMapSegmentPixels.\n"
+                "namespace parallax_design {\n"
+                "constexpr int kFramePairBits = parallax::kern::frame_pair_bits_of(kParallelUnits, kCostBits, kAggregateBits);\n"
+                "constexpr int kFrameWordBits = parallax::kern::frame_word_bits_of(kFramePairBits);  // " +
+                std::to_string(kern::frame_word_bits(p)) + "\n"
+                "constexpr int kFrameBeats = parallax::kern::frame_beats_of(kFramePairBits);  // words per pair: " +
+                std::to_string(kern::frame_beats(p)) + "\n"
+                "constexpr int kFrameWordLimbs = kFrameWordBits / 32;\n"
+                "constexpr int kFramePairLimbs = parallax::kern::frame_limbs_of(kFramePairBits);\n"
+                "constexpr int kFramePixelWords = kChunks * kFrameBeats;\n"
+                "constexpr int kFrameWords = kPixels * kFramePixelWords;\n"
+                "constexpr int kFrameSegmentPixels = int(parallax::kern::segment_units_of(\n"
+                "    kPixels, kFramePixelWords, parallax::kern::burst_elements_of(kFrameWordBits / 8)));\n"
+                "constexpr int kFrameSegmentTokens = kFrameSegmentPixels * kChunks;\n"
+                "constexpr int kFrameSegmentWords = kFrameSegmentTokens * kFrameBeats;\n"
+                "constexpr int kFrameSegments = kPixels / kFrameSegmentPixels;\n"
+                "constexpr int kMapSegmentPixels = int(parallax::kern::segment_units_of(\n"
+                "    kPixels, 1, parallax::kern::burst_elements_of(parallax::kern::kMapCodeBytes)));\n"
+                "constexpr int kMapSegments = kPixels / kMapSegmentPixels;\n" +
+                frame_check +
+                "static_assert(int64_t(kPixels) * kFramePixelWords < (int64_t(1) << 31), \"word addresses fit an int\");\n"
+                "}  // namespace parallax_design\n"
+                "// One DDR word: kFrameWordBits bits as 32-bit limbs (one bus word of the m_axi port).\n"
+                "typedef parallax::kern::FrameWord<parallax_design::kFrameWordLimbs> frame_word_t;\n"
+          : "";
   const std::string input_kind = rectify ? "raw (unrectified)" : "rectified";
   v["INPUT_KIND"] = input_kind;
   v["TOP_CONTRACT"] =
       two_pass ? "// Computes the disparity of " + input_kind + " stereo pairs in two passes, one frame behind. Contract:\n"
                  "// each input stream carries exactly kWidthPx x kHeightPx beats in raster order; call k runs pass 1\n"
-                 "// of its frame into `frame_*_write` and pass 2 of the previous frame from `frame_*_read` (the\n"
-                 "// buffers call k - 1 wrote; kFrameTokens each; the host swaps them), writing that frame's map to\n"
+                 "// of its frame into `frame_write` and pass 2 of the previous frame from `frame_read` (the buffer\n"
+                 "// call k - 1 wrote; kFrameWords words each; the host swaps them), writing that frame's map to\n"
                  "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties) and\n"
                  "// the left-right tolerance in pixels."
                : "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
@@ -367,9 +407,8 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                  "// registers hold P1 < P2 (the SGM penalties) and the left-right tolerance in pixels.";
   const std::string ports = "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] + "\n";
   v["TOP_SIGNATURE"] =
-      ports + (two_pass ? "                  parallax::kern::DispCode* disparity, cost_token_t* frame_cost_write,\n"
-                          "                  sum_token_t* frame_forward_write, const cost_token_t* frame_cost_read,\n"
-                          "                  const sum_token_t* frame_forward_read,\n"
+      ports + (two_pass ? "                  parallax::kern::DispCode* disparity, frame_word_t* frame_write,\n"
+                          "                  const frame_word_t* frame_read,\n"
                           "                  ap_uint<parallax_design::kPenaltyBits> p1, ap_uint<parallax_design::kPenaltyBits> p2,\n"
                           "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance)"
                         : "                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,\n"
@@ -377,20 +416,32 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["PASS_MAP_PARAMS"] = rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
   v["DATAFLOW_MAP_PARAMS"] = rectify ? "\n                       hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
   v["PASS_MAP_ARGS"] = rectify ? " map_left_in, map_right_in," : "";
-  // The m_axi ports' depths (the words C/RTL co-simulation moves), of the full and the reduced frame.
+  // The m_axi ports: one bundle per direction of the frame buffer (gmem_wr: pass 1's writes,
+  // gmem_rd: pass 2's reads), the map on its own (gmem_map: written by pass 2 while pass 1 writes
+  // the other buffer). Bursts as long as a reversal segment (at most 256 beats and 4 KB), two
+  // outstanding per direction used (hides ~150 ns of DDR latency with >= 2 x the segment in
+  // flight), one for the direction a port never uses; depth= is the words C/RTL co-simulation
+  // moves, of the full and of the reduced frame.
   {
-    const int64_t chunks = p.disparities / p.parallel_units;
-    auto m_axi = [&](int64_t pixels) {
-      const std::string tokens = std::to_string(pixels * chunks);
-      return "#pragma HLS INTERFACE mode=m_axi port=disparity offset=slave bundle=disparity depth=" + std::to_string(pixels) +
-             "\n#pragma HLS INTERFACE mode=m_axi port=frame_cost_write offset=slave bundle=frame_write depth=" + tokens +
-             "\n#pragma HLS INTERFACE mode=m_axi port=frame_forward_write offset=slave bundle=frame_write depth=" + tokens +
-             "\n#pragma HLS INTERFACE mode=m_axi port=frame_cost_read offset=slave bundle=frame_read depth=" + tokens +
-             "\n#pragma HLS INTERFACE mode=m_axi port=frame_forward_read offset=slave bundle=frame_read depth=" + tokens + "\n";
+    auto m_axi = [&](const kern::StereoParams& q) {
+      const std::string words = std::to_string(kern::frame_words(q));
+      const std::string burst = std::to_string(kern::burst_elements_of(kern::frame_word_bytes(q)));
+      const std::string map_burst = std::to_string(kern::burst_elements_of(kern::kMapCodeBytes));
+      return "#pragma HLS INTERFACE mode=m_axi port=frame_write offset=slave bundle=gmem_wr depth=" + words +
+             " max_write_burst_length=" + burst + " num_write_outstanding=2 max_read_burst_length=2 num_read_outstanding=1\n"
+             "#pragma HLS INTERFACE mode=m_axi port=frame_read offset=slave bundle=gmem_rd depth=" + words +
+             " max_read_burst_length=" + burst + " num_read_outstanding=2 max_write_burst_length=2 num_write_outstanding=1\n"
+             "#pragma HLS INTERFACE mode=m_axi port=disparity offset=slave bundle=gmem_map depth=" +
+             std::to_string(kern::frame_pixels(q)) + " max_write_burst_length=" + map_burst +
+             " num_write_outstanding=2 max_read_burst_length=2 num_read_outstanding=1 max_widen_bitwidth=128\n";
     };
-    v["M_AXI_PRAGMAS"] = "#ifndef PARALLAX_REDUCED_FRAME\n" + m_axi(int64_t(r.width_px) * r.height_px) + "#else\n" +
-                         m_axi(int64_t(r.width_px) * r.reduced_height_px) + "#endif\n";
+    v["M_AXI_PRAGMAS"] = "#ifndef PARALLAX_REDUCED_FRAME\n" + m_axi(p) + "#else\n" + m_axi(reduced_p) + "#endif\n";
   }
+  // The on-chip reversal buffers' RAM, as the resource model maps them.
+  const res::MemoryItem* seg_mem = find_memory(inv, "ddr_write", "segment_buffer");
+  v["FRAME_SEGMENT_IMPL"] = seg_mem ? ram_impl(seg_mem->per_copy.storage) : "bram";
+  const res::MemoryItem* map_mem = find_memory(inv, "sink", "map_segment_buffer");
+  v["MAP_SEGMENT_IMPL"] = map_mem ? ram_impl(map_mem->per_copy.storage) : "bram";
   // LOOP_TRIPCOUNT of the loops that run until their stage is done: the cycle model's firings per
   // frame, of the full frame and of the reduced one.
   std::string trip_table;
@@ -424,8 +475,10 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
       two_pass ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
                      " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
                      " codes in raster order: 0.." + std::to_string(p.disparities - 1) + ", " + std::to_string(p.disparities) +
-                     " = invalid, of the previous call's frame |\n| `frame_cost_write`, `frame_forward_write`, `frame_cost_read`, `frame_forward_read` | AXI4 master (m_axi) | PU lanes | two frame buffers, " +
-                     v["FRAME_TOKENS"] + " tokens each: pass 1 writes one while pass 2 reads the other; the host swaps them between calls |\n"
+                     " = invalid, of the previous call's frame (bundle `gmem_map`) |\n| `frame_write`, `frame_read` | AXI4 master (m_axi) | " +
+                     std::to_string(kern::frame_word_bits(p)) + " | two frame buffers of " + std::to_string(kern::frame_words(p)) +
+                     " words (" + std::to_string(kern::frame_bytes(p)) +
+                     " bytes) each, pass 1 writes one (bundle `gmem_wr`) while pass 2 reads the other (bundle `gmem_rd`); the host swaps them between calls; layout in `src/parallax/kernels/frame_buffer.hpp` |\n"
                : "| `disparity_out` | AXI4-Stream | " + v["OUT_BITS"] + " | disparity codes 0.." + std::to_string(p.disparities - 1) +
                      ", " + std::to_string(p.disparities) + " = invalid; same framing |\n";
   v["TOP_FUNCTIONS"] = fill(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp",

@@ -190,11 +190,11 @@ TEST_P(HlsCsim, BuildsAndMatchesTheSimulatorBitForBit) {
   if (std::string(d.id) == "eight_paths") {
     std::ofstream(out / "tb/golden_disparity.pgm", std::ios::binary | std::ios::trunc) << read_file(out / "tb/csim_disparity.pgm");
     const std::string top = read_file(out / "src/parallax_top.cpp");
-    const std::string good = "backward_pass(frame_cost_read, frame_forward_read,";
+    const std::string good = "backward_pass(frame_read,";
     const auto at = top.find(good);
     ASSERT_NE(at, std::string::npos);
     std::string wrong = top;
-    wrong.replace(at, good.size(), "backward_pass(frame_cost_write, frame_forward_write,");
+    wrong.replace(at, good.size(), "backward_pass(frame_write,");
     std::ofstream(out / "src/parallax_top.cpp", std::ios::trunc) << wrong;
     const Shell swapped = shell("make -C " + out.string() + " csim");
     EXPECT_NE(swapped.status, 0) << swapped.output;
@@ -236,6 +236,23 @@ TEST_P(HlsCsim, BuildsAndMatchesTheSimulatorBitForBit) {
 
 INSTANTIATE_TEST_SUITE_P(Designs, HlsCsim, ::testing::ValuesIn(kDesigns),
                          [](const ::testing::TestParamInfo<Design>& i) { return std::string(i.param.id); });
+
+// Two passes with a pair wider than one AXI beat: 64 SAD costs of 13 bits and 64 sums of 16 bits
+// (1856 bits) take two 1024-bit words per firing (kernels/frame_buffer.hpp); bit-exact, full and
+// reduced frame.
+TEST(HlsCsimWidePairs, TwoWordsPerPairBitExact) {
+  const fs::path out = fresh_dir("csim_wide_pairs");
+  const Shell ex = export_design("configs/ruf2018-sad.yaml", out,
+                                 "--set paths=8 --set disparities=64 --set parallel_units=64 --set row_packing=1");
+  ASSERT_EQ(ex.status, 0) << ex.output;
+  EXPECT_NE(read_file(out / "src/parallax_top.hpp").find("kFrameBeats = parallax::kern::frame_beats_of(kFramePairBits);  // words per pair: 2"),
+            std::string::npos);
+  const Shell csim = shell("make -C " + out.string() + " csim WERROR=1");
+  EXPECT_EQ(csim.status, 0) << csim.output;
+  EXPECT_NE(csim.output.find("bit-exact against the simulator's golden output"), std::string::npos) << csim.output;
+  expect_reduced_frame_bit_exact(out);
+  fs::remove_all(out);
+}
 
 TEST(HlsCallGraph, FindsACycle) {
   std::map<std::string, std::set<std::string>> g = {{"a", {"b"}}, {"b", {"c"}}, {"c", {"a"}}, {"d", {"a"}}};

@@ -322,6 +322,61 @@ INSTANTIATE_TEST_SUITE_P(Designs, HlsTripCount, ::testing::Values("", "--set pat
                            return std::string(i.param[0] ? "eight_paths" : "one_pass");
                          });
 
+// Two passes: the frame buffer and the map in memory are accessed only at ascending addresses
+// in burst-friendly loops (UG1399): every m_axi access is the innermost loop's counter plus a term
+// the loop does not change, sits directly in the body of a pipelined loop with a compile-time
+// bound (no condition around it), and each direction has its bundle: pass 1's frame writes on
+// gmem_wr, pass 2's reads on gmem_rd, the map on gmem_map; bursts as long as a segment.
+TEST(HlsExport, TwoPassMemoryAccessesAreAscendingBursts) {
+  const fs::path out = fresh_dir("bursts");
+  ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out, "--set paths=8").status, 0);
+  static const std::regex comments(R"(//[^\n]*)");
+  const std::string top = std::regex_replace(read_file(out / "src/parallax_top.cpp"), comments, "");
+  static const std::regex access(R"(\b(frame|disparity)\[([^\]]*)\])");
+  std::multiset<std::string> seen;
+  for (auto it = std::sregex_iterator(top.begin(), top.end(), access); it != std::sregex_iterator(); ++it) {
+    seen.insert((*it)[0]);
+    // The line and the nearest loop header above it: the access is in that loop's body itself.
+    const std::size_t at = std::size_t(it->position(0));
+    const std::size_t line_start = top.rfind('\n', at) + 1;
+    const std::size_t indent = top.find_first_not_of(' ', line_start) - line_start;
+    const std::size_t loop_at = top.rfind("for (int ", at);
+    ASSERT_NE(loop_at, std::string::npos);
+    const std::size_t loop_line = top.rfind('\n', loop_at) + 1;
+    const std::string header = top.substr(loop_at, top.find('\n', loop_at) - loop_at);
+    static const std::regex counted(R"(for \(int (\w) = \d+; \1 < k\w+; \+\+\1\) \{)");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(header, m, counted)) << header << ": not a loop with a compile-time bound";
+    EXPECT_EQ(indent, loop_at - loop_line + 2) << (*it)[0] << ": not directly in the body of " << header;
+    const std::string index = (*it)[2];
+    EXPECT_TRUE(index == m[1].str() || (index.size() > 4 && index.substr(index.size() - 4) == " + " + m[1].str()))
+        << (*it)[0] << ": the index is not the counter of " << header << " plus a constant of the loop";
+    EXPECT_EQ(top.substr(loop_at, at - loop_at).find("if ("), std::string::npos) << (*it)[0] << ": under a condition";
+    EXPECT_NE(top.substr(loop_at, at - loop_at).find("#pragma HLS PIPELINE II=1"), std::string::npos) << (*it)[0];
+  }
+  const std::multiset<std::string> want = {"frame[(kFrameSegments - j) * kFrameSegmentWords + k]", "frame[k]", "frame[i]",
+                                           "disparity[(kMapSegments - j) * kMapSegmentPixels + k]", "disparity[k]"};
+  EXPECT_EQ(seen, want);
+  for (const char* pragma :
+       {"port=frame_write offset=slave bundle=gmem_wr depth=2304000 max_write_burst_length=256",
+        "port=frame_read offset=slave bundle=gmem_rd depth=2304000 max_read_burst_length=256",
+        "port=disparity offset=slave bundle=gmem_map depth=230400 max_write_burst_length=256",
+        "port=frame_write offset=slave bundle=gmem_wr depth=102400", "port=frame_read offset=slave bundle=gmem_rd depth=102400"})
+    EXPECT_NE(top.find(pragma), std::string::npos) << pragma;
+  static const std::regex m_axi(R"(mode=m_axi port=(\w+) offset=slave bundle=(\w+))");
+  std::map<std::string, std::set<std::string>> bundles;
+  for (auto it = std::sregex_iterator(top.begin(), top.end(), m_axi); it != std::sregex_iterator(); ++it)
+    bundles[(*it)[2]].insert((*it)[1]);
+  const std::map<std::string, std::set<std::string>> one_per_direction = {
+      {"gmem_wr", {"frame_write"}}, {"gmem_rd", {"frame_read"}}, {"gmem_map", {"disparity"}}};
+  EXPECT_EQ(bundles, one_per_direction);
+  // The seed's pair is 6 x (5 + 10) = 90 bits: one 128-bit word per firing.
+  const std::string header = read_file(out / "src/parallax_top.hpp");
+  EXPECT_NE(header.find("kFrameWordBits = parallax::kern::frame_word_bits_of(kFramePairBits);  // 128"), std::string::npos);
+  EXPECT_NE(header.find("kFrameWords == 2304000 && kFrameSegmentPixels == 25 && kMapSegmentPixels == 256"), std::string::npos);
+  fs::remove_all(out);
+}
+
 // The top reads the AXI4-Lite registers into locals and passes them to a separate DATAFLOW function
 // (INLINE off): no register port is touched inside a DATAFLOW region, one pass or two.
 TEST(HlsExport, RegistersAreReadOutsideTheDataflowRegion) {

@@ -132,10 +132,8 @@ int main(int argc, char** argv) {
   // call's map is the previous call's frame, so one more call flushes the last frame; a code the
   // top never writes keeps the marker kUnwritten.
   const uint16_t kUnwritten = 0xFFFF;
-  std::vector<cost_token_t> frame_cost[2] = {std::vector<cost_token_t>(static_cast<size_t>(kFrameTokens)),
-                                             std::vector<cost_token_t>(static_cast<size_t>(kFrameTokens))};
-  std::vector<sum_token_t> frame_forward[2] = {std::vector<sum_token_t>(static_cast<size_t>(kFrameTokens)),
-                                               std::vector<sum_token_t>(static_cast<size_t>(kFrameTokens))};
+  std::vector<frame_word_t> buffers[2] = {std::vector<frame_word_t>(static_cast<size_t>(kFrameWords)),
+                                          std::vector<frame_word_t>(static_cast<size_t>(kFrameWords))};
   std::vector<parallax::kern::DispCode> disparity(static_cast<size_t>(kPixels), kUnwritten);
   const int calls = frames + 1;
 #else
@@ -153,8 +151,8 @@ int main(int argc, char** argv) {
 #if PARALLAX_DESIGN_TWO_PASS
     const int w = call % 2;
     disparity.assign(size_t(kPixels), kUnwritten);
-    parallax_top(left_in, right_in, disparity.data(), frame_cost[w].data(), frame_forward[w].data(),
-                 frame_cost[1 - w].data(), frame_forward[1 - w].data(), kDefaultP1, kDefaultP2, kDefaultLrTolerance);
+    parallax_top(left_in, right_in, disparity.data(), buffers[w].data(), buffers[1 - w].data(),
+                 kDefaultP1, kDefaultP2, kDefaultLrTolerance);
     if (call == 0) continue;  // its pass 2 read a buffer no call had written
     const int frame = call - 1;
     // Top -> golden and golden -> top: every pixel of the map written, with the golden code.
