@@ -1,12 +1,18 @@
 // unit: the kernels' building blocks whose software form differs from what synthesis sees
-// (kernels/common.hpp): the popcount adder tree against the CPU's count, and the shift register's
-// ring (software) against its registers (the exported, FIXED form), over seeded random use.
+// (kernels/common.hpp): the popcount adder tree against the CPU's count, the shift register's
+// ring (software) against its registers (the exported, FIXED form), over seeded random use, and
+// the aggregation's lane minimum, taken off the M recurrence in the FIXED form and directly in
+// software (sgm.hpp), over whole frames of random costs at the widths' limits.
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <memory>
 #include <random>
 
+#include <vector>
+
 #include "parallax/kernels/common.hpp"
+#include "parallax/kernels/sgm.hpp"
 
 namespace parallax::kern {
 namespace {
@@ -24,8 +30,8 @@ TEST(PopcountTree, AdderTreeEqualsTheCpuCountOnEveryWidth) {
   EXPECT_EQ(popcount_adder_tree<1>(3u), 1);
 }
 
-// Every entry < n of the two forms is equal after any sequence of shifts in both directions
-// and writes, for several n within N.
+// Every entry < n of the two forms is equal after any sequence of shifts in both directions,
+// writes and span writes, for several n within N.
 TEST(ShiftReg, RingEqualsRegisters) {
   std::mt19937 rng(1414);
   for (int n : {1, 2, 7, 60, 64}) {
@@ -37,7 +43,7 @@ TEST(ShiftReg, RingEqualsRegisters) {
     }
     for (int step = 0; step < 5000; ++step) {
       const uint32_t x = uint32_t(rng());
-      switch (rng() % 3) {
+      switch (rng() % 4) {
         case 0:
           regs.shift_in(x, n);
           ring.shift_in(x, n);
@@ -46,15 +52,107 @@ TEST(ShiftReg, RingEqualsRegisters) {
           regs.shift_back(x, n);
           ring.shift_back(x, n);
           break;
-        default: {
+        case 2: {
           const int k = int(rng() % uint32_t(n));
           regs.set(k, x);
           ring.set(k, x);
+          break;
+        }
+        default: {  // a span written in place, then mirrored
+          const int k = int(rng() % uint32_t(n));
+          const int len = 1 + int(rng() % uint32_t(n - k));
+          uint32_t* a = regs.span(k);
+          uint32_t* b = ring.span(k);
+          for (int i = 0; i < len; ++i) a[i] = b[i] = x + uint32_t(i);
+          regs.mirror(k, len);
+          ring.mirror(k, len);
         }
       }
       for (int k = 0; k < n; ++k) ASSERT_EQ(regs.at(k), ring.at(k)) << "n " << n << " step " << step << " entry " << k;
     }
   }
+}
+
+template <class T>
+struct VecIn {
+  const T* p;
+  T read() { return *p++; }
+};
+template <class T>
+struct VecOut {
+  std::vector<T>* v;
+  void write(const T& t) { v->push_back(t); }
+};
+
+// The sums of the FIXED instantiation (D = MAX_D, PU = LANES) and of the software one (run-time
+// D and PU) on the same frame of seeded random costs in [0, cost_max].
+template <int D, int PU, class Word>
+void expect_same_sums(StereoParams p, unsigned kinds, uint32_t seed) {
+  typedef Caps<32, D, PU, 9, 7, 0xFu, true> Fixed;
+  typedef Caps<32, 256, 64, 9, 7, 0xFu, false> Soft;
+  static_assert(PU <= 64, "within the software lanes");
+  p.disparities = D;
+  p.parallel_units = PU;
+  const int chunks = D / PU;
+  std::mt19937 rng(seed);
+  const uint32_t cmax = cost_max(p);
+  std::vector<Lanes<uint16_t, PU>> fixed_in(std::size_t(p.width_px) * p.height_px * chunks);
+  std::vector<Lanes<uint16_t, 64>> soft_in(fixed_in.size());
+  for (std::size_t t = 0; t < fixed_in.size(); ++t)
+    for (int i = 0; i < PU; ++i) {
+      // Mostly high costs, so path costs reach the top of their range.
+      const uint32_t c = rng() % 4 == 0 ? uint32_t(rng() % (cmax + 1)) : cmax - uint32_t(rng() % 3);
+      fixed_in[t].v[i] = soft_in[t].v[i] = uint16_t(c);
+    }
+  auto fixed = std::make_unique<SgmAggregate<Fixed, Word>>();
+  auto soft = std::make_unique<SgmAggregate<Soft, Word>>();
+  fixed->configure(p, kinds, false, false);
+  soft->configure(p, kinds, false, false);
+  std::vector<Lanes<Word, PU>> fixed_out;
+  std::vector<Lanes<Word, 64>> soft_out;
+  VecIn<Lanes<uint16_t, PU>> fi{fixed_in.data()};
+  VecIn<Lanes<uint16_t, 64>> si{soft_in.data()};
+  VecOut<Lanes<Word, PU>> fo{&fixed_out};
+  VecOut<Lanes<Word, 64>> so{&soft_out};
+  NoStream<Lanes<Word, PU>> fnf;
+  NoStream<Lanes<uint16_t, PU>> fnt;
+  NoStream<Lanes<Word, 64>> snf;
+  NoStream<Lanes<uint16_t, 64>> snt;
+  while (!fixed->done()) fixed->fire(fixed->plan(), fi, fnf, fo, fnt);
+  while (!soft->done()) soft->fire(soft->plan(), si, snf, so, snt);
+  ASSERT_EQ(fixed_out.size(), fixed_in.size());
+  ASSERT_EQ(soft_out.size(), fixed_in.size());
+  Word top = 0;
+  for (std::size_t t = 0; t < fixed_out.size(); ++t)
+    for (int i = 0; i < PU; ++i) {
+      ASSERT_EQ(fixed_out[t].v[i], soft_out[t].v[i]) << "token " << t << " lane " << i << " path bits " << path_bits(p);
+      top = fixed_out[t].v[i] > top ? fixed_out[t].v[i] : top;
+    }
+  // The costs reached the top of their range (the saturation cases were exercised).
+  EXPECT_GE(uint64_t(top), uint64_t(cmax) - 2);
+}
+
+TEST(SgmAggregate, LaneMinimumOffTheRecurrenceEqualsTheDirectOne) {
+  StereoParams p{24, 9, kCostCensus, 9, 7, 0, 0, kForwardPaths, 7, 100, true, 1, 0};
+  // Four paths, Census 9x7 (cost 6 bits), 16-bit words; one chunk and several.
+  expect_same_sums<64, 64, uint16_t>(p, 0xFu, 1);
+  expect_same_sums<64, 8, uint16_t>(p, 0xFu, 2);
+  expect_same_sums<48, 16, uint16_t>(p, 0xFu, 3);
+  // One path whose path cost needs all 16 bits (SAD 9x9, P2 30000): the widest Lr a 16-bit word
+  // carries, where C + t (up to 20655 + 53422) leaves the word.
+  StereoParams sad = p;
+  sad.cost = kCostSad;
+  sad.window_w = sad.window_h = 9;
+  sad.p1 = 500;
+  sad.p2 = 30000;
+  sad.path_mask = kPath0;
+  ASSERT_EQ(path_bits(sad), 16);
+  expect_same_sums<32, 16, uint16_t>(sad, 1u << kKindPixel, 4);
+  sad.path_mask = kPath90;
+  expect_same_sums<32, 32, uint16_t>(sad, 1u << kKindRowUp, 5);
+  // 32-bit words: two paths of the same SAD.
+  sad.path_mask = kPath0 | kPath45;
+  expect_same_sums<32, 8, uint32_t>(sad, (1u << kKindPixel) | (1u << kKindRowLeft), 6);
 }
 
 }  // namespace

@@ -34,6 +34,11 @@ struct Caps {
   // (bodies guarded where the runtime value may be smaller; synthesis unrolls on it), the
   // runtime value in software instantiations (the same iterations that do anything).
   static constexpr int trip(int runtime, int cap) { return FIXED ? cap : runtime; }
+  // The same where the iterations past `runtime` are don't-care: software instantiations round
+  // up to whole SIMD vectors of 16 lanes (no scalar remainder), within `cap`.
+  static constexpr int simd_trip(int runtime, int cap) {
+    return FIXED ? cap : ((runtime + 15) / 16 * 16 < cap ? (runtime + 15) / 16 * 16 : cap);
+  }
   static_assert(!FIXED || MAX_D % LANES == 0, "a fixed design's PU divides its D");
 };
 

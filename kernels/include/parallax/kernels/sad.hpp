@@ -75,51 +75,72 @@ class SadMatcher {
     const int rw = w_ / 2, span = disparities_ + w_;
     // Lanes are a prefix that slides (d <= x - 1 - rw, right edge clear), then lanes summed
     // directly (d <= x), then lanes without a right pixel (d > x).
+    // Every loop runs to its capacity in the export (lanes, window rows and columns), its body
+    // guarded; software instantiations run the runtime counts.
     const int n_slide = x + rw <= width_px_ - 1 ? clamp_int(x - rw - d0, 0, n) : 0;
     const int n_valid = clamp_int(x - d0 + 1, 0, n);
     if (n_slide > 0) slide(d0, n_slide, out);
   sad_lanes:
-    for (int i = n_slide; i < n_valid; ++i) {
-      const int d = d0 + i;
-      uint32_t sum = 0;
-    sad_rows:
-      for (int j = 0; j < h_; ++j) {
-      sad_cols:
-        for (int c = -rw; c <= rw; ++c) {
-          const int diff = int(left_.at(1 + rw + c, j)) - int(right_.at(span - 1 - rw - d + c, j));
-          sum += uint32_t(diff < 0 ? -diff : diff);
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      if (i >= n_slide && i < n_valid) {
+        const int d = d0 + i;
+        uint32_t sum = 0;
+      sad_rows:
+        for (int j = 0; j < Caps::trip(h_, Caps::window_rows); ++j) {
+          PX_PRAGMA("HLS UNROLL")
+        sad_cols:
+          for (int c = 0; c < Caps::trip(w_, kMaxWindow); ++c) {
+            PX_PRAGMA("HLS UNROLL")
+            if (j < h_ && c < w_) {
+              const int diff = int(left_.at(1 + c, j)) - int(right_.at(span - 1 - 2 * rw - d + c, j));
+              sum += uint32_t(diff < 0 ? -diff : diff);
+            }
+          }
         }
+        last_[d] = sum;
+        out[i] = uint16_t(sum);
+      } else if (i >= n_valid && i < n) {
+        out[i] = cost_max_;  // no right pixel
       }
-      last_[d] = sum;
-      out[i] = uint16_t(sum);
     }
-  sad_none:
-    for (int i = n_valid; i < n; ++i) out[i] = cost_max_;
   }
 
-  // S(x, d) = S(x - 1, d) + column(x + rw, d) - column(x - 1 - rw, d) for lanes [0, n).
+  // S(x, d) = S(x - 1, d) + column(x + rw, d) - column(x - 1 - rw, d) for lanes [0, n), n <= PU
+  // (loops to the capacities in the export, bodies guarded, as in costs()).
   void slide(int d0, int n, uint16_t* out) {
     const int span = disparities_ + w_;
     int32_t acc[Caps::lanes];
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=acc type=complete dim=1")
   sad_slide_init:
-    for (int i = 0; i < n; ++i) acc[i] = int32_t(last_[d0 + i]);
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      acc[i] = i < n ? int32_t(last_[d0 + i]) : 0;
+    }
   sad_slide_rows:
-    for (int j = 0; j < h_; ++j) {
-      const int lead = left_.at(w_, j);  // column x + rw
-      const int trail = left_.at(0, j);  // column x - 1 - rw
-      const uint8_t* PX_RESTRICT r_lead = right_.row(j) + (span - 1 - d0);       // column x + rw - d0
-      const uint8_t* PX_RESTRICT r_trail = right_.row(j) + (span - 1 - w_ - d0); // column x - 1 - rw - d0
-    sad_slide_lanes:
-      for (int i = 0; i < n; ++i) {
-        const int a = lead - int(r_lead[-i]);
-        const int b = trail - int(r_trail[-i]);
-        acc[i] += (a < 0 ? -a : a) - (b < 0 ? -b : b);
+    for (int j = 0; j < Caps::trip(h_, Caps::window_rows); ++j) {
+      PX_PRAGMA("HLS UNROLL")
+      if (j < h_) {
+        const int lead = left_.at(w_, j);  // column x + rw
+        const int trail = left_.at(0, j);  // column x - 1 - rw
+        const uint8_t* PX_RESTRICT r_lead = right_.row(j) + (span - 1 - d0);        // column x + rw - d0
+        const uint8_t* PX_RESTRICT r_trail = right_.row(j) + (span - 1 - w_ - d0);  // column x - 1 - rw - d0
+      sad_slide_lanes:
+        for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+          PX_PRAGMA("HLS UNROLL")
+          const int a = lead - int(r_lead[-i]);
+          const int b = trail - int(r_trail[-i]);
+          if (i < n) acc[i] += (a < 0 ? -a : a) - (b < 0 ? -b : b);
+        }
       }
     }
   sad_slide_out:
-    for (int i = 0; i < n; ++i) {
-      last_[d0 + i] = uint32_t(acc[i]);
-      out[i] = uint16_t(acc[i]);
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      if (i < n) {
+        last_[d0 + i] = uint32_t(acc[i]);
+        out[i] = uint16_t(acc[i]);
+      }
     }
   }
 

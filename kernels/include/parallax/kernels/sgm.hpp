@@ -56,7 +56,6 @@ class SgmAggregate {
   // W firings after it was written, so no dependence between iterations on them.
   SgmAggregate() {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=ahead_ type=complete dim=0")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=edge_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=mq_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=run_min_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=pix_ type=complete dim=1")
@@ -76,6 +75,17 @@ class SgmAggregate {
 #endif
     PX_PRAGMA("HLS DEPENDENCE variable=row_ type=inter dependent=false")
     PX_PRAGMA("HLS DEPENDENCE variable=row_min_ type=inter dependent=false")
+    // Software instantiations read the don't-care lanes past PU (simd_trip): give them values
+    // once. (Nothing to do in the export, where every lane is a design lane.)
+    if (!Caps::fixed) {
+    agg_clear_memories:
+      for (int d = 0; d < kMaxD; ++d) pix_[d] = lag_[d] = 0;
+      for (int m = 0; m < kRowMemories; ++m)
+        for (int x = 0; x < kMaxW; ++x) {
+          row_min_[m][x] = 0;
+          for (int d = 0; d < kMaxD; ++d) row_[m][x][d] = 0;
+        }
+    }
   }
 
   // kinds: StreamPathKind bits (within Caps::kind_mask); add_forward: add F from a second input;
@@ -88,6 +98,10 @@ class SgmAggregate {
     d_ = Caps::disparities(p.disparities);
     lanes_ = Caps::parallel_units(p.parallel_units);
     chunks_ = d_ / lanes_;
+    if (!Caps::fixed) {
+    agg_pad:
+      for (int i = 0; i < kLanes; ++i) pad_[i] = i < lanes_ ? Word(0) : Word(~Word(0));
+    }
     start_frame();
   }
   // A frame starts with the per-kind registers cleared (they are read, but not used, before the
@@ -102,11 +116,10 @@ class SgmAggregate {
   agg_reset_kinds:
     for (int k = 0; k < kKindCount; ++k) {
       PX_PRAGMA("HLS UNROLL")
-      edge_[k] = Word(kNone);
       mq_[k] = 0;
       run_min_[k] = kNone;
     agg_reset_lanes:
-      for (int i = 0; i < kLanes; ++i) {
+      for (int i = 0; i < kLanes + 2; ++i) {
         PX_PRAGMA("HLS UNROLL")
         ahead_[k][i] = Word(kNone);
       }
@@ -126,7 +139,7 @@ class SgmAggregate {
 
   // One firing: the PU lanes [lo, lo + PU) of pixel (x, y) for every active path kind.
   // Per kind, the predecessor's lanes of this chunk arrived with the previous firing (ahead_),
-  // its lane lo - 1 is held from the chunk before (edge_), and this firing fetches the
+  // its lane lo - 1 is held from the chunk before (ahead_[k][0]), and this firing fetches the
   // predecessor's lanes of the next firing's chunk, whose first is lane lo + PU. So every memory
   // sees one read and one write per lane bank and firing (docs/kernels.md).
   template <class CostIn, class FwdIn, class SumOut, class TeeOut>
@@ -137,13 +150,13 @@ class SgmAggregate {
     if (add_forward_) {
       const SumToken f = fwd_in.read();
     agg_add_forward:
-      for (int i = 0; i < Caps::trip(lanes_, kLanes); ++i) {
+      for (int i = 0; i < lane_trip(); ++i) {
         PX_PRAGMA("HLS UNROLL")
         s.v[i] = f.v[i];
       }
     } else {
     agg_clear:
-      for (int i = 0; i < Caps::trip(lanes_, kLanes); ++i) {
+      for (int i = 0; i < lane_trip(); ++i) {
         PX_PRAGMA("HLS UNROLL")
         s.v[i] = 0;
       }
@@ -287,10 +300,10 @@ class SgmAggregate {
       }
     }
 
-    // Fetch the predecessor's lanes of the next firing's chunk. (Lane loops run to PU: the
-    // compile-time LANES in the export, where PU = LANES.)
-    const int trip = Caps::trip(n, kLanes);
+    // Fetch the predecessor's lanes of the next firing's chunk.
+    const int trip = lane_trip();
     Word next[kLanes];
+    Word* pred = ahead_[k];  // pred[i] is Lr(q, lo - 1 + i), kNone outside [0, D)
   agg_fetch:
     for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
@@ -307,15 +320,8 @@ class SgmAggregate {
       }
     }
 
-    // pred[i] is Lr(q, lo - 1 + i), kNone outside [0, D).
-    Word pred[kLanes + 2];
-    pred[0] = first ? Word(kNone) : edge_[k];
-  agg_pred:
-    for (int i = 0; i < trip; ++i) {
-      PX_PRAGMA("HLS UNROLL")
-      pred[i + 1] = ahead_[k][i];
-    }
-    pred[n + 1] = last ? Word(kNone) : next[0];
+    // Lane lo + PU is the next chunk's first (kNone past D, set by the firing before).
+    if (!last) pred[n + 1] = next[0];
 
     const uint32_t m_prev = mq_[k];
     const Word wp1 = Word(p_.p1);
@@ -326,8 +332,11 @@ class SgmAggregate {
     // Lr(q,d±1) + P1), Lr(p,d) = C_d + min(t_d - M, P2), so min_d Lr(p,d) =
     // min(min_d (C_d + t_d) - M, min_d C_d + P2): both inner minima are independent of M, and
     // the chain from M to the next M is a subtraction and two compare-selects (docs/kernels.md).
+    // Software instantiations take min_d Lr(p,d) directly, the same value by that identity
+    // (kernels_common_test runs both forms on whole frames): one 16-bit reduction, no widening.
     uint32_t ct_min = 0xFFFFFFFFu;  // min_d (C_d + t_d)
     uint32_t c_min = 0xFFFFFFFFu;   // min_d C_d
+    Word lmin = Word(kNone);
     Word lr[kLanes];
   agg_lanes:
     for (int i = 0; i < trip; ++i) {
@@ -343,13 +352,23 @@ class SgmAggregate {
       const Word v = valid ? Word(Word(cost) + Word(mm - wm)) : Word(cost);
       lr[i] = v;
       s.v[i] = Word(s.v[i] + v);
-      const uint32_t ct = cost + uint32_t(t);
-      ct_min = ct < ct_min ? ct : ct_min;
-      c_min = cost < c_min ? cost : c_min;
+      if (Caps::fixed) {
+        const uint32_t ct = cost + uint32_t(t);
+        ct_min = ct < ct_min ? ct : ct_min;
+        c_min = cost < c_min ? cost : c_min;
+      } else {
+        const Word vm = Word(v | pad_[i]);  // a don't-care lane past PU is no candidate (all ones)
+        lmin = vm < lmin ? vm : lmin;
+      }
     }
-    const uint32_t cp2 = c_min + p2;
-    const uint32_t ct_m = ct_min - m_prev;
-    const uint32_t lane_min = !valid ? c_min : (ct_m < cp2 ? ct_m : cp2);
+    uint32_t lane_min;
+    if (Caps::fixed) {
+      const uint32_t cp2 = c_min + p2;
+      const uint32_t ct_m = ct_min - m_prev;
+      lane_min = !valid ? c_min : (ct_m < cp2 ? ct_m : cp2);
+    } else {
+      lane_min = lmin;
+    }
     const uint32_t prior = first ? kNone : run_min_[k];
     const uint32_t run_min = lane_min < prior ? lane_min : prior;
     run_min_[k] = run_min;
@@ -369,12 +388,23 @@ class SgmAggregate {
       if (k == kKindPixel) pix_min_ = Word(run_min);
       else row_min_[m][x_] = Word(run_min);
     }
-    edge_[k] = ahead_[k][n - 1];
+    // The next firing's predecessor lanes: its lane lo - 1 is this chunk's last (none before
+    // lane 0), its lanes are the ones fetched, and past the last chunk there is no lane.
+    pred[0] = last ? Word(kNone) : pred[n];
   agg_ahead:
     for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
-      ahead_[k][i] = next[i];
+      pred[i + 1] = next[i];
     }
+    if (chunk_ + 2 >= chunks_) pred[n + 1] = Word(kNone);
+  }
+
+  // Lane loops run to PU: the compile-time LANES in the export, where PU = LANES. A software
+  // instantiation whose pixel is one chunk (PU = D) runs whole SIMD vectors instead: the lanes
+  // past PU are don't-care (written to the unused rest of a column, masked out of the minimum,
+  // never read as sums).
+  int lane_trip() const {
+    return chunks_ == 1 ? Caps::simd_trip(lanes_, kLanes < kMaxD ? kLanes : kMaxD) : Caps::trip(lanes_, kLanes);
   }
 
   // a + b, saturating at kNone (the largest value Lr arithmetic needs). Sums that could exceed
@@ -402,8 +432,7 @@ class SgmAggregate {
   bool done_ = true;
   // Per path kind: the predecessor's lanes of this chunk, its lane lo - 1, its minimum M and
   // the running minimum of this pixel's Lr.
-  Word ahead_[kKindCount][kLanes];
-  Word edge_[kKindCount];
+  Word ahead_[kKindCount][kLanes + 2];  // [0]: lane lo - 1; [1, PU]: lanes lo..; [PU + 1]: lane lo + PU
   Word mq_[kKindCount];
   uint32_t run_min_[kKindCount];
   Word pix_[kMaxD];   // pixel path: the previous pixel's Lr (this pixel's, lanes already done)
@@ -412,6 +441,7 @@ class SgmAggregate {
   Word mlag_ = 0;     // row-left path: the previous row's minimum of column x - 1
   Word row_[kRowMemories][kMaxW][kMaxD];  // row kinds: previous-row Lr per column
   Word row_min_[kRowMemories][kMaxW];     // row kinds: previous-row min_d Lr per column
+  Word pad_[kLanes];  // software only: all ones in the don't-care lanes past PU (lane_trip)
 
  public:
   // Storage descriptor (resources.hpp) of the members above, per active path kind, with the
@@ -427,6 +457,7 @@ class SgmAggregate {
     const int words = (d_ + q - 1) / q;
     const int memories = banks <= 0 || banks > words ? words : banks;
     const int words_per_memory = (words + memories - 1) / memories;
+    v.unused("software_lane_pad", pad_);  // read only where !Caps::fixed
   agg_storage_kinds:
     for (int k = 0; k < kKindCount; ++k) {
       if (((kinds_ >> k) & 1u) == 0) {  // an inactive kind's state is never written: no hardware
@@ -451,8 +482,7 @@ class SgmAggregate {
           v.registers("row_left_delay_min", mlag_, 1, pb);
         }
       }
-      v.registers("path_predecessor_lanes", ahead_[k], lanes_, pb);
-      v.registers("path_predecessor_edge", edge_[k], 1, pb);
+      v.registers_part("path_predecessor_lanes", ahead_[k], lanes_ + 1, pb);
       v.registers("path_min_previous", mq_[k], 1, pb);
       v.registers("path_min_running", run_min_[k], 1, pb);
     }
