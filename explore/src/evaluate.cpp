@@ -207,12 +207,7 @@ void rectify_pair(const config::PipelineConfig& cfg, const RectifyMaps& maps, cv
     throw InputError(cfg.rectify_maps_left + ": remap table is " + std::to_string(maps.width_px) + "x" +
                      std::to_string(maps.height_px) + " but the images are " + std::to_string(left.cols) + "x" +
                      std::to_string(left.rows));
-  kern::RectifyParams rp{};
-  rp.width_px = left.cols;
-  rp.height_px = left.rows;
-  rp.mode = cfg.rectify == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest;
-  rp.frac_bits = cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0;
-  rp.buffer_rows = cfg.rectify_rows;
+  const kern::RectifyParams rp = cfg.rectify_params(left.cols, left.rows);
   auto one = [&](cv::Mat& img, const std::vector<kern::MapEntry>& map) {
     const sim::RectifyOutput r = sim::run_rectify_func(to_grey_image(img), map, rp);
     cv::Mat out(img.rows, img.cols, CV_8UC1);

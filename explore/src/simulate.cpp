@@ -85,9 +85,7 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
                        "tables must be of the processed size " + std::to_string(left.cols) + "x" +
                        std::to_string(left.rows) + " (they are " + std::to_string(maps.width_px) + "x" +
                        std::to_string(maps.height_px) + "); give roi: full with full-size maps");
-    opt.rectify = kern::RectifyParams{left.cols, left.rows,
-                                      cfg.rectify == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest,
-                                      cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0, cfg.rectify_rows};
+    opt.rectify = cfg.rectify_params(left.cols, left.rows);
     opt.rectify_map_left = &maps.left;
     opt.rectify_map_right = &maps.right;
   }

@@ -277,6 +277,16 @@ kern::StereoParams PipelineConfig::stereo_params(int width_px, int height_px) co
   return p;
 }
 
+kern::RectifyParams PipelineConfig::rectify_params(int width_px, int height_px) const {
+  kern::RectifyParams r{};
+  r.width_px = width_px;
+  r.height_px = height_px;
+  r.mode = rectify == "bilinear" ? kern::kRectifyBilinear : rectify == "nearest" ? kern::kRectifyNearest : kern::kRectifyNone;
+  r.frac_bits = rectify == "bilinear" ? rectify_frac_bits : 0;
+  r.buffer_rows = rectify_rows;
+  return r;
+}
+
 PipelineConfig parse_config(const std::string& text, const std::string& source) {
   YAML::Node root;
   try {

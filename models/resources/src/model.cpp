@@ -100,9 +100,7 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
   Inventory inv;
   const int db = kern::disparity_bits(p);
   if (cfg.rectify != "none") {
-    const int mode = cfg.rectify == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest;
-    const kern::RectifyParams rp{width_px, height_px, mode, mode == kern::kRectifyBilinear ? cfg.rectify_frac_bits : 0,
-                                 cfg.rectify_rows};
+    const kern::RectifyParams rp = cfg.rectify_params(width_px, height_px);
     auto st = std::make_unique<kern::Rectify<kern::kMaxWidthPx, 256>>();
     st->configure(rp);
     for (const char* name : {"rectify_left", "rectify_right"}) {

@@ -67,6 +67,9 @@ struct PipelineConfig {
 
   // The kernel parameters for an image (or ROI) of the given size.
   kern::StereoParams stereo_params(int width_px, int height_px) const;
+  // The rectification stage's parameters for frames of the given size: mode from `rectify`
+  // (kRectifyNone when "none"), fraction bits only when bilinear, `rectify_rows` line-buffer rows.
+  kern::RectifyParams rectify_params(int width_px, int height_px) const;
 };
 
 struct FieldError {
