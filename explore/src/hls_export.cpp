@@ -112,8 +112,7 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
       const std::size_t n = std::size_t(lr.cols) * std::size_t(lr.rows);
       maps.left.resize(n);
       maps.right.resize(n);
-      o.rectify = kern::RectifyParams{lr.cols, lr.rows, cfg.rectify == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest,
-                                      cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0, cfg.rectify_rows};
+      o.rectify = cfg.rectify_params(lr.cols, lr.rows);
       o.rectify_map_left = &maps.left;
       o.rectify_map_right = &maps.right;
     }

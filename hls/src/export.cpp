@@ -266,8 +266,15 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                                              std::to_string(c.row_packing) + " dim=3\"\n"
                                        : "";
 
-  // Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera.
+  // Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera. Its row
+  // memories: true dual port for bilinear (a tap pair per row and firing), else simple dual port.
   const bool rectify = c.rectify != "none";
+  const res::MemoryItem* rlb = find_memory(inv, "rectify_left", "rectify_line_buffer");
+  v["RECTIFY_STORAGE"] =
+      rectify ? "#define PX_HLS_RECTIFY_STORAGE \"HLS BIND_STORAGE variable=lb_ type=" +
+                    std::string(c.rectify == "bilinear" ? "ram_t2p" : "ram_s2p") + " impl=" +
+                    (rlb ? ram_impl(rlb->per_copy.storage) : std::string("bram")) + "\"\n"
+              : "";
   v["MAP_TYPEDEF"] = rectify ? "\n// One remap-table entry: the source position of an output pixel in the kernels' fixed point\n"
                                "// (kRectifyFracBits fraction bits); x in TDATA[31:0], y in TDATA[63:32], both signed.\n"
                                "typedef ap_axiu<64, 1, 1, 1> map_beat_t;\n"

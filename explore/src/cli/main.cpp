@@ -323,10 +323,7 @@ void print_resources(const ResourceReport& r) {
 // What sets each kernel stage's II (sim/schedule.hpp), at the design's own (synthesis) clock.
 std::map<std::string, std::string> ii_reasons(const config::PipelineConfig& cfg, int w, int h) {
   std::map<std::string, std::string> out;
-  const kern::RectifyParams rect{w, h, cfg.rectify == "bilinear"  ? kern::kRectifyBilinear
-                                       : cfg.rectify == "nearest" ? kern::kRectifyNearest
-                                                                  : kern::kRectifyNone,
-                                 cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0, std::max(1, cfg.rectify_rows)};
+  const kern::RectifyParams rect = cfg.rectify_params(w, h);
   for (const auto& s : sim::stage_schedules(cfg.stereo_params(w, h), rect, double(cfg.clock_mhz) * 1e6))
     out[s.stage] = "II " + std::to_string(s.ii) + ": " + s.limit;
   return out;

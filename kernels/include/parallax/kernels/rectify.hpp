@@ -16,17 +16,23 @@ struct RectifyPlan {
   bool write;       // reads one map entry and writes one output pixel
 };
 
-template <int MAX_W, int MAX_ROWS>
+// FIXED: the exported instantiation (MAX_ROWS = R): every row memory is read at fixed
+// addresses by an unrolled loop over the rows (below); software instantiations read the one row
+// a tap needs.
+template <int MAX_W, int MAX_ROWS, bool FIXED = false>
 class Rectify {
  public:
-  // One memory per buffered row; each row split into even and odd columns, so that a bilinear
-  // tap pair (two adjacent columns of one row) and the incoming pixel meet at most one read and
-  // one write per bank. A row is overwritten only after the outputs that read it (the plan), so
-  // no dependence between iterations.
+  // One memory per buffered row (W deep). A firing either takes an input pixel (one write) or
+  // produces an output pixel (reads), never both (plan()), and fire() keeps the two in exclusive
+  // branches: per firing a row memory sees one write, or the reads of the one tap row it may
+  // hold: its columns ix (and ix + 1 for bilinear, the second port). A row is overwritten only
+  // after the outputs that read it (the plan), so no dependence between iterations.
   Rectify() {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=lb_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=lb_ type=cyclic factor=2 dim=2")
     PX_PRAGMA("HLS DEPENDENCE variable=lb_ type=inter dependent=false")
+#ifdef PX_HLS_RECTIFY_STORAGE
+    PX_PRAGMA(PX_HLS_RECTIFY_STORAGE)
+#endif
   }
   void configure(const RectifyParams& p) {
     p_ = p;
@@ -71,12 +77,13 @@ class Rectify {
   }
   int64_t window_misses() const { return window_misses_; }
 
-  // Schedule of one firing (resources.hpp): a tap pair of two adjacent columns reads one even and
-  // one odd bank of a row memory, the incoming pixel writes one bank: at most one read and one
-  // write per bank. The counters are the recurrence.
+  // Schedule of one firing (resources.hpp): per row memory either the write of the input pixel
+  // or the reads of one tap row (two adjacent columns for bilinear, on a true dual-port RAM; one
+  // column for nearest, on a simple dual-port RAM), in exclusive branches: the busier branch
+  // counts. The counters are the recurrence.
   template <class S>
   void schedule(S& s) const {
-    s.memory("rectify_line_buffer", 1, 1, 2);
+    s.memory("rectify_line_buffer", p_.mode == kRectifyBilinear ? 2 : 1, 0, 2);
     s.recurrence("raster_counters", 1);
     s.chain(kOpAdd, bits_for(uint64_t(p_.width_px)), 1);
     s.chain(kOpCompare, bits_for(uint64_t(p_.width_px)), 1);
@@ -95,15 +102,14 @@ class Rectify {
   void fire(const RectifyPlan& pl, PixIn& in, MapIn& map_in, PixOut& out) {
     if (pl.write) {
       const MapEntry m = map_in.read();
-      out.write(p_.mode == kRectifyBilinear ? bilinear(m) : tap(m.x, m.y));
+      out.write(p_.mode == kRectifyBilinear ? bilinear(m) : nearest(m));
       if (++x_ == p_.width_px) {
         x_ = 0;
         ++base_row_;
         if (++base_slot_ == p_.buffer_rows) base_slot_ = 0;
         if (++y_ == p_.height_px) done_ = true;
       }
-    }
-    if (pl.read_pixel) {
+    } else if (pl.read_pixel) {  // exclusive with a write (plan()): the row memories' ports
       lb_[in_slot_][in_col_] = in.read();
       if (++in_col_ == p_.width_px) {
         in_col_ = 0;
@@ -114,17 +120,73 @@ class Rectify {
   }
 
  private:
-  // Rows resident while producing output row y: [y + A - R + 1, y + A] within the image.
-  uint8_t tap(int ix, int iy) {
-    if (ix < 0 || ix >= p_.width_px || iy < 0 || iy >= p_.height_px) return 0;
+  // Whether tap (ix, iy) reads the buffer: inside the image and resident while producing output
+  // row y ([y + A - R + 1, y + A]); a tap in the image but not resident is a window miss. Taps
+  // that do not read are 0.
+  bool tap_ok(int ix, int iy) {
+    if (ix < 0 || ix >= p_.width_px || iy < 0 || iy >= p_.height_px) return false;
     if (iy > y_ + ahead_ || iy < base_row_) {
       ++window_misses_;
-      return 0;
+      return false;
     }
-    // Slot of a resident row: base_slot + (iy - base_row), wrapped once (no division).
-    int slot = base_slot_ + (iy - base_row_);
-    if (slot >= p_.buffer_rows) slot -= p_.buffer_rows;
-    return lb_[slot][ix];
+    return true;
+  }
+  // Slot of a resident row: base_slot + (iy - base_row), wrapped once (no division).
+  int slot_of(int iy) const {
+    const int slot = base_slot_ + (iy - base_row_);
+    return slot >= p_.buffer_rows ? slot - p_.buffer_rows : slot;
+  }
+  // Exported, every row memory is read at fixed addresses by an unrolled loop over the rows
+  // and the slots select (one column per memory for nearest, two for bilinear: its two ports);
+  // software reads the rows a tap needs, only where the tap reads (ok).
+  // Column c of the row in slot s, 0 unless ok.
+  int32_t read_one(int s, int c, bool ok) const {
+    if (!FIXED) return ok ? int32_t(lb_[s][c]) : 0;
+    int32_t v = 0;
+  rectify_rows_read_one:
+    for (int r = 0; r < MAX_ROWS; ++r) {
+      PX_PRAGMA("HLS UNROLL")
+      const int32_t u = lb_[r][c];
+      if (r == s) v = u;
+    }
+    return ok ? v : 0;
+  }
+  // Columns c0, c1 of the rows in slots s0, s1 (the four bilinear taps), each 0 unless its ok.
+  void read_pair(int s0, int s1, int c0, int c1, const bool ok[4], int32_t t[4]) const {
+    if (!FIXED) {
+      t[0] = ok[0] ? int32_t(lb_[s0][c0]) : 0;
+      t[1] = ok[1] ? int32_t(lb_[s0][c1]) : 0;
+      t[2] = ok[2] ? int32_t(lb_[s1][c0]) : 0;
+      t[3] = ok[3] ? int32_t(lb_[s1][c1]) : 0;
+      return;
+    }
+    int32_t a0 = 0, b0 = 0, a1 = 0, b1 = 0;
+  rectify_rows_read_pair:
+    for (int r = 0; r < MAX_ROWS; ++r) {
+      PX_PRAGMA("HLS UNROLL")
+      const int32_t u = lb_[r][c0];
+      const int32_t w = lb_[r][c1];
+      if (r == s0) {
+        a0 = u;
+        b0 = w;
+      }
+      if (r == s1) {
+        a1 = u;
+        b1 = w;
+      }
+    }
+    t[0] = ok[0] ? a0 : 0;
+    t[1] = ok[1] ? b0 : 0;
+    t[2] = ok[2] ? a1 : 0;
+    t[3] = ok[3] ? b1 : 0;
+  }
+  static int clamp_col(int c, int w) { return c < 0 ? 0 : (c >= w ? w - 1 : c); }
+  static int clamp_slot(int s, int r) { return s < 0 || s >= r ? 0 : s; }
+
+  uint8_t nearest(const MapEntry& m) {
+    const int ix = int(m.x), iy = int(m.y);
+    const bool ok = tap_ok(ix, iy);
+    return uint8_t(read_one(clamp_slot(slot_of(iy), p_.buffer_rows), clamp_col(ix, p_.width_px), ok));
   }
 
   uint8_t bilinear(const MapEntry& m) {
@@ -134,8 +196,16 @@ class Rectify {
     const int iy = int(m.y >> f);
     const int32_t fx = m.x & (one - 1);
     const int32_t fy = m.y & (one - 1);
-    const int32_t t00 = tap(ix, iy), t10 = tap(ix + 1, iy);
-    const int32_t t01 = tap(ix, iy + 1), t11 = tap(ix + 1, iy + 1);
+    // Taps (ix, iy), (ix + 1, iy), (ix, iy + 1), (ix + 1, iy + 1).
+    bool ok[4];
+    ok[0] = tap_ok(ix, iy);
+    ok[1] = tap_ok(ix + 1, iy);
+    ok[2] = tap_ok(ix, iy + 1);
+    ok[3] = tap_ok(ix + 1, iy + 1);
+    int32_t t[4];
+    read_pair(clamp_slot(slot_of(iy), p_.buffer_rows), clamp_slot(slot_of(iy + 1), p_.buffer_rows),
+              clamp_col(ix, p_.width_px), clamp_col(ix + 1, p_.width_px), ok, t);
+    const int32_t t00 = t[0], t10 = t[1], t01 = t[2], t11 = t[3];
     const int32_t acc = t00 * (one - fx) * (one - fy) + t10 * fx * (one - fy) +
                         t01 * (one - fx) * fy + t11 * fx * fy;
     const int32_t round = f > 0 ? (int32_t(1) << (2 * f - 1)) : 0;
@@ -153,8 +223,7 @@ class Rectify {
 
  public:
   // Storage descriptor (resources.hpp) of lb_: one memory per buffered row, W deep (bilinear:
-  // true dual port for the tap pair). Not yet described: the even/odd column banks of the
-  // constructor's cyclic partitioning (docs/resources.md).
+  // true dual port for the tap pair, read at two columns in one firing).
   template <class V>
   void storage(V& v) const {
     v.memory("rectify_line_buffer", lb_, p_.width_px, 8, p_.buffer_rows, p_.mode == kRectifyBilinear, 1);
