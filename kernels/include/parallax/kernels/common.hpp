@@ -137,10 +137,6 @@ class ShiftReg<T, N, true> {
   }
   const T& at(int k) const { return v_[k]; }
   void set(int k, const T& x) { v_[k] = x; }
-  // Entries k .. k+n-1 as one contiguous span to read and write in place; mirror() after
-  // writing through it (nothing to do for registers).
-  T* span(int k) { return v_ + k; }
-  void mirror(int, int) {}
   // Storage descriptor (resources.hpp): entries 0 .. used-1 are registers of width_bits; used is
   // N (the whole register) or less when the last entries are never shifted into (n < N).
   template <class V>
@@ -177,17 +173,6 @@ class ShiftReg<T, N, false> {
     const int p = base_ + k;
     v_[p] = x;
     v_[p < kRing ? p + kRing : p - kRing] = x;
-  }
-  // Entries k .. k+n-1 (n <= N - k) are contiguous from the base: write them in place, then
-  // mirror(k, n) copies them to the second copy (two runs, split where the first copy ends).
-  T* span(int k) { return v_ + base_ + k; }
-  void mirror(int k, int n) {
-    const int p0 = base_ + k, p1 = p0 + n;
-    const int split = p1 < kRing ? p1 : (p0 > kRing ? p0 : kRing);
-  shift_reg_mirror_low:
-    for (int p = p0; p < split; ++p) v_[p + kRing] = v_[p];
-  shift_reg_mirror_high:
-    for (int p = split; p < p1; ++p) v_[p - kRing] = v_[p];
   }
 
  private:

@@ -217,27 +217,22 @@ class WtaLr {
   // Lane d of this token is a candidate for the right pixel x_img - d (when it exists), held in
   // open entry d. Candidates of one right pixel arrive in ascending d (forward) or descending d
   // (reverse), so the smallest d wins ties with < or <= respectively.
-  // The open entries lo .. lo+PU-1 are one span (the registers themselves when exported; in a
-  // software ring, written in place and mirrored once per token).
   void right_candidates(const SumToken& t, int lo) {
     const int x_img = reverse_ ? p_.width_px - 1 - x_ : x_;
     const bool rev = reverse_;
-    uint32_t* cost = right_cost_.span(lo);
-    DispCode* disp = right_d_.span(lo);
   wta_right_lanes:
     for (int i = 0; i < Caps::trip(lanes_, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
       const int d = lo + i;
       if (i < lanes_ && d <= x_img) {
         const uint32_t s = t.v[i];
-        const uint32_t c = cost[i];
-        const bool better = s < c || (rev && s == c);
-        cost[i] = better ? s : c;
-        disp[i] = better ? DispCode(d) : disp[i];
+        const uint32_t c = right_cost_.at(d);
+        if (s < c || (rev && s == c)) {
+          right_cost_.set(d, s);
+          right_d_.set(d, DispCode(d));
+        }
       }
     }
-    right_cost_.mirror(lo, lanes_);
-    right_d_.mirror(lo, lanes_);
   }
 
   // The oldest left pixel not yet emitted, checked against the right pixel it points to. After
