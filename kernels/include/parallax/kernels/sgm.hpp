@@ -146,30 +146,31 @@ class SgmAggregate {
   void fire(const AggPlan& pl, CostIn& cost_in, FwdIn& fwd_in, SumOut& sum_out, TeeOut& tee_out) {
     (void)pl;
     const CostToken c = cost_in.read();
+    const int trip = lane_trip();  // the lanes every loop of this firing runs
     SumToken s;
     if (add_forward_) {
       const SumToken f = fwd_in.read();
     agg_add_forward:
-      for (int i = 0; i < lane_trip(); ++i) {
+      for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
         s.v[i] = f.v[i];
       }
     } else {
     agg_clear:
-      for (int i = 0; i < lane_trip(); ++i) {
+      for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
         s.v[i] = 0;
       }
     }
     // One datapath per path kind (kinds outside Caps::kind_mask have none).
     if ((Caps::kind_mask & (1u << kKindPixel)) != 0 && (kinds_ & (1u << kKindPixel)) != 0)
-      aggregate_kind<kKindPixel>(c, s);
+      aggregate_kind<kKindPixel>(c, trip, s);
     if ((Caps::kind_mask & (1u << kKindRowLeft)) != 0 && (kinds_ & (1u << kKindRowLeft)) != 0)
-      aggregate_kind<kKindRowLeft>(c, s);
+      aggregate_kind<kKindRowLeft>(c, trip, s);
     if ((Caps::kind_mask & (1u << kKindRowUp)) != 0 && (kinds_ & (1u << kKindRowUp)) != 0)
-      aggregate_kind<kKindRowUp>(c, s);
+      aggregate_kind<kKindRowUp>(c, trip, s);
     if ((Caps::kind_mask & (1u << kKindRowRight)) != 0 && (kinds_ & (1u << kKindRowRight)) != 0)
-      aggregate_kind<kKindRowRight>(c, s);
+      aggregate_kind<kKindRowRight>(c, trip, s);
     sum_out.write(s);
     if (tee_cost_) tee_out.write(c);
     advance();
@@ -264,7 +265,7 @@ class SgmAggregate {
   // x until this row's firing at x overwrites it; lag_ holds the previous row's Lr of column
   // x - 1 (row-left); pix_ holds the previous pixel's Lr until this pixel overwrites it.
   template <int K>
-  PX_INLINE void aggregate_kind(const CostToken& c, SumToken& s) {
+  PX_INLINE void aggregate_kind(const CostToken& c, int trip, SumToken& s) {
     const int k = K;
     const int n = lanes_;
     const int lo = chunk_ * n;
@@ -300,8 +301,7 @@ class SgmAggregate {
       }
     }
 
-    // Fetch the predecessor's lanes of the next firing's chunk.
-    const int trip = lane_trip();
+    // Fetch the predecessor's lanes of the next firing's chunk (trip: lane_trip()).
     Word next[kLanes];
     Word* pred = ahead_[k];  // pred[i] is Lr(q, lo - 1 + i), kNone outside [0, D)
   agg_fetch:
