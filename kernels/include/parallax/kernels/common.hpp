@@ -106,10 +106,12 @@ PX_INLINE int popcount_tree(uint64_t v) {
 // last D columns keep (the Census right codes, the WTA/LR candidates and delayed results).
 // LITERAL (the exported, FIXED instantiations): every entry is a register (complete
 // partitioning) and a shift moves each along its fixed wire. Software instantiations keep the
-// same sequence in a ring with a moving base and a mirrored second copy, so a shift costs O(1)
-// instead of N moves and entries 0 .. N-1 are contiguous from the base; the entries read and
-// written are the same (the equivalence tests run the ring, the exported C simulation runs the
-// registers, both against one golden model).
+// same sequence as a window sliding over a longer array (one copy, entries 0 .. N-1 contiguous
+// from the base): a shift moves the base, and only when the base reaches an end of the array
+// are the N entries copied back to the other end, so a shift costs O(1) amortised instead of N
+// moves and a loop over consecutive entries is a loop over consecutive addresses (vectorised).
+// The entries read and written are the same (the equivalence tests run the window, the
+// exported C simulation runs the registers, both against one golden model).
 template <class T, int N, bool LITERAL>
 class ShiftReg;
 
@@ -154,36 +156,36 @@ template <class T, int N>
 class ShiftReg<T, N, false> {
  public:
   void shift_in(const T& x, int) {
-    base_ = (base_ - 1) & (kRing - 1);
+    if (base_ == 0) relocate(kSpan - N);
+    --base_;
     v_[base_] = x;
-    v_[base_ + kRing] = x;
   }
   void shift_back(const T& x, int n) {
-    base_ = (base_ + 1) & (kRing - 1);
-    set(n - 1, x);
+    if (base_ == kSpan - N) relocate(0);
+    ++base_;
+    v_[base_ + n - 1] = x;
   }
   const T& at(int k) const { return v_[base_ + k]; }
+  void set(int k, const T& x) { v_[base_ + k] = x; }
   // Storage descriptor (resources.hpp): the hardware is the literal form's used registers.
   template <class V>
   void storage(V& v, const char* name, int used, int width_bits) const {
     if (used > 0) v.registers_part(name, v_, used, width_bits);
     else v.unused(name, v_);
   }
-  void set(int k, const T& x) {
-    const int p = base_ + k;
-    v_[p] = x;
-    v_[p < kRing ? p + kRing : p - kRing] = x;
-  }
 
  private:
-  static constexpr int ring_size() {
-    int r = 1;
-    while (r < N) r *= 2;
-    return r;
+  // The window's N entries move to start at `to`, the other end of the array (the two ranges
+  // never overlap: the array is 8 windows long).
+  void relocate(long to) {
+    for (int k = 0; k < N; ++k) v_[to + k] = v_[base_ + k];
+    base_ = to;
   }
-  static constexpr int kRing = ring_size();
-  T v_[2 * kRing];
-  int base_ = 0;
+  static constexpr long kSpan = 8L * N;
+  T v_[kSpan] = {};
+  // long, not int: a store to an entry (of any 32-bit or narrower T) cannot alias the base, so
+  // loops over at()/set() keep it in a register.
+  long base_ = (kSpan - N) / 2;
 };
 
 }  // namespace kern

@@ -220,18 +220,16 @@ class WtaLr {
   void right_candidates(const SumToken& t, int lo) {
     const int x_img = reverse_ ? p_.width_px - 1 - x_ : x_;
     const bool rev = reverse_;
+    const int n = min_int(lanes_, x_img - lo + 1);  // lanes with a right pixel x_img - d >= 0
   wta_right_lanes:
-    for (int i = 0; i < Caps::trip(lanes_, kLanes); ++i) {
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
       const int d = lo + i;
-      if (i < lanes_ && d <= x_img) {
-        const uint32_t s = t.v[i];
-        const uint32_t c = right_cost_.at(d);
-        if (s < c || (rev && s == c)) {
-          right_cost_.set(d, s);
-          right_d_.set(d, DispCode(d));
-        }
-      }
+      const uint32_t s = t.v[i];
+      const uint32_t c = right_cost_.at(d);
+      const bool better = i < n && (s < c || (rev && s == c));
+      right_cost_.set(d, better ? s : c);
+      right_d_.set(d, better ? DispCode(d) : right_d_.at(d));
     }
   }
 
