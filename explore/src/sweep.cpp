@@ -12,6 +12,7 @@
 #include <map>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <mutex>
 #include <random>
 #include <set>
@@ -36,7 +37,21 @@ using json = nlohmann::json;
 
 // --- spec -------------------------------------------------------------------------------------
 
+namespace {
+SweepSpec parse_sweep_fields(const std::string& text, const std::string& source);
+}
+
 SweepSpec parse_sweep(const std::string& text, const std::string& source) {
+  try {
+    return parse_sweep_fields(text, source);
+  } catch (const YAML::Exception& e) {  // a field of the wrong shape (a list or mapping for a value)
+    throw InputError(source + ": line " + std::to_string(e.mark.line + 1) + ": a field has the wrong shape (" + e.msg +
+                     "): names and values are scalars, axes map a field to a list of values");
+  }
+}
+
+namespace {
+SweepSpec parse_sweep_fields(const std::string& text, const std::string& source) {
   YAML::Node n;
   try {
     n = YAML::Load(text);
@@ -120,13 +135,16 @@ SweepSpec parse_sweep(const std::string& text, const std::string& source) {
   }
   return s;
 }
+}  // namespace
 
 SweepSpec load_sweep(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot read the sweep file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  SweepSpec s = parse_sweep(ss.str(), path);
+  std::string text;
+  try {
+    text = config::read_text_file(path, "sweep file");
+  } catch (const config::ConfigError& e) {
+    throw InputError(e.what());
+  }
+  SweepSpec s = parse_sweep(text, path);
   // A relative base is relative to the working directory (as on the command line).
   return s;
 }
@@ -170,6 +188,62 @@ void add_axis(SweepSpec& s, const std::string& kv) {
       return;
     }
   s.axes.emplace_back(key, values);
+}
+
+std::vector<std::string> metric_names(const SweepSpec& s) {
+  std::vector<std::string> out;
+  for (const auto& kv : named_metrics(DerivedMetrics{})) out.push_back(kv.first);
+  for (const char* k : {"frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "bram18k", "lut", "ff", "dsp",
+                        "fits_device", "power_w", "energy_mj_per_frame"})
+    out.emplace_back(k);
+  if (s.avoidance)
+    for (const auto& kv : AvoidAccumulator{}.metrics()) out.push_back(kv.first);
+  if (!s.flight_scenario.empty())
+    for (const char* k : {"flight_success_rate", "flight_collisions", "flight_min_clearance_m", "flight_time_to_goal_s"})
+      out.emplace_back(k);
+  return out;
+}
+
+double requested_designs(const SweepSpec& s) {
+  if (s.strategy == "random" || s.strategy == "lhs") return double(s.samples);
+  if (s.strategy == "nsga2") return double(std::max(4, s.samples)) * double(s.generations + 1);
+  double n = 1;
+  for (const auto& a : s.axes) n *= double(a.second.size());
+  return n;
+}
+
+void check_sweep_spec(const SweepSpec& s, const config::PipelineConfig& base, bool allow_large) {
+  const auto& fields = config::field_names();
+  for (const auto& a : s.axes) {
+    if (std::find(fields.begin(), fields.end(), a.first) == fields.end()) {
+      std::string known;
+      for (const auto& f : fields) known += (known.empty() ? "" : ", ") + f;
+      throw InputError("sweep '" + s.name + "': axis '" + a.first + "' is not a configuration field (known: " + known + ")");
+    }
+    for (const auto& v : a.second) {
+      config::PipelineConfig c = base;
+      try {
+        config::set_field(c, a.first, v);
+      } catch (const config::ConfigError& e) {
+        throw InputError("sweep '" + s.name + "': axis '" + a.first + "', value '" + v + "': " + e.what());
+      }
+    }
+  }
+  const std::vector<std::string> metrics = metric_names(s);
+  for (const auto& o : s.objectives)
+    if (std::find(metrics.begin(), metrics.end(), o.key) == metrics.end()) {
+      std::string known;
+      for (const auto& m : metrics) known += (known.empty() ? "" : ", ") + m;
+      throw InputError("sweep '" + s.name + "': objective '" + o.key + "' is not a metric of this sweep (known: " + known + ")");
+    }
+  const double n = requested_designs(s);
+  if (n > kLargeSweepDesigns && !allow_large) {
+    std::ostringstream m;
+    m << "sweep '" << s.name << "': the " << s.strategy << " strategy asks for " << std::fixed << std::setprecision(0) << n
+      << " designs (more than " << kLargeSweepDesigns
+      << "); confirm with --yes, or draw a sample (--strategy lhs --samples N, or nsga2)";
+    throw InputError(m.str());
+  }
 }
 
 // --- designs ----------------------------------------------------------------------------------
@@ -626,6 +700,11 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
   std::map<std::string, std::size_t> unit_of_key;
   std::set<std::string> seen;
   const int jobs = opt.jobs > 0 ? opt.jobs : std::max(1, int(std::thread::hardware_concurrency()));
+  std::mutex problems_mu;
+  auto note_problem = [&](const ResultStore::Row& r) {  // the first reasons, for the summary
+    std::lock_guard<std::mutex> lock(problems_mu);
+    if (sum.first_problems.size() < 5) sum.first_problems.push_back("design " + r.hash + " (" + r.status + "): " + r.reason);
+  };
   for (const auto& m : designs) {
     if (!seen.insert(m.hash).second || store.has_design(m.hash)) {
       ++skipped;
@@ -639,6 +718,7 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
       for (const auto& e : m.errors) r.reason += (r.reason.empty() ? "" : "; ") + e;
       r.finished_at = r.started_at;
       store.put_design(r);
+      note_problem(r);
       ++invalid;
       ++done;
       report();
@@ -670,7 +750,10 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
   }
   std::atomic<std::size_t> next{0};
   auto store_row = [&](ResultStore::Row& r) {
-    if (r.status == "error") ++failed;
+    if (r.status == "error") {
+      ++failed;
+      note_problem(r);
+    }
     store.put_design(r);
     ++evaluated;
     ++done;
@@ -795,6 +878,7 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
   const auto t0 = std::chrono::steady_clock::now();
   if (spec.base.empty()) throw InputError("sweep '" + spec.name + "': no base configuration (field 'base' or --base)");
   const config::PipelineConfig base = config::load_config(spec.base);
+  check_sweep_spec(spec, base, opt.allow_large);
   const Dataset dataset = open_dataset(opt.dataset);
   if (!res::find_device(spec.device)) throw InputError("sweep: unknown device '" + spec.device + "'");
   if (opt.shard_count < 1 || opt.shard_index < 1 || opt.shard_index > opt.shard_count)

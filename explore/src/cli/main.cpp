@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -52,6 +53,109 @@ using namespace parallax::explore;
 namespace {
 
 constexpr int kExitUserError = 2;
+
+// An inclusive range check that NaN cannot pass (CLI::Range tests `v < min || v > max`, which NaN
+// passes): the value must parse and lie in [min, max].
+template <class T>
+CLI::Validator InRange(T min_value, T max_value) {
+  std::ostringstream d;
+  d << "in [" << min_value << ", " << max_value << "]";
+  return CLI::Validator(
+      [min_value, max_value](std::string& input) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(input, v) || !(v >= double(min_value) && v <= double(max_value))) {
+          std::ostringstream m;
+          m << "value " << input << " is not a number in [" << min_value << ", " << max_value << "]";
+          return m.str();
+        }
+        return {};
+      },
+      d.str());
+}
+
+// Where an output file goes: checked when the command line is parsed, before any work, so that a
+// long run never ends in "cannot write". The path must not be a folder, its folder must exist
+// and be writable, and an existing file must be writable. `extension` (e.g. ".png"), when not
+// empty, is the only one accepted.
+CLI::Validator OutputFile(const std::string& extension = "") {
+  return CLI::Validator(
+      [extension](std::string& path) -> std::string {
+        if (path.empty()) return "an empty path";
+        if (path.rfind("udp:", 0) == 0) return {};  // a network destination (--mavlink-out)
+        const fs::path p(path);
+        std::error_code ec;
+        if (fs::is_directory(p, ec)) return "'" + path + "' is a folder; give a file name";
+        const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+        if (!fs::exists(dir, ec)) return "folder '" + dir.string() + "' (of " + path + ") does not exist";
+        if (!fs::is_directory(dir, ec)) return "'" + dir.string() + "' (of " + path + ") is not a folder";
+        if (access(dir.c_str(), W_OK) != 0) return "cannot write in folder '" + dir.string() + "'";
+        if (fs::exists(p, ec) && access(p.c_str(), W_OK) != 0) return "'" + path + "' is not writable";
+        if (!extension.empty()) {
+          std::string ext = p.extension().string();
+          for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+          if (ext != extension) return "'" + path + "' must end in " + extension;
+        }
+        return {};
+      },
+      extension.empty() ? "FILE" : "FILE" + extension);
+}
+
+// Where an output folder goes: an existing folder, or a new one whose parent exists and is
+// writable (never a file).
+CLI::Validator OutputFolder() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        if (path.empty()) return "an empty path";
+        const fs::path p(path);
+        std::error_code ec;
+        if (fs::exists(p, ec)) {
+          if (!fs::is_directory(p, ec)) return "'" + path + "' is a file, not a folder";
+          if (access(p.c_str(), W_OK) != 0) return "cannot write in folder '" + path + "'";
+          return {};
+        }
+        fs::path dir = p.parent_path();
+        while (!dir.empty() && !fs::exists(dir, ec)) dir = dir.parent_path();  // folders are created
+        if (dir.empty()) dir = ".";
+        if (!fs::is_directory(dir, ec)) return "'" + dir.string() + "' (of " + path + ") is not a folder";
+        if (access(dir.c_str(), W_OK) != 0) return "cannot create '" + path + "': folder '" + dir.string() + "' is not writable";
+        return {};
+      },
+      "DIR");
+}
+
+// --frames: a list of ids and ranges as typed ("1-5,7,000046", "teddy"), or @FILE with one id or
+// range per line (blank lines and # comments skipped), turned into the same list.
+CLI::Validator FrameList() {
+  return CLI::Validator(
+      [](std::string& arg) -> std::string {
+        if (arg.empty() || arg[0] != '@') return {};
+        const std::string path = arg.substr(1);
+        std::string text;
+        try {
+          text = config::read_text_file(path, "frame list", std::size_t(1) << 20);
+        } catch (const config::ConfigError& e) {
+          return e.what();
+        }
+        std::istringstream in(text);
+        std::string line, out;
+        int line_no = 0;
+        while (std::getline(in, line)) {
+          ++line_no;
+          const auto hash = line.find('#');
+          if (hash != std::string::npos) line.resize(hash);
+          const auto b = line.find_first_not_of(" \t\r"), e = line.find_last_not_of(" \t\r");
+          if (b == std::string::npos) continue;
+          const std::string id = line.substr(b, e - b + 1);
+          if (id.find_first_of(" \t,") != std::string::npos)
+            return path + ": line " + std::to_string(line_no) + ": one frame id or range per line, got '" + id + "'";
+          out += (out.empty() ? "" : ",") + id;
+        }
+        if (out.empty()) return path + ": no frame id in the file";
+        arg = out;
+        return {};
+      },
+      "LIST|@FILE");
+}
 
 struct ConfigArgs {
   std::string path;
@@ -329,9 +433,49 @@ std::map<std::string, std::string> ii_reasons(const config::PipelineConfig& cfg,
   return out;
 }
 
+constexpr int kExitInternalError = 70;  // EX_SOFTWARE: a defect of Parallax, not of the input
+
+// The one handler of every exception that reaches the top. User errors (a file, a field, a value
+// the user can fix) exit 2 with one message that names what to fix; anything else is a defect of
+// Parallax: exit 70 with a request for a bug report, never an abort and a core dump.
+int report_exception(std::exception_ptr ep) {
+  auto user = [](const std::string& msg) {
+    std::fprintf(stderr, "parallax: error: %s\n", msg.c_str());
+    return kExitUserError;
+  };
+  auto internal = [](const std::string& what) {
+    std::fprintf(stderr,
+                 "parallax: internal error: %s\n"
+                 "parallax: this is a defect of Parallax, not of your input: please report it with the command line "
+                 "and the files it names\n",
+                 what.c_str());
+    return kExitInternalError;
+  };
+  try {
+    std::rethrow_exception(ep);
+  } catch (const config::ConfigError& e) {
+    return user(e.what());
+  } catch (const InputError& e) {
+    return user(e.what());
+  } catch (const hlsx::ExportError& e) {
+    return user(e.what());
+  } catch (const cv::Exception& e) {
+    return user(std::string("OpenCV: ") + e.what());
+  } catch (const fs::filesystem_error& e) {
+    return user(e.what());
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "parallax: error: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    return internal(e.what());
+  } catch (...) {
+    return internal("an exception of unknown type");
+  }
+}
+
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_cli(int argc, char** argv) {
   CLI::App app{"parallax: bit-accurate simulator and design-space explorer of an FPGA stereo (SGM) pipeline"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "parallax 0.1.0");
@@ -344,12 +488,13 @@ int main(int argc, char** argv) {
   add_config_options(run, run_cfg, true);
   run->add_option("--left", run_left, "Left image (8-bit grey or colour)")->required();
   run->add_option("--right", run_right, "Right image, same size")->required();
-  run->add_option("--out", run_out, "Disparity as KITTI 16-bit PNG (value = 256 d, 0 = invalid)")->required();
-  run->add_option("--colour", run_colour, "Colour-coded picture (default: OUT with _colour.png)");
+  run->add_option("--out", run_out, "Disparity as KITTI 16-bit PNG (value = 256 d, 0 = invalid)")->required()->check(OutputFile(".png"));
+  run->add_option("--colour", run_colour, "Colour-coded picture (default: OUT with _colour.png)")->check(OutputFile(".png"));
   run->add_option("--gt", run_gt, "Ground truth (KITTI 16-bit PNG, full image or ROI size) to score against");
   run->add_flag("--json", run_json, "Print a JSON object (metrics when --gt is given)");
   std::string run_html;
-  run->add_option("--html", run_html, "Write a self-contained HTML page of this design on this pair (images, timing, resources)");
+  run->add_option("--html", run_html, "Write a self-contained HTML page of this design on this pair (images, timing, resources)")
+      ->check(OutputFile());
 
   // eval
   ConfigArgs eval_cfg;
@@ -359,14 +504,15 @@ int main(int argc, char** argv) {
   auto* eval = app.add_subcommand("eval", "Score a design on a dataset (KITTI 2015/2012 or Middlebury)");
   add_config_options(eval, eval_cfg, true);
   eval->add_option("--dataset", eval_dataset, "Dataset folder (KITTI root or training/, or a Middlebury pairs.tsv folder)")->required();
-  eval->add_option("--frames", eval_frames, "Frames, e.g. 1-5,7 or 000046 (default: all with GT)");
+  eval->add_option("--frames", eval_frames, "Frames, e.g. 1-5,7 or 000046, or @FILE with one per line (default: all with GT)")
+      ->transform(FrameList());
   eval->add_option("--gt", eval_gt, "Ground truth kind: noc or occ")->check(CLI::IsMember({"noc", "occ"}));
   eval->add_option("--roi", eval_roi, "Override the config's ROI: WxH or full");
   std::string eval_context = "roi";
   eval->add_option("--context", eval_context, "roi: match the cropped pair (paper); full: match the whole image, then crop")
       ->check(CLI::IsMember({"roi", "full"}))->capture_default_str();
-  eval->add_option("--save", eval_save, "Write each frame's disparity (KITTI PNG) and colour picture here");
-  eval->add_option("--threads", eval_threads, "Frames in parallel (default: all cores)")->check(CLI::Range(1, 256));
+  eval->add_option("--save", eval_save, "Write each frame's disparity (KITTI PNG) and colour picture here")->check(OutputFolder());
+  eval->add_option("--threads", eval_threads, "Frames in parallel (default: all cores)")->check(InRange(1, 256));
   eval->add_flag("--json", eval_json, "Print JSON: pooled metrics, counts and per-frame rows");
   eval->add_flag("--quiet", eval_quiet, "No progress lines");
 
@@ -376,7 +522,7 @@ int main(int argc, char** argv) {
   auto* score = app.add_subcommand("score", "Score existing KITTI-format disparity PNGs (any method) with the same protocol");
   score->add_option("--pred", score_pred, "Folder of predictions named like the GT files (NNNNNN_10.png)")->required();
   score->add_option("--dataset", score_dataset, "Dataset folder with the ground truth")->required();
-  score->add_option("--frames", score_frames, "Frames to score (default: all with GT)");
+  score->add_option("--frames", score_frames, "Frames to score, e.g. 1-5,7, or @FILE (default: all with GT)")->transform(FrameList());
   score->add_option("--gt", score_gt, "Ground truth kind: noc or occ")->check(CLI::IsMember({"noc", "occ"}));
   score->add_option("--roi", score_roi, "ROI WxH or full (default: the dataset's, 640x360 for KITTI)");
   score->add_flag("--json", score_json, "Print JSON");
@@ -389,15 +535,19 @@ int main(int argc, char** argv) {
   auto* baseline = app.add_subcommand("baseline", "Score OpenCV StereoSGBM (opencv-hh4 | opencv-sgbm) on the same crops");
   baseline->add_option("method", base_name, "opencv-hh4 or opencv-sgbm")->required()->check(CLI::IsMember({"opencv-hh4", "opencv-sgbm"}));
   baseline->add_option("--dataset", base_dataset, "Dataset folder")->required();
-  baseline->add_option("--frames", base_frames, "Frames (default: all with GT)");
+  baseline->add_option("--frames", base_frames, "Frames, e.g. 1-5,7, or @FILE (default: all with GT)")->transform(FrameList());
   baseline->add_option("--gt", base_gt, "noc or occ")->check(CLI::IsMember({"noc", "occ"}));
   baseline->add_option("--roi", base_roi, "ROI WxH or full (default: the dataset's, 640x360 for KITTI)");
-  baseline->add_option("--disparities", base_params.disparities, "Disparity count (rounded up to a multiple of 16)")->capture_default_str();
-  baseline->add_option("--block-size", base_params.block_size, "Matching block size")->capture_default_str();
-  baseline->add_option("--p1", base_params.p1, "P1")->capture_default_str();
-  baseline->add_option("--p2", base_params.p2, "P2")->capture_default_str();
-  baseline->add_option("--save", base_save, "Write each frame's disparity and colour picture here");
-  baseline->add_option("--threads", base_threads, "Frames in parallel")->check(CLI::Range(1, 256));
+  baseline->add_option("--disparities", base_params.disparities, "Disparity count (rounded up to a multiple of 16)")
+      ->capture_default_str()->check(InRange(1, 1024));
+  baseline->add_option("--block-size", base_params.block_size, "Matching block size (odd)")
+      ->capture_default_str()->check(InRange(1, 255))->check(CLI::Validator(
+          [](std::string& v) { return std::atoi(v.c_str()) % 2 == 1 ? std::string() : "block size " + v + " is even; OpenCV needs it odd"; },
+          "odd"));
+  baseline->add_option("--p1", base_params.p1, "P1 (0 <= P1 < P2)")->capture_default_str()->check(InRange(0, 1 << 24));
+  baseline->add_option("--p2", base_params.p2, "P2 (> P1)")->capture_default_str()->check(InRange(1, 1 << 24));
+  baseline->add_option("--save", base_save, "Write each frame's disparity and colour picture here")->check(OutputFolder());
+  baseline->add_option("--threads", base_threads, "Frames in parallel")->check(InRange(1, 256));
   baseline->add_flag("--json", base_json, "Print JSON");
   baseline->add_flag("--quiet", base_quiet, "No progress lines");
 
@@ -410,9 +560,9 @@ int main(int argc, char** argv) {
   std::string crop_src, crop_out, crop_frames, crop_roi = "640x360";
   auto* crop = app.add_subcommand("crop-dataset", "Write the centred ROI crop of a KITTI 2015 dataset (images and GT) as a new dataset");
   crop->add_option("--dataset", crop_src, "Source dataset")->required();
-  crop->add_option("--frames", crop_frames, "Frames (default: all)");
+  crop->add_option("--frames", crop_frames, "Frames, e.g. 1-5,7, or @FILE (default: all)")->transform(FrameList());
   crop->add_option("--roi", crop_roi, "ROI WxH")->capture_default_str();
-  crop->add_option("--out", crop_out, "Output folder")->required();
+  crop->add_option("--out", crop_out, "Output folder")->required()->check(OutputFolder());
 
   // bench
   ConfigArgs bench_cfg;
@@ -423,7 +573,7 @@ int main(int argc, char** argv) {
   add_config_options(bench, bench_cfg, true);
   bench->add_option("--left", bench_left, "Left image")->required();
   bench->add_option("--right", bench_right, "Right image")->required();
-  bench->add_option("--iterations", bench_iterations, "Runs per method (the median is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
+  bench->add_option("--iterations", bench_iterations, "Runs per method (the median is reported)")->capture_default_str()->check(InRange(1, 1000));
   bench->add_flag("--json", bench_json, "Print JSON");
 
   // sim
@@ -437,24 +587,27 @@ int main(int argc, char** argv) {
   add_config_options(simc, sim_cfg, true);
   simc->add_option("--left", sim_left, "Left image (default: a generated test pattern of the ROI size)");
   simc->add_option("--right", sim_right, "Right image");
-  simc->add_option("--out", sim_out, "Write the disparity (KITTI 16-bit PNG) of the cycle run");
-  simc->add_option("--clock-mhz", sim_clock_mhz, "Processing clock in MHz (default: the config's clock_mhz)")->check(CLI::Range(1, 2000));
+  simc->add_option("--out", sim_out, "Write the disparity (KITTI 16-bit PNG) of the cycle run")->check(OutputFile(".png"));
+  simc->add_option("--clock-mhz", sim_clock_mhz, "Processing clock in MHz (default: the config's clock_mhz)")->check(InRange(1, 2000));
   simc->add_flag("--json", sim_json, "Print JSON");
   simc->add_flag("--no-sizing", sim_no_sizing, "Skip the second run that finds stall-free FIFO depths");
   simc->add_flag("--coupled", sim_coupled,
                  "Fire the kernels' datapath inside the schedule at the design's PU (slower; same report and "
                  "output, which by default come from the control-path schedule and the func run)");
   std::string sim_html;
-  simc->add_option("--html", sim_html, "Write a self-contained HTML page of this design (timing, FIFOs, resources, images)");
+  simc->add_option("--html", sim_html, "Write a self-contained HTML page of this design (timing, FIFOs, resources, images)")
+      ->check(OutputFile());
   simc->add_option("--device", sim_device, "Device for utilisation and fit (" + res::device_names() + ")")
       ->capture_default_str();
   simc->add_flag("--every-firing", sim_every_firing,
                  "Simulate every firing instead of applying rows that repeat exactly at once (same report, slower)");
-  simc->add_option("--vcd", sim_vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)");
+  simc->add_option("--vcd", sim_vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)")->check(OutputFile());
   simc->add_option("--vcd-cycles", sim_vcd_cycles, "Cycle window A:B of the VCD (default 0:20000)");
-  simc->add_option("--calibrate-latency-ms", sim_cal_latency, "Measured latency at this clock: set host_latency_ms to match");
-  simc->add_option("--calibrate-fps", sim_cal_fps, "Measured frame rate at this clock: set host_frame_ms to match");
-  simc->add_option("--write-config", sim_write_config, "Write the (calibrated) configuration here");
+  simc->add_option("--calibrate-latency-ms", sim_cal_latency, "Measured latency at this clock: set host_latency_ms to match")
+      ->check(InRange(0.001, 1e6));
+  simc->add_option("--calibrate-fps", sim_cal_fps, "Measured frame rate at this clock: set host_frame_ms to match")
+      ->check(InRange(0.001, 1e6));
+  simc->add_option("--write-config", sim_write_config, "Write the (calibrated) configuration here")->check(OutputFile());
 
   // sweep
   std::string sw_spec, sw_base, sw_dataset, sw_frames, sw_gt, sw_db, sw_strategy, sw_name;
@@ -466,20 +619,23 @@ int main(int argc, char** argv) {
   sweepc->add_option("--base", sw_base, "Base configuration the axes modify (overrides the file's)");
   sweepc->add_option("--grid", sw_grid, "Axis KEY=V1,V2,... over any configuration field (repeatable)");
   sweepc->add_option("--dataset", sw_dataset, "Dataset folder (KITTI 2015/2012, Middlebury)")->required();
-  sweepc->add_option("--frames", sw_frames, "Frame filter, e.g. 0-9,15 (default: the file's, else all)");
+  sweepc->add_option("--frames", sw_frames, "Frame filter, e.g. 0-9,15, or @FILE (default: the file's, else all)")
+      ->transform(FrameList());
   sweepc->add_option("--gt", sw_gt, "Ground truth: noc or occ (default: the file's, else noc)");
   sweepc->add_option("--db", sw_db, "Results store (SQLite); created if absent")->required();
-  sweepc->add_option("--jobs", sw_jobs, "Designs in parallel (default: all cores)")->check(CLI::Range(0, 256));
+  sweepc->add_option("--jobs", sw_jobs, "Designs in parallel (default: all cores)")->check(InRange(0, 256));
   sweepc->add_option("--strategy", sw_strategy, "grid, random, lhs or nsga2 (default: the file's, else grid)");
-  sweepc->add_option("--samples", sw_samples, "Designs drawn by random / lhs; population of nsga2")->check(CLI::Range(1, 1000000));
+  sweepc->add_option("--samples", sw_samples, "Designs drawn by random / lhs; population of nsga2")->check(InRange(1, 1000000));
   int sw_generations = 0;
-  sweepc->add_option("--generations", sw_generations, "Generations of nsga2 after the first population")->check(CLI::Range(1, 10000));
+  sweepc->add_option("--generations", sw_generations, "Generations of nsga2 after the first population")->check(InRange(1, 10000));
   sweepc->add_option("--seed", sw_seed, "Seed of random / lhs");
   sweepc->add_option("--name", sw_name, "Sweep name in the store (default: the file's, else 'sweep')");
   bool sw_avoidance = false;
   std::string sw_flight;
   sweepc->add_option("--flight", sw_flight, "Also fly every design through this scenario (configs/scenarios/*.yaml), 3 seeds at 5 m/s");
   sweepc->add_flag("--avoidance", sw_avoidance, "Also score the avoidance stage on every design (obstacle_precision, ...)");
+  bool sw_yes = false;
+  sweepc->add_flag("--yes", sw_yes, "Run a sweep of more than 10,000 designs (otherwise refused: sample with lhs or nsga2)");
   std::string sw_shard;
   bool sw_mpi = false, sw_no_sharing = false;
   sweepc->add_flag("--no-sharing", sw_no_sharing,
@@ -510,13 +666,13 @@ int main(int argc, char** argv) {
   auto* reportc = app.add_subcommand("report", "CSV, JSON and a self-contained HTML report of a sweep");
   reportc->add_option("--db", rp_db, "Results store")->required();
   reportc->add_option("--sweep", rp_sweep, "Sweep name (default: the only one in the store)");
-  reportc->add_option("--html", rp_html, "Write the HTML report (one file, viewable offline)");
-  reportc->add_option("--csv", rp_csv, "Write one row per design (parameters and metrics)");
-  reportc->add_option("--frames-csv", rp_frames_csv, "Write one row per design and frame");
+  reportc->add_option("--html", rp_html, "Write the HTML report (one file, viewable offline)")->check(OutputFile());
+  reportc->add_option("--csv", rp_csv, "Write one row per design (parameters and metrics)")->check(OutputFile());
+  reportc->add_option("--frames-csv", rp_frames_csv, "Write one row per design and frame")->check(OutputFile());
   reportc->add_option("--json", rp_json, "Write the same content as JSON");
   reportc->add_option("--dataset", rp_dataset, "Dataset to render the front designs' images from (optional)");
   reportc->add_option("--frame", rp_frame, "Frame of those images (default: the first with ground truth)");
-  reportc->add_option("--details", rp_details, "Front designs with a full section")->capture_default_str()->check(CLI::Range(0, 1000));
+  reportc->add_option("--details", rp_details, "Front designs with a full section")->capture_default_str()->check(InRange(0, 1000));
 
   // avoid
   ConfigArgs av_cfg;
@@ -525,10 +681,12 @@ int main(int argc, char** argv) {
   auto* avoidc = app.add_subcommand("avoid", "Obstacle detection and avoidance on the design's disparity maps, scored against the same stage on the ground truth");
   add_config_options(avoidc, av_cfg, true);
   avoidc->add_option("--dataset", av_dataset, "Dataset folder (KITTI 2015/2012)")->required();
-  avoidc->add_option("--frames", av_frames, "Frame filter, e.g. 0-9,15 (default: all with ground truth)");
+  avoidc->add_option("--frames", av_frames, "Frame filter, e.g. 0-9,15, or @FILE (default: all with ground truth)")
+      ->transform(FrameList());
   avoidc->add_option("--gt", av_gt, "Ground truth: noc or occ")->capture_default_str();
   avoidc->add_option("--calib", av_calib, "Rig calibration: KITTI calib file (P_rect_02/03 or P2/P3) or OpenCV YAML (default: KITTI 2015's)");
-  avoidc->add_option("--mavlink-out", av_mavlink, "Write MAVLink 2 (HEARTBEAT + velocity setpoint per frame) to a file or udp:HOST:PORT");
+  avoidc->add_option("--mavlink-out", av_mavlink, "Write MAVLink 2 (HEARTBEAT + velocity setpoint per frame) to a file or udp:HOST:PORT")
+      ->check(OutputFile());
   avoidc->add_flag("--json", av_json, "Print JSON");
 
   // scene
@@ -539,13 +697,14 @@ int main(int argc, char** argv) {
   auto* scenec = app.add_subcommand("scene", "Render a seeded synthetic scene along the flight axis as a KITTI-layout stereo dataset");
   scenec->add_option("--scenario", sc_scenario, "Scenario file, e.g. configs/scenarios/forest.yaml")->required();
   scenec->add_option("--seed", sc_seed, "Scene seed")->capture_default_str();
-  scenec->add_option("--frames", sc_frames, "Frames, one every --step-m along the flight axis")->capture_default_str()->check(CLI::Range(1, 10000));
-  scenec->add_option("--step-m", sc_step, "Distance between frames")->capture_default_str();
-  scenec->add_option("--size", sc_width, "Image width (height = width x 9/16)")->capture_default_str()->check(CLI::Range(32, 4096));
-  scenec->add_option("--out", sc_out, "Output folder (KITTI layout: training/image_2, image_3, disp_noc_0, disp_occ_0)")->required();
+  scenec->add_option("--frames", sc_frames, "Frames, one every --step-m along the flight axis")->capture_default_str()->check(InRange(1, 10000));
+  scenec->add_option("--step-m", sc_step, "Distance between frames")->capture_default_str()->check(InRange(0.01, 100.0));
+  scenec->add_option("--size", sc_width, "Image width (height = width x 9/16)")->capture_default_str()->check(InRange(32, 4096));
+  scenec->add_option("--out", sc_out, "Output folder (KITTI layout: training/image_2, image_3, disp_noc_0, disp_occ_0)")->required()
+      ->check(OutputFolder());
   double sc_k1 = 0.0;
   scenec->add_option("--distortion-k1", sc_k1, "Radial lens distortion: images distorted, OUT/maps_left.yml and maps_right.yml rectify them")
-      ->check(CLI::Range(-0.5, 0.5));
+      ->check(InRange(-0.5, 0.5));
 
   // fly
   ConfigArgs fl_cfg;
@@ -556,13 +715,13 @@ int main(int argc, char** argv) {
   auto* flyc = app.add_subcommand("fly", "Closed-loop flights through synthetic scenes with the design's disparity, latency and frame rate");
   add_config_options(flyc, fl_cfg, true);
   flyc->add_option("--scenario", fl_scenario, "Scenario file, e.g. configs/scenarios/forest.yaml")->required();
-  flyc->add_option("--seeds", fl_seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(CLI::Range(1, 1000));
-  flyc->add_option("--speed-mps", fl_speed, "Cruise speed")->capture_default_str()->check(CLI::Range(0.1, 50.0));
-  flyc->add_option("--size", fl_size, "Rendered width (height x 9/16); the design's ROI follows")->capture_default_str()->check(CLI::Range(64, 1280));
+  flyc->add_option("--seeds", fl_seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(InRange(1, 1000));
+  flyc->add_option("--speed-mps", fl_speed, "Cruise speed")->capture_default_str()->check(InRange(0.1, 50.0));
+  flyc->add_option("--size", fl_size, "Rendered width (height x 9/16); the design's ROI follows")->capture_default_str()->check(InRange(64, 1280));
   flyc->add_flag("--find-max-speed", fl_find, "Search the highest speed without a collision over the seeds");
   double fl_noise = 0.0, fl_limit = 40.0;
-  flyc->add_option("--noise-grey", fl_noise, "Sensor noise: Gaussian sigma added to the grey levels")->capture_default_str()->check(CLI::Range(0.0, 50.0));
-  flyc->add_option("--time-limit-s", fl_limit, "Flight time limit")->capture_default_str()->check(CLI::Range(1.0, 3600.0));
+  flyc->add_option("--noise-grey", fl_noise, "Sensor noise: Gaussian sigma added to the grey levels")->capture_default_str()->check(InRange(0.0, 50.0));
+  flyc->add_option("--time-limit-s", fl_limit, "Flight time limit")->capture_default_str()->check(InRange(1.0, 3600.0));
   flyc->add_flag("--json", fl_json, "Print JSON");
 
   // export-hls
@@ -580,7 +739,7 @@ int main(int argc, char** argv) {
   exportc->add_option("--out", ex_out, "Project folder (new, empty, or written by an earlier export)")->required();
   exportc->add_option("--part", ex_part, "FPGA part of the synthesis run")->capture_default_str();
   exportc->add_option("--clock-mhz", ex_clock, "Synthesis clock in MHz (default: the design's clock_mhz)")
-      ->check(CLI::Range(1.0, 2000.0));
+      ->check(InRange(1.0, 2000.0));
   exportc->add_option("--left", ex_left, "Left image of the testbench, cropped to the design's ROI (default: a generated test pattern)");
   exportc->add_option("--right", ex_right, "Right image of the testbench");
   exportc->add_flag("--json", ex_json, "Print JSON");
@@ -591,10 +750,11 @@ int main(int argc, char** argv) {
   auto* importc = app.add_subcommand("import-hls", "Read a Vitis HLS csynth.xml back: latency, II per loop, resources; calibrate a configuration");
   importc->add_option("--report", ih_report, "csynth.xml of a synthesis run")->required();
   importc->add_option("--config", ih_config, "Configuration to calibrate (ii_<stage>, latency_<stage> from the loops)");
-  importc->add_option("--write-config", ih_write, "Write the calibrated configuration here");
+  importc->add_option("--write-config", ih_write, "Write the calibrated configuration here")->check(OutputFile());
   importc->add_flag("--json", ih_json, "Print JSON");
   std::string ih_html;
-  importc->add_option("--html", ih_html, "With --config: write a page with the model's and the synthesis figures side by side");
+  importc->add_option("--html", ih_html, "With --config: write a page with the model's and the synthesis figures side by side")
+      ->check(OutputFile());
 
   // fit-resources
   std::string fit_points = "models/data/published_points.yaml", fit_root = ".", fit_write;
@@ -603,10 +763,18 @@ int main(int argc, char** argv) {
       "fit-resources", "Fit the resource model's LUT/FF coefficients to published designs (Ceres), with leave-one-out errors");
   fitc->add_option("--points", fit_points, "Published points (YAML)")->capture_default_str();
   fitc->add_option("--root", fit_root, "Repository root the points' config paths are relative to")->capture_default_str();
-  fitc->add_option("--write", fit_write, "Write the coefficients with the fitted section here (e.g. models/data/resource_model.yaml)");
+  fitc->add_option("--write", fit_write, "Write the coefficients with the fitted section here (e.g. models/data/resource_model.yaml)")
+      ->check(OutputFile());
   fitc->add_flag("--json", fit_json, "Print JSON");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version print and succeed; a malformed command line is a user error (2), as
+    // every other bad input is, not CLI11's own codes.
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kExitUserError;
+  }
 
   try {
     if (*run) {
@@ -728,6 +896,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*baseline) {
+      if (base_params.p1 >= base_params.p2)
+        throw InputError("--p1 " + std::to_string(base_params.p1) + " must be below --p2 " + std::to_string(base_params.p2) +
+                         " (OpenCV's StereoSGBM requires P1 < P2)");
       const Baseline b = parse_baseline(base_name);
       const Dataset ds = open_dataset(base_dataset);
       const EvalOptions opt = eval_options(base_gt, base_frames, base_threads, base_save, base_params.disparities,
@@ -976,6 +1147,12 @@ int main(int argc, char** argv) {
       if (sw_avoidance) spec.avoidance = true;
       if (!sw_flight.empty()) spec.flight_scenario = sw_flight;
       SweepRunOptions ro;
+      ro.allow_large = sw_yes;
+      // The spec is checked before the store is opened: a bad axis, value or objective touches no file.
+      if (spec.base.empty()) throw InputError("sweep '" + spec.name + "': no base configuration (field 'base' or --base)");
+      check_sweep_spec(spec, config::load_config(spec.base), ro.allow_large);
+      // A missing or unknown dataset folder, and a frame filter that selects nothing, too.
+      (void)list_frames(open_dataset(sw_dataset), parse_gt_kind(spec.gt), spec.frames);
       ro.dataset = sw_dataset;
       ro.jobs = sw_jobs;
       ro.share_costs = !sw_no_sharing;
@@ -1025,6 +1202,8 @@ int main(int argc, char** argv) {
                   spec.name.c_str(),
                   ro.shard_count > 1 ? (" shard " + std::to_string(ro.shard_index) + "/" + std::to_string(ro.shard_count)).c_str() : "",
                   sum.total, sum.evaluated + sum.invalid, sum.invalid, sum.failed, sum.skipped, db_path.c_str(), sum.seconds);
+      for (const auto& p : sum.first_problems) std::fprintf(stderr, "parallax: %s\n", p.c_str());
+      const bool all_failed = sum.total > 0 && sum.skipped == 0 && sum.invalid + sum.failed >= sum.evaluated + sum.invalid;
 #ifdef PARALLAX_HAVE_MPI
       if (sw_mpi) {
         MPI_Barrier(MPI_COMM_WORLD);
@@ -1038,6 +1217,11 @@ int main(int argc, char** argv) {
       }
 #endif
       (void)mpi_size;
+      if (all_failed) {
+        std::fprintf(stderr, "parallax: error: sweep '%s': no design could be evaluated (the first reasons are above)\n",
+                     spec.name.c_str());
+        return kExitUserError;
+      }
       return 0;
     }
     if (*mergec) {
@@ -1483,18 +1667,16 @@ int main(int argc, char** argv) {
       std::printf("wrote %zu frames (%zu files) to %s\n", s.frame_ids.size(), s.files_written.size(), crop_out.c_str());
       return 0;
     }
-  } catch (const config::ConfigError& e) {
-    std::fprintf(stderr, "parallax: error: %s\n", e.what());
-    return kExitUserError;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "parallax: error: %s\n", e.what());
-    return kExitUserError;
-  } catch (const cv::Exception& e) {
-    std::fprintf(stderr, "parallax: error: OpenCV: %s\n", e.what());
-    return kExitUserError;
-  } catch (const fs::filesystem_error& e) {
-    std::fprintf(stderr, "parallax: error: %s\n", e.what());
-    return kExitUserError;
+  } catch (...) {
+    return report_exception(std::current_exception());
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run_cli(argc, argv);
+  } catch (...) {
+    return report_exception(std::current_exception());
+  }
 }

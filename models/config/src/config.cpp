@@ -298,13 +298,28 @@ PipelineConfig parse_config(const std::string& text, const std::string& source) 
   PipelineConfig c;
   std::vector<std::string> problems;
   for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
+    if (!kv.first.IsScalar()) {
+      problems.push_back("line " + std::to_string(kv.first.Mark().line + 1) + ": a key must be a field name, not a list or mapping");
+      continue;
+    }
+    const std::string key = kv.first.Scalar();
     std::string value;
     if (kv.second.IsSequence()) {
-      for (const auto& item : kv.second) value += (value.empty() ? "" : ",") + item.as<std::string>();
+      bool flat = true;
+      for (const auto& item : kv.second) {
+        if (!item.IsScalar()) {
+          flat = false;
+          break;
+        }
+        value += (value.empty() ? "" : ",") + item.Scalar();
+      }
+      if (!flat) {
+        problems.push_back("field '" + key + "': a list of values, not of lists or mappings");
+        continue;
+      }
       value = "[" + value + "]";  // a list stays a list: paths [0] is an angle, not a count
     } else if (kv.second.IsScalar()) {
-      value = kv.second.as<std::string>();
+      value = kv.second.Scalar();
     } else {
       problems.push_back("field '" + key + "': expected a value or a list");
       continue;
@@ -324,12 +339,27 @@ PipelineConfig parse_config(const std::string& text, const std::string& source) 
   return c;
 }
 
+std::string read_text_file(const std::string& path, const std::string& what, std::size_t max_bytes) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(st)) throw ConfigError(path + ": " + what + " not found");
+  if (std::filesystem::is_directory(st)) throw ConfigError(path + ": is a folder, not a " + what);
+  if (!std::filesystem::is_regular_file(st)) throw ConfigError(path + ": not a regular file (a " + what + " is a text file)");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) throw ConfigError(path + ": cannot read the " + what + ": " + ec.message());
+  if (size > max_bytes)
+    throw ConfigError(path + ": " + std::to_string(size) + " bytes; a " + what + " may have at most " +
+                      std::to_string(max_bytes) + " bytes");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot open the " + what);
+  std::string text(std::size_t(size), '\0');
+  in.read(&text[0], std::streamsize(size));
+  if (std::size_t(in.gcount()) != size) throw ConfigError(path + ": cannot read the " + what + " (short read)");
+  return text;
+}
+
 PipelineConfig load_config(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path + ": cannot open configuration file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  PipelineConfig c = parse_config(ss.str(), path);
+  PipelineConfig c = parse_config(read_text_file(path, "configuration file"), path);
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
   for (std::string* maps : {&c.rectify_maps_left, &c.rectify_maps_right})
     if (!maps->empty() && std::filesystem::path(*maps).is_relative()) *maps = (dir / *maps).string();

@@ -54,6 +54,19 @@ std::string sweep_to_yaml(const SweepSpec& s);
 // "KEY=V1,V2,..." from --grid: replaces or appends the axis. InputError when malformed.
 void add_axis(SweepSpec& s, const std::string& key_equals_values);
 
+// The metric keys a design's row can carry (accuracy, timing, resources, and with the spec's
+// avoidance or flight the keys those add): what objectives may name.
+std::vector<std::string> metric_names(const SweepSpec& s);
+// The designs the spec asks for before duplicates are removed: the grid's product, the samples
+// of random / lhs, nsga2's population times its generations plus one.
+double requested_designs(const SweepSpec& s);
+constexpr double kLargeSweepDesigns = 10000;  // more needs SweepRunOptions::allow_large (--yes)
+// Checks a spec against its base configuration before any design runs: every axis names a
+// configuration field and each of its values is a valid value of that field on its own; every
+// objective names a metric; no more than kLargeSweepDesigns designs unless allow_large. Throws
+// InputError naming the axis, value or objective.
+void check_sweep_spec(const SweepSpec& s, const config::PipelineConfig& base, bool allow_large);
+
 // One point of the space: the field values that differ from the base.
 struct DesignPoint {
   std::vector<std::pair<std::string, std::string>> fields;
@@ -115,11 +128,15 @@ struct SweepRunOptions {
   // Designs that share the cost stage (sim::cost_sharing_key) are evaluated together: each frame
   // is decoded once and its matching costs computed once for all of them. Same results.
   bool share_costs = true;
+  // More than kLargeSweepDesigns designs are run only when this is set (the CLI's --yes).
+  bool allow_large = false;
   std::function<void(int done, int total, int skipped)> progress;
 };
 struct SweepSummary {
   int total = 0, evaluated = 0, skipped = 0, invalid = 0, failed = 0;
   double seconds = 0.0;
+  // The first reasons of invalid or failed designs ("design HASH: reason"), at most five.
+  std::vector<std::string> first_problems;
 };
 SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt);
 

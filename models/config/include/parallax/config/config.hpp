@@ -87,6 +87,13 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The whole text of a user-given file (configuration, sweep, scenario, points, report), refusing
+// what is not a regular file (a folder, /dev/zero, a FIFO) and anything over max_bytes, so that no
+// input can make a command read forever. Throws ConfigError naming the file and `what` it is.
+constexpr std::size_t kMaxTextFileBytes = std::size_t(4) << 20;  // 4 MiB: configs are a few kB
+std::string read_text_file(const std::string& path, const std::string& what,
+                           std::size_t max_bytes = kMaxTextFileBytes);
+
 // Reads a YAML configuration (flat mapping of the field names above). Unknown fields, bad
 // values and violated constraints are all reported together. Throws ConfigError.
 PipelineConfig load_config(const std::string& path);
