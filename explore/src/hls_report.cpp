@@ -14,23 +14,55 @@ namespace parallax::explore {
 
 namespace {
 
-int64_t to_int(const pugi::xml_node& n, const char* child, int64_t fallback = -1) {
+// The integer of element `child` of n: `fallback` when absent or "undef"/"-" (what csynth writes
+// for a figure it does not know, e.g. the II of a loop it did not pipeline); InputError naming the
+// file and the element for any other text that is not a whole number at least `min_value`.
+int64_t to_int(const pugi::xml_node& n, const char* child, const std::string& path, int64_t min_value = 0,
+               int64_t fallback = -1) {
   const pugi::xml_node c = n.child(child);
   if (!c) return fallback;
   const std::string t = c.text().as_string();
   if (t.empty() || t == "undef" || t == "-") return fallback;
+  std::size_t used = 0;
+  int64_t v = 0;
   try {
-    return std::stoll(t);
+    v = std::stoll(t, &used);
   } catch (const std::exception&) {
-    return fallback;
+    used = 0;
   }
+  if (used != t.size() || v < min_value)
+    throw InputError(path + ": <" + std::string(n.name()) + "><" + child + "> is '" + t + "', expected a whole number >= " +
+                     std::to_string(min_value));
+  return v;
+}
+
+// A clock period in ns: a positive finite number, else InputError naming the file and element.
+double to_period_ns(const pugi::xml_node& n, const char* child, const std::string& path) {
+  const std::string t = n.child(child).text().as_string();
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(t, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (t.empty() || used != t.size() || !(v > 0 && v < 1e6))
+    throw InputError(path + ": <" + std::string(n.name()) + "><" + child + "> is '" + t +
+                     "', expected a clock period in ns (a positive number)");
+  return v;
 }
 
 }  // namespace
 
 HlsReport read_csynth_xml(const std::string& path) {
   pugi::xml_document doc;
-  const pugi::xml_parse_result ok = doc.load_file(path.c_str());
+  std::string text;
+  try {
+    text = config::read_text_file(path, "csynth report", std::size_t(256) << 20);
+  } catch (const config::ConfigError& e) {
+    throw InputError(e.what());
+  }
+  const pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
   if (!ok) throw InputError(path + ": not XML: " + ok.description());
   const pugi::xml_node profile = doc.child("profile");
   if (!profile) throw InputError(path + ": no <profile> element: not a Vitis HLS csynth report");
@@ -39,23 +71,23 @@ HlsReport read_csynth_xml(const std::string& path) {
   const pugi::xml_node ua = profile.child("UserAssignments");
   r.part = ua.child("Part").text().as_string();
   r.top = ua.child("TopModelName").text().as_string();
-  r.target_clock_ns = ua.child("TargetClockPeriod").text().as_double();
+  r.target_clock_ns = to_period_ns(ua, "TargetClockPeriod", path);
   const pugi::xml_node pe = profile.child("PerformanceEstimates");
   if (!pe) throw InputError(path + ": no <PerformanceEstimates> element");
-  r.estimated_clock_ns = pe.child("SummaryOfTimingAnalysis").child("EstimatedClockPeriod").text().as_double();
+  r.estimated_clock_ns = to_period_ns(pe.child("SummaryOfTimingAnalysis"), "EstimatedClockPeriod", path);
   const pugi::xml_node lat = pe.child("SummaryOfOverallLatency");
-  r.best_latency_cycles = to_int(lat, "Best-caseLatency");
-  r.worst_latency_cycles = to_int(lat, "Worst-caseLatency");
-  r.interval_min_cycles = to_int(lat, "Interval-min");
-  r.interval_max_cycles = to_int(lat, "Interval-max");
+  r.best_latency_cycles = to_int(lat, "Best-caseLatency", path);
+  r.worst_latency_cycles = to_int(lat, "Worst-caseLatency", path);
+  r.interval_min_cycles = to_int(lat, "Interval-min", path);
+  r.interval_max_cycles = to_int(lat, "Interval-max", path);
   for (const pugi::xml_node loop : pe.child("SummaryOfLoopLatency").children()) {
     HlsLoop l;
     l.name = loop.name();
-    l.trip_count = to_int(loop, "TripCount");
-    l.latency_cycles = to_int(loop, "Latency");
-    l.iteration_latency = to_int(loop, "IterationLatency");
-    l.pipeline_ii = int(to_int(loop, "PipelineII"));
-    l.pipeline_depth = int(to_int(loop, "PipelineDepth"));
+    l.trip_count = to_int(loop, "TripCount", path);
+    l.latency_cycles = to_int(loop, "Latency", path);
+    l.iteration_latency = to_int(loop, "IterationLatency", path);
+    l.pipeline_ii = int(to_int(loop, "PipelineII", path, 1));  // an II is at least 1
+    l.pipeline_depth = int(to_int(loop, "PipelineDepth", path, 1));
     r.loops.push_back(l);
   }
   const pugi::xml_node area = profile.child("AreaEstimates");
@@ -63,12 +95,12 @@ HlsReport read_csynth_xml(const std::string& path) {
   for (const pugi::xml_node res : area.child("Resources").children()) {
     std::string key = res.name();
     if (key == "DSP48E" || key == "DSP48E2") key = "DSP";
-    r.resources[key] = res.text().as_llong();
+    r.resources[key] = to_int(area.child("Resources"), res.name(), path, 0, 0);
   }
   for (const pugi::xml_node res : area.child("AvailableResources").children()) {
     std::string key = res.name();
     if (key == "DSP48E" || key == "DSP48E2") key = "DSP";
-    r.available[key] = res.text().as_llong();
+    r.available[key] = to_int(area.child("AvailableResources"), res.name(), path, 0, 0);
   }
   return r;
 }

@@ -12,6 +12,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "parallax/config/config.hpp"
+
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/disparity_io.hpp"
 
@@ -20,10 +22,13 @@ namespace parallax::explore {
 Scenario load_scenario(const std::string& path) {
   YAML::Node n;
   try {
-    n = YAML::LoadFile(path);
+    n = YAML::Load(config::read_text_file(path, "scenario file"));
+  } catch (const config::ConfigError& e) {
+    throw InputError(e.what());
   } catch (const YAML::Exception& e) {
-    throw InputError(path + ": " + e.what());
+    throw InputError(path + ": not valid YAML: " + e.what());
   }
+  if (!n.IsMap()) throw InputError(path + ": expected a mapping of scenario fields (kind, ...)");
   Scenario s;
   try {
     s.name = n["name"] ? n["name"].as<std::string>() : std::filesystem::path(path).stem().string();

@@ -53,6 +53,7 @@ using namespace parallax::explore;
 namespace {
 
 constexpr int kExitUserError = 2;
+constexpr long long kMaxImagePixels = 8192LL * 8192LL;  // 64 Mpx: KITTI is 0.5, Middlebury 2014 full size 6
 
 // An inclusive range check that NaN cannot pass (CLI::Range tests `v < min || v > max`, which NaN
 // passes): the value must parse and lie in [min, max].
@@ -269,7 +270,16 @@ int default_threads() {
 
 cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<std::string>& notes) {
   if (!fs::exists(path)) throw InputError(path + ": " + role + " image not found");
-  cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+  cv::Mat raw;
+  try {
+    raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {  // e.g. a header claiming more pixels than the limit
+    if (e.err.find("CV_IO_MAX_IMAGE_PIXELS") != std::string::npos)
+      throw InputError(path + ": the " + std::string(role) + " image's header claims more than " +
+                       std::to_string(kMaxImagePixels / 1000000) + " million pixels (the limit; raise it with the "
+                       "environment variable OPENCV_IO_MAX_IMAGE_PIXELS)");
+    throw InputError(path + ": cannot read the " + std::string(role) + " image: " + e.err);
+  }
   if (raw.empty()) throw InputError(path + ": cannot read the " + std::string(role) + " image (not an image OpenCV can decode)");
   if (raw.depth() != CV_8U) throw InputError(path + ": " + role + " image must have 8-bit samples");
   cv::Mat grey;
@@ -1674,6 +1684,9 @@ int run_cli(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
+  // Images are bounded (a forged header must not allocate gigabytes): OpenCV refuses to decode
+  // more pixels than this, and the readers name the file. A user's own setting wins.
+  setenv("OPENCV_IO_MAX_IMAGE_PIXELS", std::to_string(kMaxImagePixels).c_str(), 0);
   try {
     return run_cli(argc, argv);
   } catch (...) {

@@ -221,8 +221,18 @@ std::vector<FieldError> validate(const PipelineConfig& c) {
   need(c.fifo_depth >= 1, "fifo_depth", "must be >= 1");
   need(c.row_packing >= 1 && c.row_packing <= 256, "row_packing", "must be in [1, 256]");
   need(c.row_banks >= 0, "row_banks", "must be >= 0 (0 = one memory per word)");
-  for (const auto& kv : c.fifo_depths)
-    need(kv.second >= 1, ("fifo_depth_" + kv.first).c_str(), "must be >= 1");
+  for (const auto& kv : c.fifo_depths) {
+    const std::string field = "fifo_depth_" + kv.first;
+    std::vector<std::string> names;  // each FIFO once (variants of the pipeline share names)
+    for (const kern::PipelineFifo& f : kern::kPipelineFifos)
+      if (std::find(names.begin(), names.end(), f.name) == names.end()) names.emplace_back(f.name);
+    if (std::find(names.begin(), names.end(), kv.first) == names.end()) {
+      std::string fifo_list;
+      for (const auto& n : names) fifo_list += (fifo_list.empty() ? "" : ", ") + n;
+      need(false, field.c_str(), "unknown FIFO '" + kv.first + "' (known: " + fifo_list + ")");
+    }
+    need(kv.second >= 1, field.c_str(), "must be >= 1");
+  }
   // The pipeline's stage names (kernels/pipeline.hpp, the cycle model's stages).
   auto known_stage = [](const std::string& n) {
     for (const kern::PipelineStage& st : kern::kPipelineStages)

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <ceres/ceres.h>
+#include "parallax/config/config.hpp"
 #include <yaml-cpp/yaml.h>
 
 namespace parallax::res {
@@ -13,11 +14,11 @@ namespace parallax::res {
 namespace {
 
 int64_t need_int(const YAML::Node& n, const std::string& key, const std::string& where) {
-  if (!n[key]) throw std::runtime_error(where + ": missing field '" + key + "'");
+  if (!n[key]) throw config::ConfigError(where + ": missing field '" + key + "'");
   try {
     return n[key].as<int64_t>();
   } catch (const YAML::Exception&) {
-    throw std::runtime_error(where + ": field '" + key + "' is not an integer");
+    throw config::ConfigError(where + ": field '" + key + "' is not an integer");
   }
 }
 
@@ -26,20 +27,20 @@ int64_t need_int(const YAML::Node& n, const std::string& key, const std::string&
 std::vector<PublishedPoint> load_points(const std::string& path, const std::string& root) {
   YAML::Node doc;
   try {
-    doc = YAML::LoadFile(path);
+    doc = YAML::Load(config::read_text_file(path, "points file"));
   } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
+    throw config::ConfigError(path + ": not valid YAML: " + e.what());
   }
-  if (!doc["points"] || !doc["points"].IsSequence()) throw std::runtime_error(path + ": missing list 'points'");
+  if (!doc["points"] || !doc["points"].IsSequence()) throw config::ConfigError(path + ": missing list 'points'");
   std::vector<PublishedPoint> out;
   for (const auto& n : doc["points"]) {
     PublishedPoint pt;
     pt.name = n["name"] ? n["name"].as<std::string>() : "";
     const std::string where = path + ": point '" + pt.name + "'";
-    if (pt.name.empty()) throw std::runtime_error(path + ": a point without 'name'");
+    if (pt.name.empty()) throw config::ConfigError(path + ": a point without 'name'");
     pt.source = n["source"] ? n["source"].as<std::string>() : "";
     const YAML::Node d = n["design"];
-    if (!d) throw std::runtime_error(where + ": missing 'design'");
+    if (!d) throw config::ConfigError(where + ": missing 'design'");
     const int w = int(need_int(d, "width_px", where + ".design"));
     const int h = int(need_int(d, "height_px", where + ".design"));
     if (d["config"]) {
@@ -51,15 +52,15 @@ std::vector<PublishedPoint> load_points(const std::string& path, const std::stri
     } else if (d["stage"] && d["stage"].as<std::string>() == "rectify") {
       const std::string mode = d["mode"] ? d["mode"].as<std::string>() : "";
       if (mode != "bilinear" && mode != "nearest")
-        throw std::runtime_error(where + ".design: field 'mode' must be bilinear or nearest");
+        throw config::ConfigError(where + ".design: field 'mode' must be bilinear or nearest");
       pt.inventory = rectify_inventory(w, h, mode == "bilinear" ? kern::kRectifyBilinear : kern::kRectifyNearest,
                                        int(need_int(d, "frac_bits", where + ".design")),
                                        int(need_int(d, "buffer_rows", where + ".design")));
     } else {
-      throw std::runtime_error(where + ".design: needs 'config' or 'stage: median|rectify'");
+      throw config::ConfigError(where + ".design: needs 'config' or 'stage: median|rectify'");
     }
     const YAML::Node p = n["published"];
-    if (!p) throw std::runtime_error(where + ": missing 'published'");
+    if (!p) throw config::ConfigError(where + ": missing 'published'");
     pt.published.bram18k = need_int(p, "bram18k", where + ".published");
     pt.published.dsp = need_int(p, "dsp", where + ".published");
     pt.published.ff = need_int(p, "ff", where + ".published");
