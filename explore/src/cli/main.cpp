@@ -5,6 +5,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 
 #ifdef PARALLAX_HAVE_MPI
@@ -488,6 +489,10 @@ int report_exception(std::exception_ptr ep) {
 int run_cli(int argc, char** argv) {
   CLI::App app{"parallax: bit-accurate simulator and design-space explorer of an FPGA stereo (SGM) pipeline"};
   app.require_subcommand(1);
+  // Command-line mistakes read like every other error: one "parallax: error:" line.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return std::string("parallax: error: ") + e.what() + "\nRun `parallax COMMAND --help` for the options.\n";
+  });
   app.set_version_flag("--version", "parallax 0.1.0");
 
   // run
@@ -679,7 +684,7 @@ int run_cli(int argc, char** argv) {
   reportc->add_option("--html", rp_html, "Write the HTML report (one file, viewable offline)")->check(OutputFile());
   reportc->add_option("--csv", rp_csv, "Write one row per design (parameters and metrics)")->check(OutputFile());
   reportc->add_option("--frames-csv", rp_frames_csv, "Write one row per design and frame")->check(OutputFile());
-  reportc->add_option("--json", rp_json, "Write the same content as JSON");
+  reportc->add_option("--json", rp_json, "Write the same content as JSON")->check(OutputFile());
   reportc->add_option("--dataset", rp_dataset, "Dataset to render the front designs' images from (optional)");
   reportc->add_option("--frame", rp_frame, "Frame of those images (default: the first with ground truth)");
   reportc->add_option("--details", rp_details, "Front designs with a full section")->capture_default_str()->check(InRange(0, 1000));
@@ -777,6 +782,14 @@ int run_cli(int argc, char** argv) {
       ->check(OutputFile());
   fitc->add_flag("--json", fit_json, "Print JSON");
 
+  const std::vector<CLI::App*> commands = app.get_subcommands([](CLI::App*) { return true; });
+  if (argc > 1 && argv[1][0] != '-' &&
+      std::none_of(commands.begin(), commands.end(), [&](const CLI::App* sc) { return sc->get_name() == argv[1]; })) {
+    std::string names;
+    for (const CLI::App* sc : commands) names += (names.empty() ? "" : ", ") + sc->get_name();
+    std::fprintf(stderr, "parallax: error: unknown command '%s' (commands: %s)\n", argv[1], names.c_str());
+    return kExitUserError;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
