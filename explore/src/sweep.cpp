@@ -81,6 +81,12 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
     if (n["avoidance"]) s.avoidance = n["avoidance"].as<bool>();
     if (n["flight"]) {
       const YAML::Node f = n["flight"];
+      if (!f.IsMap()) throw InputError(source + ": field 'flight' must map scenario, seeds, speed_mps, size_px to values");
+      for (const auto& kv : f) {
+        const std::string k = kv.first.as<std::string>();
+        if (k != "scenario" && k != "seeds" && k != "speed_mps" && k != "size_px")
+          throw InputError(source + ": flight: unknown field '" + k + "' (known: scenario, seeds, speed_mps, size_px)");
+      }
       if (!f["scenario"]) throw InputError(source + ": field 'flight' needs 'scenario' (a file in configs/scenarios)");
       s.flight_scenario = f["scenario"].as<std::string>();
       if (f["seeds"]) s.flight_seeds = f["seeds"].as<int>();
@@ -109,6 +115,13 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
   }
   if (n["constraints"]) {
     const YAML::Node c = n["constraints"];
+    if (!c.IsMap()) throw InputError(source + ": field 'constraints' must map constraint names to values");
+    for (const auto& kv : c) {
+      const std::string k = kv.first.as<std::string>();
+      if (k != "device" && k != "fits_device" && k != "min_fps" && k != "max_latency_ms")
+        throw InputError(source + ": constraints: unknown constraint '" + k +
+                         "' (known: device, fits_device, min_fps, max_latency_ms)");
+    }
     try {
       if (c["device"]) s.device = c["device"].as<std::string>();
       if (c["fits_device"]) s.require_fit = c["fits_device"].as<bool>();
