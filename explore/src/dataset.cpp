@@ -102,13 +102,12 @@ bool path_exists(const fs::path& p) {
   return fs::exists(p, ec);
 }
 
-// Middlebury scene folders, recognised by any of their files.
+// Middlebury scene folders, recognised by any of their images or GT files (a calib.txt or
+// dmin.txt alone does not make a scene).
 enum class MiddleburyScene { none, y2014, y2006 };
 
-constexpr const char* kMiddlebury2014Files[] = {"im0.png", "im1.png", "disp0GT.pfm", "disp0.pfm",
-                                                "calib.txt"};
-constexpr const char* kMiddlebury2006Files[] = {"view1.png", "view5.png", "disp1.png",
-                                                "dmin.txt"};
+constexpr const char* kMiddlebury2014Files[] = {"im0.png", "im1.png", "disp0GT.pfm", "disp0.pfm"};
+constexpr const char* kMiddlebury2006Files[] = {"view1.png", "view5.png", "disp1.png"};
 
 MiddleburyScene middlebury_scene_kind(const fs::path& dir) {
   for (const char* name : kMiddlebury2014Files)
@@ -907,16 +906,17 @@ std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disp
   std::ostringstream out;
   out.setf(std::ios::fixed);
   out.precision(1);
-  out << "frame " << frame.id << ": disparities reach ";
-  if (frame.ndisp > 0) out << "ndisp " << frame.ndisp << " (calib.txt), ";
-  out << max_px << " px in the ground truth inside the ROI, but the design's D = " << disparities
-      << " searches 0-" << disparities - 1 << " px: ";
+  out << "frame " << frame.id << ": the design's D = " << disparities << " searches 0-"
+      << disparities - 1 << " px, but ";
+  if (frame.ndisp > 0) out << "the scene's ndisp is " << frame.ndisp << " (calib.txt) and ";
+  out << "its ground truth inside the ROI reaches " << max_px << " px: ";
   if (beyond > 0) {
-    out << 100.0 * static_cast<double>(beyond) / static_cast<double>(std::max<std::int64_t>(gt_pixels, 1))
+    out << 100.0 * static_cast<double>(beyond) /
+               static_cast<double>(std::max<std::int64_t>(gt_pixels, 1))
         << " % of the ground-truth pixels (" << beyond << " of " << gt_pixels
         << ") are out of its reach";
   } else {
-    out << "the ground truth inside the ROI stays below D, the scene's bound does not";
+    out << "no ground-truth pixel is out of its reach, but the scene's bound is";
   }
   return out.str();
 }

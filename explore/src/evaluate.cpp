@@ -151,12 +151,11 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
   if (!first_error.empty()) throw InputError(first_error);
   int converted = 0;
   for (std::size_t i = 0; i < refs.size(); ++i) {
-    if (converted_flags[i]) {
-      ++converted;
-      continue;  // summarised below, once
-    }
-    for (const auto& s : notes[i])
+    if (converted_flags[i]) ++converted;  // its colour note is summarised below, once
+    for (const auto& s : notes[i]) {
+      if (converted_flags[i] && s.find("colour images converted to grey") != std::string::npos) continue;
       if (std::find(result.notes.begin(), result.notes.end(), s) == result.notes.end()) result.notes.push_back(s);
+    }
   }
   if (converted > 0)
     result.notes.push_back(std::to_string(converted) + " of " + std::to_string(refs.size()) +
