@@ -165,7 +165,7 @@ struct Frame {
   cv::Mat gt_mask;                     // CV_8UC1, 255 = GT present, 0 = none
   bool converted_from_colour = false;  // left/right were colour and converted to grey
   std::vector<std::string> notes;      // human-readable facts for the CLI to print
-  double gt_max_disparity_px = 0.0;    // largest GT disparity (> 0 pixels with GT always exist)
+  double gt_max_disparity_px = 0.0;    // largest GT disparity (a loaded frame has GT pixels)
   int ndisp = 0;                       // the scene's disparity bound (calib.txt), 0 = unknown
   StereoCalibration calibration;       // known = false when the dataset has none for the frame
   int dmin_px = 0;                     // Middlebury 2005/2006 dmin.txt, else 0
