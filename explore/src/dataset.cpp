@@ -1,4 +1,6 @@
 // Stereo datasets: layout detection, frame lists and filters, frame loading, ROI, cropping.
+// Readers of the layouts as downloaded: KITTI 2015, KITTI 2012 (grey or colour), Middlebury
+// 2014/2021 and 2005/2006 scene folders, and the legacy Middlebury index pairs.tsv.
 #include "parallax/explore/dataset.hpp"
 
 #include <algorithm>
@@ -74,9 +76,20 @@ struct KittiDirs {
   const char* occ;
 };
 
+// The default folders of a layout (KITTI 2012: the grey images).
 KittiDirs kitti_dirs(DatasetLayout layout) {
   if (layout == DatasetLayout::kitti2012) return {"image_0", "image_1", "disp_noc", "disp_occ"};
   return {"image_2", "image_3", "disp_noc_0", "disp_occ_0"};
+}
+
+// The folders an opened KITTI dataset reads (KITTI 2012 may use colored_0/1).
+KittiDirs kitti_dirs(const Dataset& dataset) {
+  KittiDirs dirs = kitti_dirs(dataset.layout);
+  if (!dataset.kitti_left_dir.empty()) {
+    dirs.left = dataset.kitti_left_dir.c_str();
+    dirs.right = dataset.kitti_right_dir.c_str();
+  }
+  return dirs;
 }
 
 const char* gt_dir_name(DatasetLayout layout, GtKind kind) {
@@ -84,17 +97,76 @@ const char* gt_dir_name(DatasetLayout layout, GtKind kind) {
   return kind == GtKind::noc ? dirs.noc : dirs.occ;
 }
 
-bool detect_layout(const fs::path& dir, DatasetLayout& layout) {
+bool path_exists(const fs::path& p) {
+  std::error_code ec;
+  return fs::exists(p, ec);
+}
+
+// Middlebury scene folders, recognised by any of their images or GT files (a calib.txt or
+// dmin.txt alone does not make a scene).
+enum class MiddleburyScene { none, y2014, y2006 };
+
+constexpr const char* kMiddlebury2014Files[] = {"im0.png", "im1.png", "disp0GT.pfm", "disp0.pfm"};
+constexpr const char* kMiddlebury2006Files[] = {"view1.png", "view5.png", "disp1.png"};
+
+MiddleburyScene middlebury_scene_kind(const fs::path& dir) {
+  for (const char* name : kMiddlebury2014Files)
+    if (path_exists(dir / name)) return MiddleburyScene::y2014;
+  for (const char* name : kMiddlebury2006Files)
+    if (path_exists(dir / name)) return MiddleburyScene::y2006;
+  return MiddleburyScene::none;
+}
+
+// Sub-folders of dir, sorted by name (hidden ones skipped).
+std::vector<fs::path> sub_folders(const fs::path& dir) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!name.empty() && name[0] != '.' && is_dir(it->path())) out.push_back(it->path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<fs::path> middlebury_scene_folders(const fs::path& dir) {
+  std::vector<fs::path> scenes;
+  for (const fs::path& sub : sub_folders(dir))
+    if (middlebury_scene_kind(sub) != MiddleburyScene::none) scenes.push_back(sub);
+  return scenes;
+}
+
+// Detects a layout in dir. KITTI 2012 reads image_0/1 when present, else colored_0/1.
+bool detect_layout(const fs::path& dir, Dataset& dataset) {
+  dataset.kitti_left_dir.clear();
+  dataset.kitti_right_dir.clear();
   if (is_dir(dir / "image_2") && is_dir(dir / "image_3")) {
-    layout = DatasetLayout::kitti2015;
+    dataset.layout = DatasetLayout::kitti2015;
     return true;
   }
   if (is_dir(dir / "image_0") && is_dir(dir / "image_1")) {
-    layout = DatasetLayout::kitti2012;
+    dataset.layout = DatasetLayout::kitti2012;
+    dataset.kitti_left_dir = "image_0";
+    dataset.kitti_right_dir = "image_1";
     return true;
   }
+  if (is_dir(dir / "colored_0") && is_dir(dir / "colored_1")) {
+    dataset.layout = DatasetLayout::kitti2012;
+    dataset.kitti_left_dir = "colored_0";
+    dataset.kitti_right_dir = "colored_1";
+    return true;
+  }
+  dataset.layout = DatasetLayout::middlebury;
   if (is_file(dir / "pairs.tsv")) {
-    layout = DatasetLayout::middlebury;
+    dataset.middlebury_source = "pairs.tsv";
+    return true;
+  }
+  if (middlebury_scene_kind(dir) != MiddleburyScene::none) {
+    dataset.middlebury_source = "scene folder";
+    return true;
+  }
+  if (!middlebury_scene_folders(dir).empty()) {
+    dataset.middlebury_source = "scene folders";
     return true;
   }
   return false;
@@ -156,8 +228,10 @@ std::vector<FrameRef> read_pairs_tsv(const fs::path& tsv) {
   const int c_invalid = column("invalid", true);
   const int c_width = column("width", false);
   const int c_height = column("height", false);
-  const int needed =
-      std::max({c_scene, c_left, c_right, c_gt, c_divisor, c_invalid, c_width, c_height}) + 1;
+  const int c_format = column("gt_format", false);
+  const int needed = std::max({c_scene, c_left, c_right, c_gt, c_divisor, c_invalid, c_width,
+                               c_height, c_format}) +
+                     1;
 
   const fs::path base = tsv.parent_path();
   std::vector<FrameRef> pairs;
@@ -180,11 +254,31 @@ std::vector<FrameRef> read_pairs_tsv(const fs::path& tsv) {
     ref.left_path = base / f[c_left];
     ref.right_path = base / f[c_right];
     ref.gt_path = base / f[c_gt];
+    ref.scene_kind = "Middlebury (pairs.tsv)";
     ref.gt_divisor = parse_double(f[c_divisor], where + ", divisor");
     if (!(ref.gt_divisor > 0.0)) throw InputError(where + ": divisor must be > 0");
-    ref.gt_invalid_value = parse_int(f[c_invalid], where + ", invalid");
+    // A PFM GT (gt_format "pfm", or gt_left ending in .pfm) marks unknown pixels with inf.
+    std::string gt_ext = ref.gt_path.extension().string();
+    for (char& c : gt_ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    std::string invalid = f[c_invalid];
+    for (char& c : invalid) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const bool pfm = gt_ext == ".pfm" || (c_format >= 0 && f[c_format] == "pfm");
+    if (pfm) {
+      ref.gt_format = GtFormat::pfm;
+      if (invalid != "inf" && invalid != "+inf") {
+        throw InputError(where + ", invalid: '" + f[c_invalid] + "': a PFM ground truth (" +
+                         f[c_gt] + ") marks unknown pixels with inf; write 'inf'");
+      }
+    } else if (invalid == "inf" || invalid == "+inf") {
+      throw InputError(where + ", invalid: 'inf' marks unknown pixels of PFM ground truth only; " +
+                       f[c_gt] + " is an integer image: give the value meaning no GT (e.g. 0)");
+    } else {
+      ref.gt_invalid_value = parse_int(f[c_invalid], where + ", invalid");
+    }
     if (c_width >= 0) ref.expected_width_px = parse_int(f[c_width], where + ", width");
     if (c_height >= 0) ref.expected_height_px = parse_int(f[c_height], where + ", height");
+    if (c_width >= 0 || c_height >= 0) ref.expected_size_source = tsv.string() + " line " +
+                                                                  std::to_string(line_number);
     pairs.push_back(ref);
     scenes.push_back(scene);
   }
@@ -286,22 +380,129 @@ std::vector<std::string> kitti_gt_ids(const Dataset& dataset, GtKind kind) {
   return ids;
 }
 
+// The calibration file of a KITTI frame: KITTI 2015 calib_cam_to_cam/NNNNNN.txt, KITTI 2012
+// calib/NNNNNN.txt.
+fs::path kitti_calib_file(const Dataset& dataset, const std::string& id) {
+  const char* dir = dataset.layout == DatasetLayout::kitti2012 ? "calib" : "calib_cam_to_cam";
+  return dataset.frames_dir / dir / (id + ".txt");
+}
+
 FrameRef kitti_frame_ref(const Dataset& dataset, const std::string& id, GtKind kind) {
-  const KittiDirs dirs = kitti_dirs(dataset.layout);
+  const KittiDirs dirs = kitti_dirs(dataset);
   FrameRef ref;
   ref.id = id;
   ref.layout = dataset.layout;
+  ref.scene_kind = dataset.layout == DatasetLayout::kitti2012 ? "KITTI 2012" : "KITTI 2015";
   ref.left_path = dataset.frames_dir / dirs.left / kitti_file(id);
   ref.right_path = dataset.frames_dir / dirs.right / kitti_file(id);
   ref.gt_path = dataset.frames_dir / gt_dir_name(dataset.layout, kind) / kitti_file(id);
   ref.gt_kind = kind;
+  ref.gt_format = GtFormat::png;
   ref.gt_divisor = 256.0;
   ref.gt_invalid_value = 0;
+  const fs::path calib = kitti_calib_file(dataset, id);
+  if (path_exists(calib)) ref.kitti_calib_path = calib;
   return ref;
 }
 
 void require_file(const fs::path& file, const char* role) {
+  if (is_dir(file)) {
+    throw InputError(file.string() + ": " + role + " path is a folder, expected a file");
+  }
   if (!is_file(file)) throw InputError(file.string() + ": " + role + " file not found");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Middlebury scene folders
+
+// A file a Middlebury scene needs: InputError naming it when missing or a folder.
+void require_scene_file(const fs::path& file, const char* role, const char* layout_hint) {
+  if (is_dir(file)) {
+    throw InputError(file.string() + ": " + role + " path is a folder, expected a file");
+  }
+  if (!is_file(file)) {
+    throw InputError(file.string() + ": " + role + " file not found (" + layout_hint + ")");
+  }
+}
+
+// The first of the names present in dir (a folder in its place is an error), else empty.
+fs::path optional_scene_file(const fs::path& dir, std::initializer_list<const char*> names,
+                             const char* role) {
+  for (const char* name : names) {
+    const fs::path file = dir / name;
+    if (!path_exists(file)) continue;
+    if (is_dir(file)) {
+      throw InputError(file.string() + ": " + role + " path is a folder, expected a file");
+    }
+    return file;
+  }
+  return {};
+}
+
+constexpr const char* kHint2014 =
+    "a Middlebury 2014/2021 scene holds im0.png, im1.png, disp0GT.pfm or disp0.pfm, calib.txt";
+constexpr const char* kHint2006 =
+    "a Middlebury 2005/2006 scene holds view1.png, view5.png, disp1.png, dmin.txt";
+
+FrameRef middlebury_scene_ref(const fs::path& dir) {
+  FrameRef ref;
+  ref.id = dir.filename().string();
+  ref.layout = DatasetLayout::middlebury;
+  ref.gt_kind = GtKind::noc;
+  if (middlebury_scene_kind(dir) == MiddleburyScene::y2014) {
+    ref.scene_kind = "Middlebury 2014/2021";
+    ref.left_path = dir / "im0.png";
+    ref.right_path = dir / "im1.png";
+    require_scene_file(ref.left_path, "left image", kHint2014);
+    require_scene_file(ref.right_path, "right image", kHint2014);
+    ref.gt_path = optional_scene_file(dir, {"disp0GT.pfm", "disp0.pfm"}, "ground-truth");
+    ref.gt_format = GtFormat::pfm;
+    ref.gt_divisor = 1.0;
+    ref.noc_mask_path = optional_scene_file(dir, {"mask0nocc.png"}, "non-occlusion mask");
+    const fs::path calib_file = optional_scene_file(dir, {"calib.txt"}, "calibration");
+    if (!calib_file.empty()) {
+      const MiddleburyCalib calib = read_middlebury_calib(calib_file);
+      ref.ndisp = calib.ndisp;
+      ref.calibration = calib.camera;
+      if (calib.width_px > 0 && calib.height_px > 0) {
+        ref.expected_width_px = calib.width_px;
+        ref.expected_height_px = calib.height_px;
+        ref.expected_size_source = calib_file.string() + " lines " +
+                                   std::to_string(calib.width_line) + "-" +
+                                   std::to_string(calib.height_line) + " (width, height)";
+      }
+    }
+  } else {
+    ref.scene_kind = "Middlebury 2005/2006";
+    ref.left_path = dir / "view1.png";
+    ref.right_path = dir / "view5.png";
+    require_scene_file(ref.left_path, "left image", kHint2006);
+    require_scene_file(ref.right_path, "right image", kHint2006);
+    ref.gt_path = optional_scene_file(dir, {"disp1.png"}, "ground-truth");
+    ref.gt_format = GtFormat::png_by_size;
+    ref.gt_invalid_value = 0;
+    const fs::path dmin_file = optional_scene_file(dir, {"dmin.txt"}, "dmin");
+    if (!dmin_file.empty()) ref.dmin_px = read_middlebury_dmin(dmin_file);
+  }
+  return ref;
+}
+
+// Middlebury 2005/2006 disp1.png scale by image height. The 2005 and 2006 sets come in full
+// (1110 rows), half (555) and third (370) size, and their 8-bit disparity maps store the
+// disparity in pixels of that size times 1, 2 or 3 (so a map holds the full-size disparity
+// whatever the size), 0 meaning unknown: the convention of the dataset pages
+// vision.middlebury.edu/stereo/data/scenes2005/ and scenes2006/. Checked through the search
+// tool (the pages themselves were not reachable): the Middlebury SDK's disp2pfm.cpp, quoted in
+// github.com/NVlabs/FoundationStereo/issues/149, divides "by dispfact (use 2 for half-size,
+// etc.)", and public loaders divide third-size maps by 3 and half-size ones by 2.
+// Returns 0 for any other height.
+int middlebury_2006_scale(int image_height_px) {
+  constexpr int kFullHeightPx = 1110;
+  for (int scale = 1; scale <= 3; ++scale) {
+    const int height = (kFullHeightPx + scale / 2) / scale;  // 1110, 555, 370
+    if (std::abs(image_height_px - height) <= 1) return scale;
+  }
+  return 0;
 }
 
 // Reads an image as stored (depth and channels unchanged).
@@ -418,26 +619,48 @@ RoiSize default_roi_size(DatasetLayout layout) {
 }
 
 Dataset open_dataset(const fs::path& dir) {
+  if (is_file(dir)) {
+    throw InputError(dir.string() + ": is a file; give the dataset folder (or one scene's folder)");
+  }
   if (!is_dir(dir)) throw InputError(dir.string() + ": dataset folder not found");
   fs::path given = dir.lexically_normal();
   if (!given.has_filename()) given = given.parent_path();  // "a/b/" -> "a/b"
 
   Dataset dataset;
-  if (detect_layout(given, dataset.layout)) {
+  if (detect_layout(given, dataset)) {
     dataset.frames_dir = given;
     dataset.root = given.filename() == "training" ? given.parent_path() : given;
     if (dataset.root.empty()) dataset.root = ".";
-  } else if (detect_layout(given / "training", dataset.layout)) {
+  } else if (detect_layout(given / "training", dataset)) {
     dataset.frames_dir = given / "training";
     dataset.root = given;
   } else {
-    throw InputError(dir.string() +
-                     ": unknown dataset layout (expected KITTI 2015 image_2/ + "
-                     "image_3/, KITTI 2012 image_0/ + image_1/, or a Middlebury pairs.tsv, in "
-                     "the folder or its training/ subfolder)");
+    // A folder of folders of scenes (e.g. MiddEval3/ holding trainingQ/, trainingH/, ...).
+    std::string nested;
+    for (const fs::path& sub : sub_folders(given)) {
+      if (!middlebury_scene_folders(sub).empty()) {
+        nested += (nested.empty() ? "" : ", ") + sub.filename().string();
+      }
+    }
+    throw InputError(
+        dir.string() + ": unknown dataset layout (expected KITTI 2015 image_2/ + image_3/, KITTI "
+                       "2012 image_0/ + image_1/ or colored_0/ + colored_1/, a Middlebury scene "
+                       "folder (im0.png, im1.png, disp0.pfm, calib.txt; or view1.png, view5.png, "
+                       "disp1.png, dmin.txt), a folder of such scenes, or a pairs.tsv, in the "
+                       "folder or its training/ subfolder)" +
+        (nested.empty() ? std::string()
+                        : "; its sub-folders " + nested + " hold Middlebury scenes: give one"));
   }
   if (dataset.layout == DatasetLayout::middlebury) {
-    dataset.middlebury_pairs = read_pairs_tsv(dataset.frames_dir / "pairs.tsv");
+    if (dataset.middlebury_source == "pairs.tsv") {
+      dataset.middlebury_scenes = read_pairs_tsv(dataset.frames_dir / "pairs.tsv");
+    } else if (dataset.middlebury_source == "scene folder") {
+      dataset.middlebury_scenes.push_back(middlebury_scene_ref(dataset.frames_dir));
+    } else {
+      for (const fs::path& scene : middlebury_scene_folders(dataset.frames_dir)) {
+        dataset.middlebury_scenes.push_back(middlebury_scene_ref(scene));
+      }
+    }
   }
   return dataset;
 }
@@ -450,11 +673,17 @@ std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind,
   std::vector<std::string> ids;
   std::vector<std::string> aliases;
   if (dataset.layout == DatasetLayout::middlebury) {
-    for (FrameRef ref : dataset.middlebury_pairs) {
+    for (FrameRef ref : dataset.middlebury_scenes) {
+      if (ref.gt_path.empty()) continue;  // a scene without GT (e.g. a test scene)
       ref.gt_kind = gt_kind;
       ids.push_back(ref.id);
       aliases.push_back(middlebury_scene(dataset, ref));
       candidates.push_back(ref);
+    }
+    if (ids.empty()) {
+      throw InputError(dataset.frames_dir.string() +
+                       ": no Middlebury scene with ground truth (disp0GT.pfm or disp0.pfm for "
+                       "2014/2021 scenes, disp1.png for 2005/2006 scenes)");
     }
   } else {
     ids = kitti_gt_ids(dataset, gt_kind);
@@ -473,6 +702,122 @@ std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind,
   return frames;
 }
 
+namespace {
+
+// Ground truth of an integer image (KITTI, pairs.tsv, Middlebury 2005/2006) into the frame.
+void decode_integer_gt(const FrameRef& ref, Frame& frame, std::ostringstream& note) {
+  const cv::Mat gt = read_raw(ref.gt_path, "ground-truth");
+  const bool kitti = ref.layout != DatasetLayout::middlebury;
+  if (kitti && gt.type() != CV_16UC1) {
+    throw InputError(ref.gt_path.string() + ": ground truth is a " +
+                     std::to_string(gt.channels()) + "-channel " +
+                     std::to_string(8 * gt.elemSize1()) +
+                     "-bit image, but KITTI disparity PNGs are 16-bit single-channel "
+                     "(disparity = value / 256, 0 = no GT)");
+  }
+  if (gt.channels() != 1 || (gt.depth() != CV_8U && gt.depth() != CV_16U)) {
+    throw InputError(ref.gt_path.string() +
+                     ": ground truth must be a single-channel 8- or "
+                     "16-bit image, got " +
+                     std::to_string(gt.channels()) + " channel(s) of " +
+                     std::to_string(8 * gt.elemSize1()) + " bits");
+  }
+  if (gt.size() != frame.left.size()) {
+    throw InputError(ref.gt_path.string() + ": ground truth is " + size_text(gt) +
+                     " but the left image " + ref.left_path.string() + " is " +
+                     size_text(frame.left));
+  }
+  double divisor = ref.gt_divisor;
+  if (ref.gt_format == GtFormat::png_by_size) {
+    if (gt.depth() != CV_8U) {
+      throw InputError(ref.gt_path.string() +
+                       ": a Middlebury 2005/2006 disparity map is 8-bit, this one is 16-bit");
+    }
+    const int scale = middlebury_2006_scale(frame.left.rows);
+    if (scale == 0) {
+      throw InputError(ref.left_path.string() + ": image height " +
+                       std::to_string(frame.left.rows) +
+                       " px is none of the Middlebury 2005/2006 sizes (full 1110, half 555, "
+                       "third 370 rows), so the scale of " +
+                       ref.gt_path.filename().string() + " is unknown");
+    }
+    divisor = scale;
+    static const char* const kSizes[] = {"", "full", "half", "third"};
+    note << ref.scene_kind << " ground truth " << ref.gt_path.filename().string() << " at "
+         << kSizes[scale] << " size: disparity = value / " << scale
+         << ", 0 = no GT; it serves both noc and occ (dmin.txt, the offset by which the pair "
+            "was cropped, is not added: the GT is relative to the images as given)";
+  }
+  cv::Mat values;
+  gt.convertTo(values, CV_32S);
+  frame.gt_disparity_px = cv::Mat(gt.size(), CV_32FC1);
+  frame.gt_mask = cv::Mat(gt.size(), CV_8UC1);
+  for (int y = 0; y < gt.rows; ++y) {
+    const std::int32_t* v = values.ptr<std::int32_t>(y);
+    float* d = frame.gt_disparity_px.ptr<float>(y);
+    std::uint8_t* ok = frame.gt_mask.ptr<std::uint8_t>(y);
+    for (int x = 0; x < gt.cols; ++x) {
+      const bool has_gt = v[x] != ref.gt_invalid_value;
+      ok[x] = has_gt ? 255 : 0;
+      d[x] = has_gt ? static_cast<float>(static_cast<double>(v[x]) / divisor) : 0.0f;
+    }
+  }
+  if (ref.gt_format == GtFormat::png && ref.layout == DatasetLayout::middlebury) {
+    note << "frame " << ref.id << ": Middlebury GT " << ref.gt_path.filename().string()
+         << " (disparity = value / " << ref.gt_divisor << ", value " << ref.gt_invalid_value
+         << " = no GT) serves both noc and occ";
+  }
+}
+
+// Ground truth of a PFM file (Middlebury 2014/2021, pairs.tsv rows with a .pfm GT).
+void decode_pfm_gt(const FrameRef& ref, Frame& frame, std::ostringstream& note) {
+  DisparityMap gt = read_pfm_disparity(ref.gt_path);
+  if (gt.disparity_px.size() != frame.left.size()) {
+    throw InputError(ref.gt_path.string() + ": ground truth is " + size_text(gt.disparity_px) +
+                     " but the left image " + ref.left_path.string() + " is " +
+                     size_text(frame.left));
+  }
+  if (ref.gt_divisor != 1.0) gt.disparity_px /= ref.gt_divisor;
+  frame.gt_disparity_px = gt.disparity_px;
+  frame.gt_mask = gt.valid_mask;
+  note << (ref.scene_kind.empty() ? "Middlebury" : ref.scene_kind) << " ground truth "
+       << ref.gt_path.filename().string() << " (float PFM, inf = no GT)";
+  if (ref.gt_divisor != 1.0) note << " divided by " << ref.gt_divisor;
+  if (!ref.noc_mask_path.empty()) {
+    note << ": occ uses every pixel with GT, noc only those that " << ref.noc_mask_path.filename().string()
+         << " marks non-occluded (255)";
+  } else {
+    note << " serves both noc and occ";
+  }
+}
+
+// MiddEval3's mask0nocc.png: 255 = non-occluded, 128 = occluded, 0 = no GT.
+void apply_noc_mask(const FrameRef& ref, Frame& frame) {
+  const cv::Mat mask = read_raw(ref.noc_mask_path, "non-occlusion mask");
+  if (mask.type() != CV_8UC1) {
+    throw InputError(ref.noc_mask_path.string() +
+                     ": non-occlusion mask must be an 8-bit single-channel image");
+  }
+  if (mask.size() != frame.left.size()) {
+    throw InputError(ref.noc_mask_path.string() + ": non-occlusion mask is " + size_text(mask) +
+                     " but the left image " + ref.left_path.string() + " is " +
+                     size_text(frame.left));
+  }
+  for (int y = 0; y < mask.rows; ++y) {
+    const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+    std::uint8_t* ok = frame.gt_mask.ptr<std::uint8_t>(y);
+    float* d = frame.gt_disparity_px.ptr<float>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      if (m[x] != 255) {
+        ok[x] = 0;
+        d[x] = 0.0f;
+      }
+    }
+  }
+}
+
+}  // namespace
+
 Frame load_frame(const FrameRef& ref) {
   Frame frame;
   frame.id = ref.id;
@@ -488,50 +833,92 @@ Frame load_frame(const FrameRef& ref) {
   if (ref.expected_width_px > 0 && ref.expected_height_px > 0 &&
       (frame.left.cols != ref.expected_width_px || frame.left.rows != ref.expected_height_px)) {
     throw InputError(ref.left_path.string() + ": left image is " + size_text(frame.left) +
-                     " but pairs.tsv declares " +
-                     size_text(ref.expected_width_px, ref.expected_height_px));
+                     " but " +
+                     (ref.expected_size_source.empty() ? std::string("the dataset")
+                                                       : ref.expected_size_source) +
+                     " declares " + size_text(ref.expected_width_px, ref.expected_height_px));
   }
   if (left_colour || right_colour) {
     frame.converted_from_colour = true;
     frame.notes.push_back("frame " + ref.id +
                           ": colour images converted to grey with cv::cvtColor(COLOR_BGR2GRAY)");
   }
+  if (ref.layout == DatasetLayout::kitti2012 &&
+      ref.left_path.parent_path().filename() == "colored_0") {
+    frame.notes.push_back(
+        "KITTI 2012: no image_0/ + image_1/, so the colour pairs colored_0/ + colored_1/ are "
+        "read (the same cameras)");
+  }
 
-  const cv::Mat gt = read_raw(ref.gt_path, "ground-truth");
-  if (gt.channels() != 1 || (gt.depth() != CV_8U && gt.depth() != CV_16U)) {
-    throw InputError(ref.gt_path.string() +
-                     ": ground truth must be a single-channel 8- or "
-                     "16-bit image, got " +
-                     std::to_string(gt.channels()) + " channel(s) of " +
-                     std::to_string(8 * gt.elemSize1()) + " bits");
+  std::ostringstream note;
+  if (ref.gt_format == GtFormat::pfm) {
+    decode_pfm_gt(ref, frame, note);
+  } else {
+    decode_integer_gt(ref, frame, note);
   }
-  if (gt.size() != frame.left.size()) {
-    throw InputError(ref.gt_path.string() + ": ground truth is " + size_text(gt) +
-                     " but the left image " + ref.left_path.string() + " is " +
-                     size_text(frame.left));
+  if (ref.gt_kind == GtKind::noc && !ref.noc_mask_path.empty()) apply_noc_mask(ref, frame);
+  if (!note.str().empty()) frame.notes.push_back(note.str());
+
+  if (cv::countNonZero(frame.gt_mask) == 0) {
+    throw InputError(ref.gt_path.string() + ": ground truth has no valid pixel (" +
+                     (ref.gt_format == GtFormat::pfm
+                          ? std::string("every value is inf")
+                          : "every value is " + std::to_string(ref.gt_invalid_value)) +
+                     " = no GT" +
+                     (ref.gt_kind == GtKind::noc && !ref.noc_mask_path.empty()
+                          ? std::string(" after the non-occlusion mask")
+                          : std::string()) +
+                     "): nothing to score frame " + ref.id + " against");
   }
-  cv::Mat values;
-  gt.convertTo(values, CV_32S);
-  frame.gt_disparity_px = cv::Mat(gt.size(), CV_32FC1);
-  frame.gt_mask = cv::Mat(gt.size(), CV_8UC1);
-  for (int y = 0; y < gt.rows; ++y) {
-    const std::int32_t* v = values.ptr<std::int32_t>(y);
-    float* d = frame.gt_disparity_px.ptr<float>(y);
-    std::uint8_t* ok = frame.gt_mask.ptr<std::uint8_t>(y);
-    for (int x = 0; x < gt.cols; ++x) {
-      const bool has_gt = v[x] != ref.gt_invalid_value;
-      ok[x] = has_gt ? 255 : 0;
-      d[x] = has_gt ? static_cast<float>(static_cast<double>(v[x]) / ref.gt_divisor) : 0.0f;
-    }
-  }
-  if (ref.layout == DatasetLayout::middlebury) {
-    std::ostringstream note;
-    note << "frame " << ref.id << ": Middlebury GT " << ref.gt_path.filename().string()
-         << " (disparity = value / " << ref.gt_divisor << ", value " << ref.gt_invalid_value
-         << " = no GT) serves both noc and occ";
-    frame.notes.push_back(note.str());
+  cv::minMaxLoc(frame.gt_disparity_px, nullptr, &frame.gt_max_disparity_px, nullptr, nullptr,
+                frame.gt_mask);
+
+  frame.ndisp = ref.ndisp;
+  frame.calibration = ref.calibration;
+  frame.dmin_px = ref.dmin_px;
+  if (!ref.kitti_calib_path.empty()) {
+    frame.calibration = ref.layout == DatasetLayout::kitti2012
+                            ? read_kitti_calib(ref.kitti_calib_path, "P0", "P1")
+                            : read_kitti_calib(ref.kitti_calib_path, "P_rect_02", "P_rect_03");
   }
   return frame;
+}
+
+std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disparities) {
+  if (disparities <= 0) return "";
+  const cv::Mat gt = crop_to_roi(frame.gt_disparity_px, roi);
+  const cv::Mat mask = crop_to_roi(frame.gt_mask, roi);
+  std::int64_t gt_pixels = 0;
+  std::int64_t beyond = 0;
+  double max_px = 0.0;
+  for (int y = 0; y < gt.rows; ++y) {
+    const float* d = gt.ptr<float>(y);
+    const std::uint8_t* ok = mask.ptr<std::uint8_t>(y);
+    for (int x = 0; x < gt.cols; ++x) {
+      if (ok[x] == 0) continue;
+      ++gt_pixels;
+      max_px = std::max(max_px, static_cast<double>(d[x]));
+      if (d[x] >= static_cast<float>(disparities)) ++beyond;
+    }
+  }
+  const bool ndisp_beyond = frame.ndisp > disparities;
+  if (beyond == 0 && !ndisp_beyond) return "";
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(1);
+  out << "frame " << frame.id << ": the design's D = " << disparities << " searches 0-"
+      << disparities - 1 << " px, but ";
+  if (frame.ndisp > 0) out << "the scene's ndisp is " << frame.ndisp << " (calib.txt) and ";
+  out << "its ground truth inside the ROI reaches " << max_px << " px: ";
+  if (beyond > 0) {
+    out << 100.0 * static_cast<double>(beyond) /
+               static_cast<double>(std::max<std::int64_t>(gt_pixels, 1))
+        << " % of the ground-truth pixels (" << beyond << " of " << gt_pixels
+        << ") are out of its reach";
+  } else {
+    out << "no ground-truth pixel is out of its reach, but the scene's bound is";
+  }
+  return out.str();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -561,7 +948,7 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
   const std::string what = to_string(dataset.layout) + " dataset " + dataset.frames_dir.string();
   const std::vector<std::size_t> chosen = select_frames(ids, {}, true, frame_filter, what);
 
-  const KittiDirs src = kitti_dirs(dataset.layout);
+  const KittiDirs src = kitti_dirs(dataset);
   const KittiDirs dst = kitti_dirs(DatasetLayout::kitti2015);
   const fs::path out_frames = out_dir / "training";
   std::error_code ec;

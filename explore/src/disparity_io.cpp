@@ -1,10 +1,14 @@
-// KITTI disparity PNGs and disparity pictures.
+// KITTI disparity PNGs, PFM disparity maps and disparity pictures.
 #include "parallax/explore/disparity_io.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -128,6 +132,123 @@ DisparityMap read_kitti_disparity(const std::filesystem::path& file) {
     for (int x = 0; x < encoded.cols; ++x) {
       d[x] = static_cast<float>(in[x]) / 256.0f;  // exact: 16-bit value, power-of-two divisor
       ok[x] = in[x] != 0 ? 255 : 0;
+    }
+  }
+  return map;
+}
+
+cv::Mat read_pfm(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) {
+    throw InputError(file.string() + ": is a folder, expected a PFM file");
+  }
+  if (!std::filesystem::is_regular_file(file, ec)) {
+    throw InputError(file.string() + ": PFM file not found");
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string() + ": cannot be read");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string bytes = buffer.str();
+
+  // Header: three whitespace-separated fields after the magic, then one whitespace byte.
+  std::size_t pos = 0;
+  auto skip_space = [&] {
+    while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos])) != 0) ++pos;
+  };
+  auto next_token = [&](const char* field) {
+    skip_space();
+    const std::size_t start = pos;
+    while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos])) == 0 &&
+           pos - start < 32) {
+      ++pos;
+    }
+    if (start == pos) {
+      throw InputError(file.string() + ": PFM header ends before the " + field + " field");
+    }
+    return bytes.substr(start, pos - start);
+  };
+  const std::string magic = bytes.substr(0, 2);
+  if (magic == "PF") {
+    throw InputError(file.string() +
+                     ": colour PFM (header 'PF', 3 channels); a disparity map is a grey PFM "
+                     "(header 'Pf')");
+  }
+  if (magic != "Pf" || bytes.size() < 3 || std::isspace(static_cast<unsigned char>(bytes[2])) == 0) {
+    std::string shown = bytes.substr(0, std::min<std::size_t>(bytes.size(), 8));
+    for (char& c : shown)
+      if (std::isprint(static_cast<unsigned char>(c)) == 0) c = '?';
+    throw InputError(file.string() + ": not a PFM file (header starts with '" + shown +
+                     "', expected 'Pf')");
+  }
+  pos = 2;
+  auto dimension = [&](const char* field) {
+    const std::string token = next_token(field);
+    const bool digits = std::all_of(token.begin(), token.end(), [](char c) {
+      return std::isdigit(static_cast<unsigned char>(c)) != 0;
+    });
+    if (!digits || token.size() > 6 || std::stoi(token) <= 0) {
+      throw InputError(file.string() + ": PFM header field " + field + ": '" + token +
+                       "' is not a positive integer (at most 6 digits)");
+    }
+    return std::stoi(token);
+  };
+  const int width = dimension("width");
+  const int height = dimension("height");
+  const std::string scale_text = next_token("scale");
+  double scale = 0.0;
+  try {
+    std::size_t used = 0;
+    scale = std::stod(scale_text, &used);
+    if (used != scale_text.size()) scale = 0.0;
+  } catch (const std::exception&) {
+    scale = 0.0;
+  }
+  if (!(scale != 0.0) || !std::isfinite(scale)) {
+    throw InputError(file.string() + ": PFM header field scale: '" + scale_text +
+                     "' is not a non-zero number (its sign gives the byte order)");
+  }
+  if (pos >= bytes.size() || std::isspace(static_cast<unsigned char>(bytes[pos])) == 0) {
+    throw InputError(file.string() + ": PFM header field scale: no whitespace byte after it");
+  }
+  ++pos;  // the single whitespace byte that ends the header
+  const bool little_endian = scale < 0.0;
+  const std::size_t needed = std::size_t(width) * std::size_t(height) * 4u;
+  const std::size_t have = bytes.size() - pos;
+  if (have < needed) {
+    throw InputError(file.string() + ": truncated PFM: " + std::to_string(width) + " x " +
+                     std::to_string(height) + " floats need " + std::to_string(needed) +
+                     " bytes of pixel data, the file has " + std::to_string(have));
+  }
+  cv::Mat image(height, width, CV_32FC1);
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data() + pos);
+  for (int row = 0; row < height; ++row) {
+    float* out = image.ptr<float>(height - 1 - row);  // stored bottom to top
+    const unsigned char* in_row = data + std::size_t(row) * std::size_t(width) * 4u;
+    for (int x = 0; x < width; ++x) {
+      const unsigned char* b = in_row + 4 * x;
+      const std::uint32_t bits =
+          little_endian ? (std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 |
+                           std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24)
+                        : (std::uint32_t(b[3]) | std::uint32_t(b[2]) << 8 |
+                           std::uint32_t(b[1]) << 16 | std::uint32_t(b[0]) << 24);
+      std::memcpy(&out[x], &bits, sizeof bits);
+    }
+  }
+  return image;
+}
+
+DisparityMap read_pfm_disparity(const std::filesystem::path& file) {
+  const cv::Mat values = read_pfm(file);
+  DisparityMap map{cv::Mat(values.size(), CV_32FC1), cv::Mat(values.size(), CV_8UC1)};
+  for (int y = 0; y < values.rows; ++y) {
+    const float* in = values.ptr<float>(y);
+    float* d = map.disparity_px.ptr<float>(y);
+    std::uint8_t* ok = map.valid_mask.ptr<std::uint8_t>(y);
+    for (int x = 0; x < values.cols; ++x) {
+      const bool valid = std::isfinite(in[x]);
+      d[x] = valid ? in[x] : 0.0f;
+      ok[x] = valid ? 255 : 0;
     }
   }
   return map;

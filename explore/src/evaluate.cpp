@@ -90,6 +90,8 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
   result.frames.resize(refs.size());
   std::vector<std::vector<std::string>> notes(refs.size());
   std::vector<char> converted_flags(refs.size(), 0);
+  std::vector<std::string> range_warnings(refs.size());
+  std::vector<double> range_gt_max_px(refs.size(), 0.0);
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
   std::mutex mu;  // guards progress callback and the first error
@@ -120,6 +122,10 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
         result.frames[i] = make_frame_row(f.id, count_frame(d.disparity_px, d.valid_mask, gt, gt_mask));
         notes[i] = f.notes;
         converted_flags[i] = f.converted_from_colour ? 1 : 0;
+        if (opt.design_disparities > 0) {
+          range_warnings[i] = disparity_range_warning(f, r, opt.design_disparities);
+          range_gt_max_px[i] = f.gt_max_disparity_px;
+        }
         if (!opt.save_dir.empty()) {
           write_kitti_disparity(opt.save_dir / (f.id + "_10.png"), d.disparity_px, d.valid_mask);
           write_png(opt.save_dir / (f.id + "_colour.png"), colourize_disparity(d.disparity_px, d.valid_mask, opt.colour_max_disparity_px));
@@ -145,16 +151,31 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
   if (!first_error.empty()) throw InputError(first_error);
   int converted = 0;
   for (std::size_t i = 0; i < refs.size(); ++i) {
-    if (converted_flags[i]) {
-      ++converted;
-      continue;  // summarised below, once
-    }
-    for (const auto& s : notes[i])
+    if (converted_flags[i]) ++converted;  // its colour note is summarised below, once
+    for (const auto& s : notes[i]) {
+      if (converted_flags[i] && s.find("colour images converted to grey") != std::string::npos) continue;
       if (std::find(result.notes.begin(), result.notes.end(), s) == result.notes.end()) result.notes.push_back(s);
+    }
   }
   if (converted > 0)
     result.notes.push_back(std::to_string(converted) + " of " + std::to_string(refs.size()) +
                            " frames had colour images, converted to grey with cv::cvtColor(COLOR_BGR2GRAY) as OpenCV does");
+  // The design's D against the frames' disparities: one warning, naming the frame reaching
+  // farthest.
+  int uncovered = 0;
+  std::size_t worst = refs.size();
+  for (std::size_t i = 0; i < refs.size(); ++i) {
+    if (range_warnings[i].empty()) continue;
+    ++uncovered;
+    if (worst == refs.size() || range_gt_max_px[i] > range_gt_max_px[worst]) worst = i;
+  }
+  if (uncovered > 0) {
+    std::string w = "warning: ";
+    if (uncovered > 1)
+      w += "the design's D = " + std::to_string(opt.design_disparities) + " does not cover the disparities of " +
+           std::to_string(uncovered) + " of " + std::to_string(refs.size()) + " frames; the farthest: ";
+    result.notes.push_back(w + range_warnings[worst]);
+  }
   result.pooled = pool_rows(result.frames);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
@@ -222,6 +243,7 @@ void rectify_pair(const config::PipelineConfig& cfg, const RectifyMaps& maps, cv
 EvalResult evaluate_design(const config::PipelineConfig& cfg, const Dataset& dataset, const EvalOptions& opt_in) {
   const RoiSize roi = opt_in.roi_from_config ? roi_for(cfg) : opt_in.roi;
   EvalOptions opt = opt_in;
+  opt.design_disparities = cfg.disparities;
   auto misses = std::make_shared<std::atomic<int64_t>>(0);
   if (cfg.rectify != "none") {
     auto maps = std::make_shared<RectifyMaps>(load_rectify_maps(cfg));
@@ -251,9 +273,14 @@ EvalResult score_predictions(const fs::path& pred_dir, const Dataset& dataset, c
   if (refs.empty()) throw InputError(dataset.root.string() + ": no frame with ground truth to score");
   EvalResult result;
   for (const FrameRef& ref : refs) {
-    const fs::path pred_file = pred_dir / ref.gt_path.filename();
+    // <id>_10.png as eval --save writes it (for KITTI that is the GT file's name), else the GT's
+    // own name when it is a PNG (legacy pairs.tsv scenes).
+    fs::path pred_file = pred_dir / (ref.id + "_10.png");
+    if (!fs::exists(pred_file) && ref.gt_path.extension() == ".png" && fs::exists(pred_dir / ref.gt_path.filename()))
+      pred_file = pred_dir / ref.gt_path.filename();
     if (!fs::exists(pred_file))
-      throw InputError(pred_file.string() + ": missing prediction for frame " + ref.id + " (named like the GT file)");
+      throw InputError(pred_file.string() + ": missing prediction for frame " + ref.id +
+                       " (named <frame id>_10.png, as eval --save writes it)");
     const Frame f = load_frame(ref);
     const Roi r = resolve_roi(roi, f.gt_disparity_px.cols, f.gt_disparity_px.rows);
     DisparityMap pred = read_kitti_disparity(pred_file);

@@ -9,9 +9,11 @@
 
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/metrics.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 namespace px = parallax::explore;
+using parallax::test::TempDir;
 
 namespace {
 
@@ -58,6 +60,8 @@ TEST(SharedDatasets, Kitti2015) {
   EXPECT_LT(density, 0.6);
   EXPECT_GT(max_gt(f), 30.0);
   EXPECT_LT(max_gt(f), 256.0);
+  EXPECT_DOUBLE_EQ(f.gt_max_disparity_px, max_gt(f));
+  EXPECT_FALSE(f.calibration.known);  // this copy has no calib_cam_to_cam/
 
   // The GT inside the default ROI: a perfect prediction scores 100 % everywhere.
   const px::Roi roi = px::resolve_roi(px::default_roi_size(ds.layout), f.left.cols, f.left.rows);
@@ -83,14 +87,47 @@ TEST(SharedDatasets, Kitti2012) {
     EXPECT_FALSE(f.converted_from_colour);  // image_0/1 are grey
     EXPECT_GT(cv::countNonZero(f.gt_mask), 50000);
     EXPECT_LT(max_gt(f), 256.0);
+    // calib/000070.txt: P0 and P1 (the grey cameras), focal and baseline from the file.
+    ASSERT_TRUE(f.calibration.known);
+    EXPECT_NEAR(f.calibration.focal_px, 718.856, 1e-3);
+    EXPECT_NEAR(f.calibration.cx_px, 607.1928, 1e-4);
+    EXPECT_NEAR(f.calibration.baseline_m, 386.1448 / 718.856, 1e-6);
   }
 }
 
+// The same frame read from colored_0/ + colored_1/ alone (as when only the colour archive is
+// unpacked): the colour cameras are the grey ones, their grey conversion matches image_0.
+TEST(SharedDatasets, Kitti2012ColouredOnly) {
+  const fs::path dir = shared("kitti2012");
+  SKIP_IF_MISSING(dir);
+  TempDir tmp;
+  const fs::path t = tmp.path() / "training";
+  fs::create_directories(t);
+  for (const char* sub : {"colored_0", "colored_1", "disp_noc", "disp_occ", "calib"})
+    fs::create_directory_symlink(dir / "training" / sub, t / sub);
+  const px::Dataset ds = px::open_dataset(tmp.path());
+  EXPECT_EQ(ds.layout, px::DatasetLayout::kitti2012);
+  EXPECT_EQ(ds.kitti_left_dir, "colored_0");
+  const px::Frame colour = px::load_frame(px::list_frames(ds, px::GtKind::noc).at(0));
+  EXPECT_TRUE(colour.converted_from_colour);
+  const px::Frame grey =
+      px::load_frame(px::list_frames(px::open_dataset(dir), px::GtKind::noc).at(0));
+  ASSERT_EQ(colour.left.size(), grey.left.size());
+  cv::Mat diff;
+  cv::absdiff(colour.left, grey.left, diff);
+  EXPECT_LT(cv::mean(diff)[0], 1.0);  // same viewpoint (a shifted camera would differ widely)
+  EXPECT_EQ(cv::norm(colour.gt_disparity_px, grey.gt_disparity_px, cv::NORM_INF), 0.0);
+  EXPECT_DOUBLE_EQ(colour.calibration.baseline_m, grey.calibration.baseline_m);
+}
+
+// The shared Middlebury copy holds the 2001 and 2003 scenes in their own file names (im2/im6,
+// disp2.png, ...; no 2005/2006 or 2014/2021 scene) indexed by the legacy pairs.tsv.
 TEST(SharedDatasets, Middlebury) {
   const fs::path dir = shared("middlebury");
   SKIP_IF_MISSING(dir);
   const px::Dataset ds = px::open_dataset(dir);
   EXPECT_EQ(ds.layout, px::DatasetLayout::middlebury);
+  EXPECT_EQ(ds.middlebury_source, "pairs.tsv");
   const std::vector<px::FrameRef> frames = px::list_frames(ds, px::GtKind::noc);
   ASSERT_EQ(frames.size(), 4u);
   EXPECT_EQ(frames[0].id, "tsukuba");

@@ -1,28 +1,31 @@
 // Stereo datasets with ground-truth disparity: layout detection, frame listing and filtering,
 // frame loading, the region of interest (ROI) and the dataset cropper. See docs/evaluation.md.
 //
-// Layouts (DIR may be the dataset root or its `training/` subfolder):
-//   KITTI 2015  image_2/ (left), image_3/ (right), GT disp_noc_0/, disp_occ_0/, NNNNNN_10.png
-//   KITTI 2012  image_0/ (left), image_1/ (right) grey, GT disp_noc/, disp_occ/, NNNNNN_10.png
-//   Middlebury  pairs.tsv: one row per scene, GT disparity = value / divisor, one invalid value
+// Layouts, as the datasets are downloaded (DIR may be the dataset root or its `training/`
+// subfolder):
+//   KITTI 2015  image_2/ (left), image_3/ (right), GT disp_noc_0/, disp_occ_0/, NNNNNN_10.png;
+//               calib_cam_to_cam/NNNNNN.txt (P_rect_02, P_rect_03) when present
+//   KITTI 2012  image_0/ + image_1/ (grey) or else colored_0/ + colored_1/ (RGB), GT disp_noc/,
+//               disp_occ/, NNNNNN_10.png; calib/NNNNNN.txt (P0, P1) when present
+//   Middlebury  scene folders (DIR is one, or holds several):
+//                 2014/2021: im0.png, im1.png, disp0GT.pfm or disp0.pfm (float, inf = no GT),
+//                            calib.txt (ndisp, cam0, baseline, ...), mask0nocc.png (MiddEval3)
+//                 2005/2006: view1.png, view5.png, disp1.png (8-bit, value / s with s = 1, 2, 3
+//                            for full, half, third size; 0 = no GT), dmin.txt
+//               or the legacy index pairs.tsv (one row per scene, d = value / divisor)
 // KITTI GT is uint16 PNG, disparity = value / 256, 0 = no GT.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <opencv2/core.hpp>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace parallax::explore {
+#include "parallax/explore/calibration.hpp"
+#include "parallax/explore/input_error.hpp"
 
-// Any problem with the user's input data or arguments (missing or unreadable file, size
-// mismatch, unknown layout, bad frame filter, bad ROI). The message names the file or the
-// argument and the problem, ready to be printed as is.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace parallax::explore {
 
 // ---------------------------------------------------------------------------------------------
 // Region of interest
@@ -71,7 +74,8 @@ cv::Mat crop_to_roi(const cv::Mat& image, const Roi& roi);
 
 enum class DatasetLayout { kitti2015, kitti2012, middlebury };
 // Ground-truth kind: `noc` = non-occluded pixels only, `occ` = all pixels with GT.
-// Middlebury has a single GT map (gt_left of pairs.tsv); both kinds select it.
+// Middlebury has a single GT map per scene; both kinds select it, except that `noc` applies a
+// MiddEval3 scene's mask0nocc.png (255 = non-occluded) when the scene has one.
 enum class GtKind { noc, occ };
 
 std::string to_string(DatasetLayout layout);    // "kitti2015", "kitti2012", "middlebury"
@@ -81,8 +85,16 @@ GtKind parse_gt_kind(const std::string& text);  // "noc" | "occ"; throws InputEr
 // The default ROI of a layout: KITTI 640x360 centred, Middlebury full.
 RoiSize default_roi_size(DatasetLayout layout);
 
-// Where one frame's files are and how its GT is encoded: disparity_px = value / gt_divisor,
-// value == gt_invalid_value means "no GT" (KITTI: 256 and 0).
+// How a ground-truth file encodes disparities.
+enum class GtFormat {
+  png,          // 8- or 16-bit PNG/PGM: d = value / gt_divisor, value gt_invalid_value = no GT
+                // (KITTI: 16-bit only, divisor 256, invalid 0)
+  png_by_size,  // Middlebury 2005/2006 disp1.png, 8-bit: d = value / s where s = 1, 2 or 3 for
+                // the full (1110 rows), half (555) or third (370) size images; 0 = no GT
+  pfm,          // grey PFM: d = value / gt_divisor, non-finite values (inf) = no GT
+};
+
+// Where one frame's files are and how its GT is encoded.
 struct FrameRef {
   std::string id;  // KITTI: "000001"; Middlebury: the scene's folder name, e.g. "teddy"
   DatasetLayout layout = DatasetLayout::kitti2015;
@@ -90,10 +102,23 @@ struct FrameRef {
   std::filesystem::path right_path;
   std::filesystem::path gt_path;
   GtKind gt_kind = GtKind::noc;
+  GtFormat gt_format = GtFormat::png;
   double gt_divisor = 256.0;
-  int gt_invalid_value = 0;
-  int expected_width_px = 0;   // from pairs.tsv when given there, else 0 (unchecked)
+  int gt_invalid_value = 0;    // GtFormat::png only
+  int expected_width_px = 0;   // from pairs.tsv or calib.txt when given there, else 0 (unchecked)
   int expected_height_px = 0;  // idem
+  std::string expected_size_source;  // "pairs.tsv" or "<calib.txt> line N", for errors
+  // MiddEval3 mask0nocc.png (255 = non-occluded) applied to noc GT; empty = none.
+  std::filesystem::path noc_mask_path;
+  // KITTI calibration file, read by load_frame; empty = none (the frame's calibration unknown).
+  std::filesystem::path kitti_calib_path;
+  // Middlebury 2014/2021: from calib.txt when the scene has one (read by open_dataset).
+  int ndisp = 0;                  // the scene's disparity bound, 0 = unknown
+  StereoCalibration calibration;  // known = false when there is no calibration
+  // Middlebury 2005/2006: dmin.txt (the pair is cropped by it; 0 when absent). Not applied to
+  // the GT, which is relative to the images as given.
+  int dmin_px = 0;
+  std::string scene_kind;  // e.g. "KITTI 2015", "Middlebury 2014/2021", "Middlebury 2005/2006"
 };
 
 // An opened dataset. Use open_dataset() to make one.
@@ -101,24 +126,33 @@ struct Dataset {
   std::filesystem::path root;        // DIR as given, minus a trailing `training/`
   std::filesystem::path frames_dir;  // the folder holding the layout (root or root/training)
   DatasetLayout layout = DatasetLayout::kitti2015;
-  // Middlebury only: one FrameRef per row of pairs.tsv (gt_kind unset), in file order.
-  std::vector<FrameRef> middlebury_pairs;
+  // KITTI only: the image folders read (KITTI 2012: image_0/1, or colored_0/1 without them).
+  std::string kitti_left_dir;
+  std::string kitti_right_dir;
+  // Middlebury only: one FrameRef per scene (gt_kind unset), in pairs.tsv order or by folder
+  // name. Scenes without a GT file are listed with an empty gt_path (list_frames skips them).
+  std::vector<FrameRef> middlebury_scenes;
+  std::string middlebury_source;  // "pairs.tsv", "scene folder" or "scene folders"
 };
 
-// Detects the layout of DIR (or DIR/training). Throws InputError naming DIR if it does not
-// exist or matches no layout, or naming pairs.tsv if that file is malformed.
+// Detects the layout of DIR (or DIR/training). Middlebury scene folders are checked when opened:
+// a scene with a left image, a right image or a GT file must have the other images, its GT file
+// must not be a folder, its calib.txt must parse (ndisp required). Throws InputError naming DIR
+// if it does not exist or matches no layout, or naming the file (and line) that is malformed
+// or missing.
 Dataset open_dataset(const std::filesystem::path& dir);
 
-// The frames having GT of the given kind, in id order (KITTI) or pairs.tsv order (Middlebury),
-// restricted by a frame filter:
+// The frames having GT of the given kind, in id order (KITTI), pairs.tsv order or folder name
+// order (Middlebury), restricted by a frame filter:
 //   ""  or "all"        every frame
 //   "1-5,7,000046"      KITTI: numbers (zero-padded to 6 digits) or full 6-digit ids, and
 //                       inclusive ranges a-b. A single id must name an existing frame with that
 //                       GT kind; a range selects the existing frames it covers and must cover
 //                       at least one.
-//   "teddy,2001/venus"  Middlebury: scene names, with or without the year folder.
+//   "teddy,2001/venus"  Middlebury: scene names, with or without the year folder (pairs.tsv).
 // Each frame appears once, in dataset order, whatever the filter order. Throws InputError
-// naming the filter item and the dataset on a frame that does not exist or a malformed item.
+// naming the filter item and the dataset on a frame that does not exist or a malformed item,
+// and naming the dataset when no frame has GT of the kind.
 std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind,
                                   const std::string& frame_filter = "");
 
@@ -131,13 +165,26 @@ struct Frame {
   cv::Mat gt_mask;                     // CV_8UC1, 255 = GT present, 0 = none
   bool converted_from_colour = false;  // left/right were colour and converted to grey
   std::vector<std::string> notes;      // human-readable facts for the CLI to print
+  double gt_max_disparity_px = 0.0;    // largest GT disparity (a loaded frame has GT pixels)
+  int ndisp = 0;                       // the scene's disparity bound (calib.txt), 0 = unknown
+  StereoCalibration calibration;       // known = false when the dataset has none for the frame
+  int dmin_px = 0;                     // Middlebury 2005/2006 dmin.txt, else 0
 };
 
 // Loads a frame. Colour images are converted with cv::cvtColor(COLOR_BGR2GRAY) (BGRA2GRAY for
 // 4 channels) and the fact is recorded in `notes`. Throws InputError naming the file on: missing
-// or undecodable file, 16-bit or otherwise unsupported images, left/right size mismatch, GT of
-// another size than the left image (or than pairs.tsv declares), GT not single-channel.
+// or undecodable file or a folder in its place, 16-bit or otherwise unsupported images,
+// left/right size mismatch, GT of another size than the left image (or than pairs.tsv or
+// calib.txt declares), GT not single-channel, a KITTI GT that is not 16-bit, a Middlebury
+// 2005/2006 image height that is not a full, half or third size, a malformed PFM or KITTI
+// calibration file, and GT without a single valid pixel (nothing to score against).
 Frame load_frame(const FrameRef& frame);
+
+// Whether a design searching disparities 0 .. disparities-1 covers a frame: "" when it does,
+// else a warning naming the frame, how far its disparities reach (the scene's ndisp when known,
+// the largest GT disparity inside the ROI) and the share of its GT pixels inside the ROI at or
+// beyond `disparities` (which the design cannot match).
+std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disparities);
 
 // ---------------------------------------------------------------------------------------------
 // Cropping a dataset

@@ -30,6 +30,18 @@ void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& dis
 // not 16-bit single-channel.
 DisparityMap read_kitti_disparity(const std::filesystem::path& file);
 
+// Reads a grey PFM (Portable Float Map, header "Pf"): CV_32FC1 with rows top to bottom (the
+// file stores them bottom to top), values as stored (inf and nan kept). The byte order is the
+// sign of the header's scale: negative = little-endian, positive = big-endian. Trailing bytes
+// after the pixels are ignored. Throws InputError naming the file (and the header field) when it
+// is missing or a folder, its header is not "Pf W H scale" with W, H positive integers and a
+// non-zero scale, it is a colour PFM ("PF"), or it holds fewer pixel bytes than W x H floats.
+cv::Mat read_pfm(const std::filesystem::path& file);
+
+// Reads a PFM disparity map (Middlebury 2014/2021 disp0.pfm, disp0GT.pfm): d = value, non-finite
+// values (inf = unknown) invalid (mask 0, d 0). Errors as read_pfm.
+DisparityMap read_pfm_disparity(const std::filesystem::path& file);
+
 // A picture of a disparity map, CV_8UC3 BGR: HSV hue from 240 deg (blue, d = 0, far) to 0 deg
 // (red, d >= max_disparity_px, near), full saturation and value; invalid pixels black.
 // max_disparity_px must be > 0 (std::invalid_argument otherwise).

@@ -70,6 +70,9 @@ struct EvalOptions {
   std::function<void(int done, int total, const std::string& frame_id)> progress;
   // Applied to each full-size grey pair before the ROI crop (the design's rectification).
   std::function<void(cv::Mat& left, cv::Mat& right)> preprocess;
+  // D of the design (it searches 0 .. D-1); > 0 adds a warning to the notes when frames'
+  // disparities reach beyond it (disparity_range_warning). evaluate_design sets it.
+  int design_disparities = 0;
 };
 
 struct EvalResult {
@@ -87,7 +90,8 @@ using MatcherFactory = std::function<Matcher()>;
 EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFactory& factory, const EvalOptions& opt);
 EvalResult evaluate_design(const config::PipelineConfig& cfg, const Dataset& dataset, const EvalOptions& opt);
 
-// Scores existing KITTI-format disparity PNGs in pred_dir, named like the GT files. A prediction
+// Scores existing KITTI-format disparity PNGs in pred_dir, named <frame id>_10.png as
+// `eval --save` writes them (KITTI: the GT file's name), or else like the GT file when that is a PNG. A prediction
 // of the full image size is cropped to the ROI; one of the ROI size is taken as the crop.
 EvalResult score_predictions(const std::filesystem::path& pred_dir, const Dataset& dataset, const RoiSize& roi,
                              const EvalOptions& opt);
