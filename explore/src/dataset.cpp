@@ -508,7 +508,7 @@ int middlebury_2006_scale(int image_height_px) {
 // Reads an image as stored (depth and channels unchanged).
 cv::Mat read_raw(const fs::path& file, const char* role) {
   require_file(file, role);
-  cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+  cv::Mat image = decode_image_file(file, role);
   if (image.empty()) {
     throw InputError(file.string() + ": " + role + " file cannot be decoded as an image");
   }

@@ -110,12 +110,23 @@ void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& dis
   write_png(file, encoded);
 }
 
+cv::Mat decode_image_file(const std::filesystem::path& file, const std::string& role) {
+  try {
+    return cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    if (e.err.find("CV_IO_MAX_IMAGE_PIXELS") != std::string::npos)
+      throw InputError(file.string() + ": the " + role +
+                       " image's header claims more pixels than the limit (OPENCV_IO_MAX_IMAGE_PIXELS)");
+    throw InputError(file.string() + ": cannot decode the " + role + " image: " + e.err);
+  }
+}
+
 DisparityMap read_kitti_disparity(const std::filesystem::path& file) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) {
     throw InputError(file.string() + ": disparity file not found");
   }
-  const cv::Mat encoded = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat encoded = decode_image_file(file, "disparity");
   if (encoded.empty()) throw InputError(file.string() + ": cannot be decoded as an image");
   if (encoded.type() != CV_16UC1) {
     throw InputError(file.string() +

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +24,7 @@
 #include "parallax/explore/hls_report.hpp"
 #include "parallax/explore/scene.hpp"
 #include "parallax/explore/sweep.hpp"
+#include "../eval/pfm_writer.hpp"
 
 namespace fs = std::filesystem;
 using namespace parallax;
@@ -226,6 +228,22 @@ TEST_F(Fuzz, KittiDisparityPng) {
        [&](const std::string& bytes) {
          write_all(file, ++n % 2 == 0 ? fix_png_crcs(bytes) : bytes);
          (void)explore::read_kitti_disparity(file);
+       },
+       is<explore::InputError>);
+}
+
+TEST_F(Fuzz, PfmDisparity) {
+  cv::Mat v(12, 20, CV_32FC1);
+  for (int y = 0; y < v.rows; ++y)
+    for (int x = 0; x < v.cols; ++x) v.at<float>(y, x) = (x + y) % 7 == 0 ? INFINITY : float(x) * 1.5f + float(y);
+  const std::vector<std::string> seeds = {parallax::test::pfm_bytes(v, true), parallax::test::pfm_bytes(v, false)};
+  const std::vector<std::string> tokens = {"Pf\n", "PF\n", "P6\n", "\n", " ", "-1.0", "1.0", "0", "-0", "nan", "inf",
+                                           "99999999999", "-5", "1e39", std::string("\0\0\x80\x7f", 4)};
+  const fs::path file = dir_ / "disp0.pfm";
+  fuzz("PFM disparity", seeds, tokens, 15006,
+       [&](const std::string& bytes) {
+         write_all(file, bytes);
+         (void)explore::read_pfm_disparity(file);
        },
        is<explore::InputError>);
 }

@@ -271,16 +271,7 @@ int default_threads() {
 
 cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<std::string>& notes) {
   if (!fs::exists(path)) throw InputError(path + ": " + role + " image not found");
-  cv::Mat raw;
-  try {
-    raw = cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {  // e.g. a header claiming more pixels than the limit
-    if (e.err.find("CV_IO_MAX_IMAGE_PIXELS") != std::string::npos)
-      throw InputError(path + ": the " + std::string(role) + " image's header claims more than " +
-                       std::to_string(kMaxImagePixels / 1000000) + " million pixels (the limit; raise it with the "
-                       "environment variable OPENCV_IO_MAX_IMAGE_PIXELS)");
-    throw InputError(path + ": cannot read the " + std::string(role) + " image: " + e.err);
-  }
+  const cv::Mat raw = decode_image_file(path, role);
   if (raw.empty()) throw InputError(path + ": cannot read the " + std::string(role) + " image (not an image OpenCV can decode)");
   if (raw.depth() != CV_8U) throw InputError(path + ": " + role + " image must have 8-bit samples");
   cv::Mat grey;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <opencv2/core.hpp>
 
 namespace parallax::explore {
@@ -18,6 +19,11 @@ struct DisparityMap {
 
 // Largest disparity the KITTI format can hold: 65535 / 256 px.
 constexpr double kKittiMaxDisparityPx = 65535.0 / 256.0;
+
+// Decodes an image file as stored (depth and channels unchanged), empty when OpenCV cannot decode
+// it. A file whose header claims more pixels than OpenCV's limit (OPENCV_IO_MAX_IMAGE_PIXELS; the
+// CLI sets 64 Mpx) or that makes the decoder fail throws InputError naming the file and `role`.
+cv::Mat decode_image_file(const std::filesystem::path& file, const std::string& role);
 
 // Writes a KITTI disparity PNG. Valid pixels must hold a finite d in [0, 65535/256] (after
 // rounding): anything else throws std::invalid_argument naming the file and the pixel. Throws
