@@ -4,6 +4,8 @@
 // scripts ran, and its screenshot is not blank.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -47,7 +49,7 @@ struct Fixture {
   fs::path dir;
   std::string db;
   Fixture() {
-    dir = fs::temp_directory_path() / "parallax_report_test";
+    dir = fs::temp_directory_path() / ("parallax_report_test_" + std::to_string(getpid()));  // checkouts share /tmp
     fs::remove_all(dir);
     fs::create_directories(dir);
     db = (dir / "r.db").string();
