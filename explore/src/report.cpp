@@ -343,9 +343,11 @@ std::string report_json(const std::vector<ResultStore::Row>& rows) {
     for (const auto& kv : config_fields(r.config_yaml)) c[kv.first] = kv.second;
     json frames = json::array();
     for (const auto& f : r.frames) frames.push_back({{"frame", f.first}, {"metrics", f.second}});
+    json measurement = r.measurement.empty() ? json() : json::parse(r.measurement, nullptr, false);
+    if (measurement.is_discarded()) measurement = r.measurement;
     j.push_back({{"hash", r.hash}, {"sweep", r.sweep}, {"status", r.status}, {"reason", r.reason},
                  {"configuration", c}, {"metrics", r.metrics}, {"frames", frames}, {"model_version", r.model_version},
-                 {"started_at", r.started_at}, {"finished_at", r.finished_at}});
+                 {"started_at", r.started_at}, {"finished_at", r.finished_at}, {"measurement", measurement}});
   }
   return j.dump(2) + "\n";
 }
