@@ -460,6 +460,11 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     std::lock_guard<std::mutex> lock(mu);
     opt.progress(done_before + done.load(), total_for_progress, skipped_before + skipped.load());
   };
+  std::mutex problems_mu;
+  auto note_problem = [&](const ResultStore::Row& r) {  // the first reasons, for the summary
+    std::lock_guard<std::mutex> lock(problems_mu);
+    if (sum.first_problems.size() < 5) sum.first_problems.push_back("design " + r.hash + " (" + r.status + "): " + r.reason);
+  };
   auto key_of = [&](const MaterialisedDesign& m) { return result_key(m.hash, measurement); };
   auto reused = [&](const MaterialisedDesign& m) {
     store.add_member(spec.name, key_of(m));
@@ -488,8 +493,12 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
       r.finished_at = r.started_at;
       r.measurement = measurement;
       r.key = key_of(m);
-      if (store.put_design(r)) ++invalid;
-      else ++skipped;
+      if (store.put_design(r)) {
+        note_problem(r);
+        ++invalid;
+      } else {
+        ++skipped;
+      }
       ++done;
       report();
       continue;
@@ -528,7 +537,10 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     r.measurement = measurement;
     r.key = result_key(r.hash, measurement);
     if (store.put_design(r)) {
-      if (r.status == "error") ++failed;
+      if (r.status == "error") {
+        ++failed;
+        note_problem(r);
+      }
       ++evaluated;
     } else {
       ++skipped;  // another process stored it meanwhile (it took over a claim it thought stale)

@@ -21,7 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <set>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -1291,9 +1291,10 @@ int main(int argc, char** argv) {
         if (ex_design.size() < 4) throw InputError("--design '" + ex_design + "': give at least 4 hex digits of the hash");
         ResultStore store(ex_db, ResultStore::Access::read);
         std::vector<ResultStore::Row> hits;
-        std::set<std::string> seen;  // a design measured on several datasets is one design
-        for (auto& row : store.designs("", false))
-          if (row.hash.rfind(ex_design, 0) == 0 && seen.insert(row.hash).second) hits.push_back(std::move(row));
+        for (auto& row : store.designs("", false))  // a design measured on several datasets is one design
+          if (row.hash.rfind(ex_design, 0) == 0 &&
+              std::none_of(hits.begin(), hits.end(), [&](const ResultStore::Row& h) { return h.hash == row.hash; }))
+            hits.push_back(std::move(row));
         if (hits.empty()) throw InputError(ex_db + ": no design whose hash starts with '" + ex_design + "' (see parallax pareto)");
         if (hits.size() > 1)
           throw InputError(ex_db + ": " + std::to_string(hits.size()) + " designs start with '" + ex_design + "'; give more digits");

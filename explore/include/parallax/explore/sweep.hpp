@@ -162,9 +162,11 @@ struct SweepRunOptions {
   std::function<void(int done, int total, int skipped)> progress;
 };
 struct SweepSummary {
+  std::vector<std::string> notes;  // for the user (e.g. the sweep's measurement changed), also on stderr
   int total = 0, evaluated = 0, skipped = 0, invalid = 0, failed = 0;
   double seconds = 0.0;
-  std::vector<std::string> notes;  // for the user (e.g. the sweep's measurement changed)
+  // The first reasons of invalid or failed designs ("design HASH: reason"), at most five.
+  std::vector<std::string> first_problems;
 };
 SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt);
 
