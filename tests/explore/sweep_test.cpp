@@ -225,6 +225,7 @@ TEST(SweepScale, ShardsMergeToTheWholeSweep) {
   EXPECT_EQ(merged.merge_from((d / "part1.db").string()), 0);  // merging twice adds nothing
   EXPECT_EQ(by_hash(merged), by_hash(whole));
   EXPECT_EQ(merged.sweeps().size(), 1u);
+  EXPECT_EQ(merged.designs("small").size(), 6u);  // the sweep's membership came along
   ro.shard_index = 4;
   EXPECT_THROW(explore::run_sweep(s, merged, ro), explore::InputError);
 }
