@@ -1,4 +1,4 @@
-// Sweeps, the results store and Pareto fronts (sweep.hpp).
+// Sweeps and Pareto fronts (sweep.hpp); the results store is in store.cpp.
 #include "parallax/explore/sweep.hpp"
 
 #include <algorithm>
