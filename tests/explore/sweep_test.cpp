@@ -434,8 +434,6 @@ TEST(SweepStore, DesignsFilterFramesBySweepAndCanSkipThem) {
 #include <fstream>
 #include <regex>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "../common/shell.hpp"
 
 namespace parallax::test {
@@ -652,44 +650,52 @@ TEST(SweepStoreNan, MissingMetricsAreAbsentAndRankLast) {
   EXPECT_EQ(explore::objective_value(pts[3], s.objectives[0]), -std::numeric_limits<double>::infinity());
 }
 
-// Frames without ground truth give NaN accuracy: NSGA-II ranks those designs, and pareto,
+// Stores holding null metrics (as NaN was written before) or a NULL metrics column: NSGA-II
+// ranks those designs (last on the missing objective) while it continues the sweep, and pareto,
 // report (CSV, frames CSV, JSON, HTML) and export-hls read the store, with empty cells.
-TEST(SweepStoreNan, DesignsWithoutAccuracyNeverCrashTheReaders) {
-  const fs::path d = store_dir("nogt");
-  const fs::path data = copy_dataset(d);
-  for (const char* kind : {"disp_noc_0", "disp_occ_0"}) {
-    const fs::path gt = data / "training" / kind / "000001_10.png";
-    const cv::Mat m = cv::imread(gt.string(), cv::IMREAD_UNCHANGED);
-    ASSERT_FALSE(m.empty());
-    cv::imwrite(gt.string(), cv::Mat::zeros(m.size(), m.type()));  // a frame without ground truth
-  }
+TEST(SweepStoreNan, NullMetricsNeverCrashNsga2OrTheReaders) {
+  const fs::path d = store_dir("nulls");
   const std::string db = (d / "n.db").string();
+  SweepSpec s = two_designs("evo");
+  s.strategy = "nsga2";
+  s.samples = 4;
+  s.generations = 1;
+  explore::add_axis(s, "median=0,3,5");
+  {
+    ResultStore store(db);
+    explore::run_sweep(s, store, on(kStoreData));
+  }
+  sql(db,
+      "UPDATE results SET metrics = json_set(metrics, '$.correct_3px_pct', NULL);"
+      "UPDATE frames SET metrics = json_set(metrics, '$.correct_3px_pct', NULL);"
+      "UPDATE results SET metrics = NULL WHERE rowid = (SELECT MIN(rowid) FROM results);");
   std::string hash;
   {
     ResultStore store(db);
-    SweepSpec s = two_designs("evo");
-    s.strategy = "nsga2";
-    s.samples = 4;
-    s.generations = 2;
-    explore::add_axis(s, "median=0,5");
-    explore::run_sweep(s, store, on(data.string()));
-    const auto rows = store.designs("evo");
-    ASSERT_FALSE(rows.empty());
-    for (const auto& r : rows) {
-      EXPECT_EQ(r.status, "ok") << r.reason;
+    const auto before = store.designs("evo");
+    ASSERT_FALSE(before.empty());
+    for (const auto& r : before) {
+      EXPECT_EQ(r.status, "ok") << r.reason;  // a missing metric is not an unreadable row
       EXPECT_FALSE(r.metrics.count("correct_3px_pct"));
-      EXPECT_TRUE(r.metrics.count("density_pct"));
     }
-    hash = rows[0].hash;
+    EXPECT_TRUE(before[0].metrics.empty());
+    hash = before[0].hash;
+    s.generations = 3;  // continue: the stored population is ranked with its missing objective
+    const auto sum = explore::run_sweep(s, store, on(kStoreData));
+    EXPECT_GE(sum.skipped, int(before.size()));
+    std::set<std::string> front;
+    for (const auto& r : explore::pareto_front(s, store.designs("evo"))) front.insert(r.hash);
+    EXPECT_FALSE(front.count(hash)) << "a design without metrics on the front";
   }
-  const Shell p = shell(kCli + " pareto --db " + db);
+  const Shell p = shell(kCli + " pareto --db " + db + " --sweep evo");
   EXPECT_EQ(p.status, 0) << p.output;
-  EXPECT_EQ(shell(kCli + " pareto --json --db " + db).status, 0);
-  const Shell r = shell(kCli + " report --db " + db + " --csv " + (d / "d.csv").string() + " --frames-csv " +
+  EXPECT_EQ(shell(kCli + " pareto --json --db " + db + " --sweep evo").status, 0);
+  const Shell r = shell(kCli + " report --db " + db + " --sweep evo --csv " + (d / "d.csv").string() + " --frames-csv " +
                         (d / "f.csv").string() + " --json " + (d / "r.json").string() + " --html " + (d / "r.html").string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(read_file(d / "r.json").find("null"), std::string::npos);
   EXPECT_EQ(read_file(d / "d.csv").find("nan"), std::string::npos);
+  EXPECT_EQ(read_file(d / "f.csv").find("nan"), std::string::npos);
   const Shell e = shell(kCli + " export-hls --db " + db + " --design " + hash + " --out " + (d / "hls").string());
   EXPECT_EQ(e.status, 0) << e.output;
 }
