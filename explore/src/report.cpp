@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -341,9 +343,11 @@ std::string report_json(const std::vector<ResultStore::Row>& rows) {
     for (const auto& kv : config_fields(r.config_yaml)) c[kv.first] = kv.second;
     json frames = json::array();
     for (const auto& f : r.frames) frames.push_back({{"frame", f.first}, {"metrics", f.second}});
+    json measurement = r.measurement.empty() ? json() : json::parse(r.measurement, nullptr, false);
+    if (measurement.is_discarded()) measurement = r.measurement;
     j.push_back({{"hash", r.hash}, {"sweep", r.sweep}, {"status", r.status}, {"reason", r.reason},
                  {"configuration", c}, {"metrics", r.metrics}, {"frames", frames}, {"model_version", r.model_version},
-                 {"started_at", r.started_at}, {"finished_at", r.finished_at}});
+                 {"started_at", r.started_at}, {"finished_at", r.finished_at}, {"measurement", measurement}});
   }
   return j.dump(2) + "\n";
 }
@@ -620,7 +624,8 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
     s.config_yaml = r.config_yaml;
     s.metrics = r.metrics;
     s.config_file = "design-" + r.hash + ".yaml";
-    s.command = "parallax sweep --base " + s.config_file + " --dataset DATASET --frames '" + spec.frames + "' --gt " + spec.gt +
+    s.command = "parallax sweep --base " + s.config_file + " --dataset " + (opt.dataset.empty() ? "DATASET" : opt.dataset) +
+                " --frames '" + spec.frames + "' --gt " + spec.gt +
                 " --db check.db   # accuracy, timing and resources as stored\n"
                 "parallax sim --config " + s.config_file + " --device " + spec.device + " --html " + r.hash + ".html";
     try {
@@ -640,6 +645,64 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
   if (front.empty()) o << "<p>No design meets the constraints.</p>";
   o << "</section>";
   return standalone_page("Parallax report: " + spec.name, o.str());
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The path as it would be opened: absolute, symbolic links of its existing part resolved.
+fs::path resolved(const std::string& p) {
+  std::error_code ec;
+  fs::path a = fs::absolute(p, ec);
+  if (ec) return fs::path(p).lexically_normal();
+  const fs::path c = fs::weakly_canonical(a, ec);
+  return (ec ? a : c).lexically_normal();
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec) && !ec;
+  return resolved(a) == resolved(b);
+}
+
+bool inside(const fs::path& p, const fs::path& dir) {
+  auto d = dir.begin(), q = p.begin();
+  for (; d != dir.end(); ++d, ++q) {
+    if (d->empty() && std::next(d) == dir.end()) break;  // a trailing separator
+    if (q == p.end() || *q != *d) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void check_report_outputs(const std::string& store_path, const std::vector<std::string>& dataset_dirs,
+                          const std::vector<std::pair<std::string, std::string>>& outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const std::string& opt = outputs[i].first;
+    const std::string& out = outputs[i].second;
+    if (out.empty()) continue;
+    for (const char* suffix : {"", "-journal", "-wal", "-shm"})
+      if (same_file(out, store_path + suffix))
+        throw InputError(opt + " " + out + ": that is the results store the report reads (" + store_path +
+                         "); write the report to another file");
+    for (const auto& d : dataset_dirs)
+      if (!d.empty() && (same_file(out, d) || inside(resolved(out), resolved(d))))
+        throw InputError(opt + " " + out + ": inside the dataset folder " + d + "; write the report elsewhere");
+    for (std::size_t j = 0; j < i; ++j)
+      if (!outputs[j].second.empty() && same_file(out, outputs[j].second))
+        throw InputError(opt + " " + out + ": the same file as " + outputs[j].first + "; give each output its own file");
+  }
+}
+
+std::string images_dataset(const std::string& swept) {
+  if (swept.empty()) return "";
+  std::error_code ec;
+  if (fs::is_directory(swept, ec)) return swept;
+  std::fprintf(stderr, "parallax: note: the sweep's dataset %s is gone: no images in the report (give --dataset)\n",
+               swept.c_str());
+  return "";
 }
 
 }  // namespace parallax::explore

@@ -1,7 +1,5 @@
-// Sweeps, the results store and Pareto fronts (sweep.hpp).
+// Sweeps and Pareto fronts (sweep.hpp); the results store is in store.cpp.
 #include "parallax/explore/sweep.hpp"
-
-#include <sqlite3.h>
 
 #include <algorithm>
 #include <atomic>
@@ -360,201 +358,40 @@ MaterialisedDesign materialise(const config::PipelineConfig& base, const DesignP
   return m;
 }
 
-// --- store ------------------------------------------------------------------------------------
-
-struct ResultStore::Impl {
-  sqlite3* db = nullptr;
-  std::string path;
-  std::mutex mu;
-  void exec(const std::string& sql) {
-    char* err = nullptr;
-    if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
-      const std::string msg = err ? err : "?";
-      sqlite3_free(err);
-      throw InputError(path + ": SQLite: " + msg);
-    }
-  }
-};
-
-ResultStore::ResultStore(const std::string& path) : impl_(new Impl) {
-  impl_->path = path;
-  if (sqlite3_open(path.c_str(), &impl_->db) != SQLITE_OK) {
-    const std::string msg = impl_->db ? sqlite3_errmsg(impl_->db) : "cannot open";
-    sqlite3_close(impl_->db);
-    delete impl_;
-    throw InputError(path + ": cannot open the results store: " + msg);
-  }
-  sqlite3_busy_timeout(impl_->db, 10000);
-  try {
-    impl_->exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
-    impl_->exec(
-        "CREATE TABLE IF NOT EXISTS sweeps(name TEXT PRIMARY KEY, spec TEXT NOT NULL, created_at TEXT NOT NULL);"
-        "CREATE TABLE IF NOT EXISTS designs(hash TEXT PRIMARY KEY, sweep TEXT NOT NULL, config TEXT NOT NULL,"
-        " status TEXT NOT NULL, reason TEXT, metrics TEXT, model_version TEXT, started_at TEXT, finished_at TEXT);"
-        "CREATE TABLE IF NOT EXISTS frames(hash TEXT NOT NULL, frame TEXT NOT NULL, metrics TEXT NOT NULL,"
-        " PRIMARY KEY(hash, frame));");
-  } catch (...) {
-    sqlite3_close(impl_->db);
-    delete impl_;
-    throw;
-  }
-}
-
-ResultStore::~ResultStore() {
-  sqlite3_close(impl_->db);
-  delete impl_;
-}
-
-namespace {
-
-struct Stmt {
-  sqlite3_stmt* s = nullptr;
-  Stmt(sqlite3* db, const char* sql, const std::string& path) {
-    if (sqlite3_prepare_v2(db, sql, -1, &s, nullptr) != SQLITE_OK)
-      throw InputError(path + ": SQLite: " + sqlite3_errmsg(db));
-  }
-  ~Stmt() { sqlite3_finalize(s); }
-  void text(int i, const std::string& v) { sqlite3_bind_text(s, i, v.c_str(), int(v.size()), SQLITE_TRANSIENT); }
-  std::string col(int i) {
-    const unsigned char* t = sqlite3_column_text(s, i);
-    return t ? reinterpret_cast<const char*>(t) : "";
-  }
-};
-
-}  // namespace
-
-void ResultStore::put_sweep(const SweepSpec& s) {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  Stmt st(impl_->db, "INSERT INTO sweeps(name, spec, created_at) VALUES(?1, ?2, ?3) ON CONFLICT(name) DO UPDATE SET spec=?2",
-          impl_->path);
-  st.text(1, s.name);
-  st.text(2, sweep_to_yaml(s));
-  st.text(3, utc_now());
-  if (sqlite3_step(st.s) != SQLITE_DONE) throw InputError(impl_->path + ": SQLite: " + sqlite3_errmsg(impl_->db));
-}
-
-bool ResultStore::has_design(const std::string& hash) {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  Stmt st(impl_->db, "SELECT 1 FROM designs WHERE hash = ?1", impl_->path);
-  st.text(1, hash);
-  return sqlite3_step(st.s) == SQLITE_ROW;
-}
-
-void ResultStore::put_design(const Row& r) {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  impl_->exec("BEGIN IMMEDIATE");
-  try {
-    Stmt st(impl_->db,
-            "INSERT OR IGNORE INTO designs(hash, sweep, config, status, reason, metrics, model_version, started_at,"
-            " finished_at) VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
-            impl_->path);
-    st.text(1, r.hash);
-    st.text(2, r.sweep);
-    st.text(3, r.config_yaml);
-    st.text(4, r.status);
-    st.text(5, r.reason);
-    st.text(6, json(r.metrics).dump());
-    st.text(7, r.model_version);
-    st.text(8, r.started_at);
-    st.text(9, r.finished_at);
-    if (sqlite3_step(st.s) != SQLITE_DONE) throw InputError(impl_->path + ": SQLite: " + sqlite3_errmsg(impl_->db));
-    for (const auto& f : r.frames) {
-      Stmt fs(impl_->db, "INSERT OR IGNORE INTO frames(hash, frame, metrics) VALUES(?1, ?2, ?3)", impl_->path);
-      fs.text(1, r.hash);
-      fs.text(2, f.first);
-      fs.text(3, json(f.second).dump());
-      if (sqlite3_step(fs.s) != SQLITE_DONE) throw InputError(impl_->path + ": SQLite: " + sqlite3_errmsg(impl_->db));
-    }
-    impl_->exec("COMMIT");
-  } catch (...) {
-    sqlite3_exec(impl_->db, "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
-  }
-}
-
-std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep, bool with_frames) {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  Stmt st(impl_->db,
-          "SELECT hash, sweep, config, status, reason, metrics, model_version, started_at, finished_at FROM designs"
-          " WHERE ?1 = '' OR sweep = ?1 ORDER BY rowid",
-          impl_->path);
-  st.text(1, sweep);
-  std::vector<Row> out;
-  while (sqlite3_step(st.s) == SQLITE_ROW) {
-    Row r;
-    r.hash = st.col(0);
-    r.sweep = st.col(1);
-    r.config_yaml = st.col(2);
-    r.status = st.col(3);
-    r.reason = st.col(4);
-    const std::string m = st.col(5);
-    if (!m.empty()) r.metrics = json::parse(m).get<std::map<std::string, double>>();
-    r.model_version = st.col(6);
-    r.started_at = st.col(7);
-    r.finished_at = st.col(8);
-    out.push_back(std::move(r));
-  }
-  if (!with_frames) return out;
-  std::map<std::string, std::size_t> index;
-  for (std::size_t i = 0; i < out.size(); ++i) index[out[i].hash] = i;
-  Stmt fs(impl_->db,
-          "SELECT f.hash, f.frame, f.metrics FROM frames f JOIN designs d ON d.hash = f.hash"
-          " WHERE ?1 = '' OR d.sweep = ?1 ORDER BY f.hash, f.frame",
-          impl_->path);
-  fs.text(1, sweep);
-  while (sqlite3_step(fs.s) == SQLITE_ROW) {
-    const auto it = index.find(fs.col(0));
-    if (it == index.end()) continue;
-    out[it->second].frames.emplace_back(fs.col(1), json::parse(fs.col(2)).get<std::map<std::string, double>>());
-  }
-  return out;
-}
-
-std::vector<SweepSpec> ResultStore::sweeps() {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  Stmt st(impl_->db, "SELECT name, spec FROM sweeps ORDER BY rowid", impl_->path);
-  std::vector<SweepSpec> out;
-  while (sqlite3_step(st.s) == SQLITE_ROW) out.push_back(parse_sweep(st.col(1), impl_->path + ": sweep " + st.col(0)));
-  return out;
-}
-
-int64_t ResultStore::count_designs() {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  Stmt st(impl_->db, "SELECT COUNT(*) FROM designs", impl_->path);
-  return sqlite3_step(st.s) == SQLITE_ROW ? sqlite3_column_int64(st.s, 0) : 0;
-}
-
-int64_t ResultStore::merge_from(const std::string& other) {
-  if (!std::filesystem::exists(other)) throw InputError(other + ": no such results store");
-  const int64_t before = count_designs();
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  {
-    Stmt st(impl_->db, "ATTACH DATABASE ?1 AS src", impl_->path);
-    st.text(1, other);
-    if (sqlite3_step(st.s) != SQLITE_DONE) throw InputError(other + ": cannot attach: " + sqlite3_errmsg(impl_->db));
-  }
-  try {
-    impl_->exec("BEGIN IMMEDIATE");
-    impl_->exec("INSERT OR IGNORE INTO main.sweeps SELECT * FROM src.sweeps;"
-                "INSERT OR IGNORE INTO main.designs SELECT * FROM src.designs;"
-                "INSERT OR IGNORE INTO main.frames SELECT * FROM src.frames;");
-    impl_->exec("COMMIT");
-  } catch (...) {
-    sqlite3_exec(impl_->db, "ROLLBACK", nullptr, nullptr, nullptr);
-    sqlite3_exec(impl_->db, "DETACH DATABASE src", nullptr, nullptr, nullptr);
-    throw;
-  }
-  impl_->exec("DETACH DATABASE src");
-  Stmt st(impl_->db, "SELECT COUNT(*) FROM designs", impl_->path);
-  const int64_t after = sqlite3_step(st.s) == SQLITE_ROW ? sqlite3_column_int64(st.s, 0) : before;
-  return after - before;
-}
-
 // --- running ----------------------------------------------------------------------------------
 
 namespace {
 
 constexpr const char* kModelVersion = "parallax-models/2026-11-23 (kernels, cycle schedule, resources)";
+
+std::string absolute_path(const std::string& p) {
+  std::error_code ec;
+  const std::filesystem::path a = std::filesystem::weakly_canonical(std::filesystem::absolute(p, ec), ec);
+  return ec ? p : a.lexically_normal().string();
+}
+
+}  // namespace
+
+std::string measurement_of(const SweepSpec& s, const std::string& dataset_dir, const std::vector<std::string>& frame_ids) {
+  json j;  // keys sorted: one text per measurement
+  j["contract"] = kResultsContract;
+  j["models"] = kModelVersion;
+  j["dataset"] = absolute_path(dataset_dir);
+  j["gt"] = s.gt;
+  j["frames"] = frame_ids;
+  j["device"] = s.device;
+  j["avoidance"] = s.avoidance;
+  if (!s.flight_scenario.empty())
+    j["flight"] = {{"scenario", absolute_path(s.flight_scenario)}, {"seeds", s.flight_seeds},
+                   {"speed_mps", s.flight_speed_mps}, {"size_px", s.flight_size_px}};
+  return j.dump();
+}
+
+std::string result_key(const std::string& design_hash, const std::string& measurement) {
+  return design_hash + "@" + fnv1a_hex(measurement);
+}
+
+namespace {
 
 // Flights of the design through the sweep's scenario (seeds 1..N).
 void add_flight_metrics(const SweepSpec& spec, const config::PipelineConfig& cfg, ResultStore::Row& row) {
@@ -696,33 +533,44 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
 namespace {
 
 // Evaluates the designs (skipping stored ones) with `jobs` threads; counts into `sum`. Designs
-// sharing the cost stage form groups (opt.share_costs) that a thread evaluates together.
+// sharing the cost stage form groups (opt.share_costs) that a thread evaluates together. Each
+// group claims its designs in the store first: designs another live process claimed are left to
+// it and waited for at the end (and evaluated here if it dies or fails them).
 void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>& designs, ResultStore& store,
                     const Dataset& dataset, const SweepRunOptions& opt, SweepSummary& sum, int total_for_progress,
-                    int done_before) {
+                    int done_before, const std::string& measurement) {
   std::atomic<int> done{0}, skipped{0}, evaluated{0}, invalid{0}, failed{0};
-  std::mutex progress_mu;
+  std::mutex mu;  // progress, the waiting list, the first failure
   const int skipped_before = sum.skipped;
   auto report = [&] {
     if (!opt.progress) return;
-    std::lock_guard<std::mutex> lock(progress_mu);
+    std::lock_guard<std::mutex> lock(mu);
     opt.progress(done_before + done.load(), total_for_progress, skipped_before + skipped.load());
   };
-  // Work units: the designs to evaluate, grouped; stored, duplicate and invalid ones settled now.
-  std::vector<std::vector<const MaterialisedDesign*>> units;
-  std::map<std::string, std::size_t> unit_of_key;
-  std::set<std::string> seen;
-  const int jobs = opt.jobs > 0 ? opt.jobs : std::max(1, int(std::thread::hardware_concurrency()));
   std::mutex problems_mu;
   auto note_problem = [&](const ResultStore::Row& r) {  // the first reasons, for the summary
     std::lock_guard<std::mutex> lock(problems_mu);
     if (sum.first_problems.size() < 5) sum.first_problems.push_back("design " + r.hash + " (" + r.status + "): " + r.reason);
   };
+  auto key_of = [&](const MaterialisedDesign& m) { return result_key(m.hash, measurement); };
+  auto reused = [&](const MaterialisedDesign& m) {
+    store.add_member(spec.name, key_of(m));
+    ++skipped;
+    ++done;
+    report();
+  };
+  // Stored, duplicate and invalid designs are settled now; the rest is evaluated.
+  std::vector<const MaterialisedDesign*> todo;
+  std::set<std::string> seen;
   for (const auto& m : designs) {
-    if (!seen.insert(m.hash).second || store.has_design(m.hash)) {
+    if (!seen.insert(m.hash).second) {
       ++skipped;
       ++done;
       report();
+      continue;
+    }
+    if (store.has_result(key_of(m))) {
+      reused(m);
       continue;
     }
     if (!m.errors.empty()) {
@@ -730,45 +578,60 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
       r.status = "invalid";
       for (const auto& e : m.errors) r.reason += (r.reason.empty() ? "" : "; ") + e;
       r.finished_at = r.started_at;
-      store.put_design(r);
-      note_problem(r);
-      ++invalid;
+      r.measurement = measurement;
+      r.key = key_of(m);
+      if (store.put_design(r)) {
+        note_problem(r);
+        ++invalid;
+      } else {
+        ++skipped;
+      }
       ++done;
       report();
       continue;
     }
-    const RoiSize roi = roi_for(m.config);
-    const std::string key = opt.share_costs && m.config.rectify == "none" && !roi.full
-                                ? sim::cost_sharing_key(m.config.stereo_params(roi.width_px, roi.height_px))
-                                : "";
-    if (key.empty()) {
-      units.push_back({&m});
-      continue;
-    }
-    const auto it = unit_of_key.find(key);
-    if (it == unit_of_key.end()) {
-      unit_of_key[key] = units.size();
-      units.push_back({&m});
-    } else {
-      units[it->second].push_back(&m);
-    }
+    todo.push_back(&m);
   }
-  // Fewer groups than threads: split the largest so that every thread works.
-  while (int(units.size()) < jobs) {
-    auto big = std::max_element(units.begin(), units.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
-    if (big == units.end() || big->size() < 2) break;
-    std::vector<const MaterialisedDesign*> half(big->begin() + std::ptrdiff_t(big->size() / 2), big->end());
-    big->resize(big->size() / 2);
-    units.push_back(half);
-  }
-  std::atomic<std::size_t> next{0};
+  const int jobs = opt.jobs > 0 ? opt.jobs : std::max(1, int(std::thread::hardware_concurrency()));
+  using Unit = std::vector<const MaterialisedDesign*>;
+  auto make_units = [&](const std::vector<const MaterialisedDesign*>& ds) {
+    std::vector<Unit> units;
+    std::map<std::string, std::size_t> unit_of_key;
+    for (const auto* m : ds) {
+      const RoiSize roi = roi_for(m->config);
+      const std::string key = opt.share_costs && m->config.rectify == "none" && !roi.full
+                                  ? sim::cost_sharing_key(m->config.stereo_params(roi.width_px, roi.height_px))
+                                  : "";
+      const auto it = key.empty() ? unit_of_key.end() : unit_of_key.find(key);
+      if (it != unit_of_key.end()) {
+        units[it->second].push_back(m);
+        continue;
+      }
+      if (!key.empty()) unit_of_key[key] = units.size();
+      units.push_back({m});
+    }
+    // Fewer groups than threads: split the largest so that every thread works.
+    while (int(units.size()) < jobs) {
+      auto big = std::max_element(units.begin(), units.end(), [](const Unit& a, const Unit& b) { return a.size() < b.size(); });
+      if (big == units.end() || big->size() < 2) break;
+      Unit half(big->begin() + std::ptrdiff_t(big->size() / 2), big->end());
+      big->resize(big->size() / 2);
+      units.push_back(half);
+    }
+    return units;
+  };
   auto store_row = [&](ResultStore::Row& r) {
-    if (r.status == "error") {
-      ++failed;
-      note_problem(r);
+    r.measurement = measurement;
+    r.key = result_key(r.hash, measurement);
+    if (store.put_design(r)) {
+      if (r.status == "error") {
+        ++failed;
+        note_problem(r);
+      }
+      ++evaluated;
+    } else {
+      ++skipped;  // another process stored it meanwhile (it took over a claim it thought stale)
     }
-    store.put_design(r);
-    ++evaluated;
     ++done;
     report();
   };
@@ -779,34 +642,73 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     r.finished_at = utc_now();
     return r;
   };
-  auto worker = [&] {
-    for (;;) {
-      const std::size_t i = next.fetch_add(1);
-      if (i >= units.size()) return;
-      const auto& unit = units[i];
-      if (unit.size() == 1) {
-        ResultStore::Row r;
-        try {
-          r = evaluate_one(spec, *unit.front(), dataset);
-        } catch (const std::exception& e) {
-          r = error_row(*unit.front(), e.what());
-        }
-        store_row(r);
-        continue;
+  std::vector<const MaterialisedDesign*> waiting;  // claimed by another live process
+  auto evaluate_unit = [&](const Unit& unit) {
+    std::vector<std::string> keys;
+    for (const auto* m : unit) keys.push_back(key_of(*m));
+    const std::vector<ResultStore::Claim> claims = store.claim(keys);
+    Unit mine;
+    for (std::size_t k = 0; k < unit.size(); ++k) {
+      if (claims[k] == ResultStore::Claim::reusable) {
+        reused(*unit[k]);
+      } else if (claims[k] == ResultStore::Claim::busy) {
+        std::lock_guard<std::mutex> lock(mu);
+        waiting.push_back(unit[k]);
+      } else {
+        mine.push_back(unit[k]);
       }
-      std::vector<ResultStore::Row> rows;
-      try {
-        rows = evaluate_group(spec, unit, dataset);
-      } catch (const std::exception& e) {
-        rows.clear();
-        for (const auto* m : unit) rows.push_back(error_row(*m, e.what()));
-      }
-      for (auto& r : rows) store_row(r);
     }
+    if (mine.empty()) return;
+    std::vector<ResultStore::Row> rows;
+    try {
+      if (mine.size() == 1) rows.push_back(evaluate_one(spec, *mine.front(), dataset));
+      else rows = evaluate_group(spec, mine, dataset);
+    } catch (const std::exception& e) {
+      rows.clear();
+      for (const auto* m : mine) rows.push_back(error_row(*m, e.what()));
+    }
+    for (auto& r : rows) store_row(r);
   };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < std::min<int>(jobs, int(units.size())); ++j) pool.emplace_back(worker);
-  for (auto& t : pool) t.join();
+  // The units on `jobs` threads; a failure of the store (not of a design) stops them all and is
+  // rethrown here.
+  auto run_units = [&](const std::vector<Unit>& units) {
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::exception_ptr failure;
+    auto worker = [&] {
+      try {
+        while (!stop) {
+          const std::size_t i = next.fetch_add(1);
+          if (i >= units.size()) return;
+          evaluate_unit(units[i]);
+        }
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mu);
+        if (!failure) failure = std::current_exception();
+        stop = true;
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int j = 0; j < std::min<int>(jobs, int(units.size())); ++j) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+  };
+  run_units(make_units(todo));
+  // Designs other processes are evaluating: wait for their results; take over a design whose
+  // process died or failed it.
+  auto last_note = std::chrono::steady_clock::now() - std::chrono::hours(1);
+  while (!waiting.empty()) {
+    std::vector<const MaterialisedDesign*> again;
+    again.swap(waiting);
+    run_units(make_units(again));
+    if (waiting.empty()) break;
+    if (std::chrono::steady_clock::now() - last_note > std::chrono::seconds(60)) {
+      std::fprintf(stderr, "parallax: note: waiting for %zu designs that another sweep on %s is evaluating\n", waiting.size(),
+                   store.path().c_str());
+      last_note = std::chrono::steady_clock::now();
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
   sum.evaluated += evaluated;
   sum.skipped += skipped;
   sum.invalid += invalid;
@@ -824,7 +726,7 @@ DesignPoint point_of(const SweepSpec& s, const Genome& g) {
 }
 
 // Objective vector, larger is better; infeasible designs get -inf everywhere (constrained
-// domination: every feasible design dominates them).
+// domination: every feasible design dominates them), a missing metric -inf in its place.
 std::vector<double> objective_vector(const SweepSpec& s, const ResultStore::Row* r) {
   std::vector<double> v;
   const bool feasible = r && meets_constraints(s, *r);
@@ -833,9 +735,7 @@ std::vector<double> objective_vector(const SweepSpec& s, const ResultStore::Row*
       v.push_back(-std::numeric_limits<double>::infinity());
       continue;
     }
-    const auto it = r->metrics.find(o.key);
-    const double x = it == r->metrics.end() ? 0.0 : it->second;
-    v.push_back(o.maximise ? x : -x);
+    v.push_back(objective_value(*r, o));
   }
   return v;
 }
@@ -897,11 +797,28 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
   if (opt.shard_count < 1 || opt.shard_index < 1 || opt.shard_index > opt.shard_count)
     throw InputError("shard " + std::to_string(opt.shard_index) + "/" + std::to_string(opt.shard_count) +
                      ": expected K/N with 1 <= K <= N");
-  store.put_sweep(spec);
+  if (spec.strategy == "nsga2" && opt.shard_count > 1)
+    throw InputError("nsga2 cannot be sharded: each generation depends on the last");
+  if (spec.strategy == "nsga2" && spec.axes.empty()) throw InputError("nsga2 needs at least one axis");
+  // What the results are measured on; inputs that would fail every design fail the sweep now,
+  // before anything is stored.
+  const GtKind gt = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
+  std::vector<std::string> frame_ids;
+  for (const auto& ref : list_frames(dataset, gt, spec.frames)) frame_ids.push_back(ref.id);
+  if (frame_ids.empty())
+    throw InputError(opt.dataset + ": no frame with " + spec.gt + " ground truth matches '" + spec.frames + "'");
+  if (!spec.flight_scenario.empty()) (void)load_scenario(spec.flight_scenario);
+  const std::string dataset_dir = absolute_path(dataset.root.string());
+  const std::string measurement = measurement_of(spec, dataset_dir, frame_ids);
   SweepSummary sum;
+  if (store.put_sweep(spec, dataset_dir, measurement)) {
+    sum.notes.push_back("sweep '" + spec.name + "' in " + store.path() +
+                        " was measured on other data (dataset, frames, ground truth or models) before: it now lists "
+                        "only the designs measured on " + dataset_dir + " frames '" + spec.frames + "' (" + spec.gt +
+                        "); the earlier results stay in the store");
+    std::fprintf(stderr, "parallax: note: %s\n", sum.notes.back().c_str());
+  }
   if (spec.strategy == "nsga2") {
-    if (opt.shard_count > 1) throw InputError("nsga2 cannot be sharded: each generation depends on the last");
-    if (spec.axes.empty()) throw InputError("nsga2 needs at least one axis");
     std::mt19937 rng(spec.seed);
     const int pop_n = std::max(4, spec.samples);
     auto random_genome = [&] {
@@ -919,11 +836,11 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
         visited.insert(batch.back().hash);
       }
       const int total = pop_n * (spec.generations + 1);
-      evaluate_batch(spec, batch, store, dataset, opt, sum, total, generation * pop_n);
+      evaluate_batch(spec, batch, store, dataset, opt, sum, total, generation * pop_n, measurement);
     };
     auto rows_by_hash = [&] {
       std::map<std::string, ResultStore::Row> m;
-      for (auto& r : store.designs("", false)) m[r.hash] = std::move(r);  // any sweep: hashes are shared
+      for (auto& r : store.designs(spec.name, false)) m[r.hash] = std::move(r);  // this sweep's, as measured now
       return m;
     };
     std::vector<Genome> pop;
@@ -993,7 +910,7 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
     sum.total = int(points.size());
     std::vector<MaterialisedDesign> designs;
     for (const auto& p : points) designs.push_back(materialise(base, p));
-    evaluate_batch(spec, designs, store, dataset, opt, sum, sum.total, 0);
+    evaluate_batch(spec, designs, store, dataset, opt, sum, sum.total, 0, measurement);
   }
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
@@ -1003,29 +920,31 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
 
 bool meets_constraints(const SweepSpec& s, const ResultStore::Row& r) {
   if (r.status != "ok") return false;
+  // A missing (or non-finite) metric meets no bound on it.
   auto get = [&](const char* k) {
     const auto it = r.metrics.find(k);
-    return it == r.metrics.end() ? 0.0 : it->second;
+    return it == r.metrics.end() ? std::nan("") : it->second;
   };
-  if (s.require_fit && get("fits_device") < 0.5) return false;
-  if (s.min_fps > 0 && get("fps") < s.min_fps) return false;
-  if (s.max_latency_ms > 0 && get("latency_ms") > s.max_latency_ms) return false;
+  if (s.require_fit && !(get("fits_device") >= 0.5)) return false;
+  if (s.min_fps > 0 && !(get("fps") >= s.min_fps)) return false;
+  if (s.max_latency_ms > 0 && !(get("latency_ms") <= s.max_latency_ms)) return false;
   return true;
+}
+
+double objective_value(const ResultStore::Row& r, const Objective& o) {
+  const auto it = r.metrics.find(o.key);
+  if (it == r.metrics.end() || !std::isfinite(it->second)) return -std::numeric_limits<double>::infinity();
+  return o.maximise ? it->second : -it->second;
 }
 
 std::vector<ResultStore::Row> pareto_front(const SweepSpec& s, const std::vector<ResultStore::Row>& rows) {
   std::vector<const ResultStore::Row*> ok;
   for (const auto& r : rows)
     if (meets_constraints(s, r)) ok.push_back(&r);
-  auto value = [&](const ResultStore::Row& r, const Objective& o) {
-    const auto it = r.metrics.find(o.key);
-    const double v = it == r.metrics.end() ? 0.0 : it->second;
-    return o.maximise ? v : -v;  // larger is better
-  };
   auto dominates = [&](const ResultStore::Row& a, const ResultStore::Row& b) {
     bool strictly = false;
     for (const auto& o : s.objectives) {
-      const double va = value(a, o), vb = value(b, o);
+      const double va = objective_value(a, o), vb = objective_value(b, o);
       if (va < vb) return false;
       if (va > vb) strictly = true;
     }

@@ -2,11 +2,18 @@
 // non-zero exit, never a crash; and the happy paths write what they promise.
 #include <gtest/gtest.h>
 
+#include <sqlite3.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <string>
+#include <vector>
 
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -23,7 +30,8 @@ using CliRun = parallax::test::Shell;
 CliRun run_cli(const std::string& args) { return parallax::test::shell(std::string(PARALLAX_CLI) + " " + args); }
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("parallax_cli_test_" + name);
+  // The pid: test runs of several checkouts share /tmp.
+  const fs::path d = fs::temp_directory_path() / ("parallax_cli_test_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -274,6 +282,199 @@ TEST(CliSim, RectifyingDesignSimulatesItsRectifyStages) {
   const CliRun bad = run_cli("sim --config " + (d / "small_design.yaml").string() + " --no-sizing");
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.output.find("small.yaml"), std::string::npos) << bad.output;
+}
+
+}  // namespace
+
+// --- the results store: read-only commands, foreign files, outputs onto inputs, unreadable rows ---
+
+namespace {
+
+const std::string kStoreDataset = PARALLAX_DATA_DIR "/kitti2015-640x360";
+
+// Every file of a folder with its bytes: to show that nothing was created or changed.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> m;
+  for (const auto& e : fs::directory_iterator(dir)) m[e.path().filename().string()] = parallax::test::read_file(e.path());
+  return m;
+}
+
+void sql(const std::string& db, const std::string& statements) {
+  sqlite3* c = nullptr;
+  ASSERT_EQ(sqlite3_open(db.c_str(), &c), SQLITE_OK);
+  char* err = nullptr;
+  EXPECT_EQ(sqlite3_exec(c, statements.c_str(), nullptr, nullptr, &err), SQLITE_OK) << (err ? err : "") << statements;
+  sqlite3_free(err);
+  sqlite3_close(c);
+}
+
+// A store of two designs on one frame.
+std::string small_store(const fs::path& dir) {
+  const std::string db = (dir / "s.db").string();
+  const CliRun r = run_cli("sweep --base " + kCensus + " --grid p2=32,64 --dataset " + kStoreDataset + " --frames 1 --db " + db);
+  EXPECT_EQ(r.status, 0) << r.output;
+  return db;
+}
+
+// Exited (not killed by a signal, not aborted) with status 0 or 2.
+::testing::AssertionResult exited_cleanly(const CliRun& r) {
+  if (r.status == 0 || r.status == 2) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "status " << r.status << ": " << r.output;
+}
+
+TEST(CliStore, ReadOnlyCommandsOnAMissingPathCreateNothing) {
+  const fs::path d = temp_dir("store_missing");
+  const std::string db = (d / "none.db").string();
+  for (const std::string& cmd : {"pareto --db " + db, "report --db " + db + " --csv " + (d / "x.csv").string(),
+                                 "export-hls --db " + db + " --design abcd --out " + (d / "hls").string()}) {
+    const CliRun r = run_cli(cmd);
+    EXPECT_EQ(r.status, 2) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find(db + ": results store not found"), std::string::npos) << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(d)) << "a read-only command created a file";
+}
+
+// Another program's SQLite file, and a file that is not SQLite: every command refuses it with a
+// message naming it, and it stays byte-identical (no tables added, no journal mode switched).
+TEST(CliStore, ForeignFilesAreRefusedAndLeftByteIdentical) {
+  const fs::path d = temp_dir("store_foreign");
+  const std::string foreign = (d / "app.sqlite").string(), text = (d / "notes.txt").string();
+  sql(foreign, "CREATE TABLE people(name TEXT); INSERT INTO people VALUES('ada');");
+  std::ofstream(text) << "not a database\n";
+  const auto before = snapshot(d);
+  for (const std::string& db : {foreign, text}) {
+    for (const std::string& cmd :
+         {"pareto --db " + db, "report --db " + db + " --csv " + (d / "x.csv").string(),
+          "export-hls --db " + db + " --design abcd --out " + (d / "hls").string(),
+          "sweep --base " + kCensus + " --dataset " + kStoreDataset + " --frames 1 --db " + db,
+          "merge --db " + (d / "m.db").string() + " " + db}) {
+      const CliRun r = run_cli(cmd);
+      EXPECT_EQ(r.status, 2) << cmd << "\n" << r.output;
+      EXPECT_NE(r.output.find(db + ": "), std::string::npos) << r.output;
+      EXPECT_NE(r.output.find("not a Parallax results store"), std::string::npos) << r.output;
+    }
+  }
+  fs::remove(d / "m.db");  // merge's own target (a new store) may exist
+  EXPECT_EQ(snapshot(d), before);
+}
+
+// A store of schema 1 (results keyed by design only) is refused with what to do, untouched.
+TEST(CliStore, OlderSchemaIsRefusedWithHowToProceed) {
+  const fs::path d = temp_dir("store_v1");
+  const std::string db = (d / "old.db").string();
+  sql(db,
+      "PRAGMA journal_mode=WAL;"
+      "CREATE TABLE sweeps(name TEXT PRIMARY KEY, spec TEXT NOT NULL, created_at TEXT NOT NULL);"
+      "CREATE TABLE designs(hash TEXT PRIMARY KEY, sweep TEXT NOT NULL, config TEXT NOT NULL, status TEXT NOT NULL,"
+      " reason TEXT, metrics TEXT, model_version TEXT, started_at TEXT, finished_at TEXT);"
+      "CREATE TABLE frames(hash TEXT NOT NULL, frame TEXT NOT NULL, metrics TEXT NOT NULL, PRIMARY KEY(hash, frame));"
+      "INSERT INTO sweeps VALUES('s', 'name: s', '2026-01-01');");
+  const auto before = snapshot(d);
+  for (const std::string& cmd : {"pareto --db " + db, "report --db " + db + " --json " + (d / "x.json").string(),
+                                 "sweep --base " + kCensus + " --dataset " + kStoreDataset + " --frames 1 --db " + db}) {
+    const CliRun r = run_cli(cmd);
+    EXPECT_EQ(r.status, 2) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find(db + ": a results store of an earlier Parallax (schema 1)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("Rerun the sweep into a new store"), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(snapshot(d), before);
+}
+
+// A read-only store (file 0444, folder 0555) is read by pareto and report, which write nothing
+// into it or beside it. Run as root the modes do not stop writes, so when the tests run as root
+// the commands also run as nobody (setpriv), for whom they do.
+TEST(CliStore, ReadOnlyStoreIsReadAndNotTouched) {
+  const fs::path d = temp_dir("store_readonly");
+  const fs::path store = d / "ro";
+  fs::create_directories(store);
+  const fs::path out = d / "out";
+  fs::create_directories(out);
+  fs::permissions(out, fs::perms::all);
+  small_store(store);
+  const std::string db = (store / "s.db").string();
+  fs::permissions(db, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  fs::permissions(store, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read | fs::perms::group_exec |
+                             fs::perms::others_read | fs::perms::others_exec);
+  const auto before = snapshot(store);
+  std::vector<std::string> as = {""};
+  if (geteuid() == 0 && parallax::test::shell("command -v setpriv").status == 0)
+    as.push_back("setpriv --reuid=65534 --regid=65534 --clear-groups ");
+  for (const auto& who : as) {
+    const CliRun p = parallax::test::shell(who + PARALLAX_CLI + " pareto --db " + db);
+    EXPECT_EQ(p.status, 0) << who << p.output;
+    EXPECT_NE(p.output.find("2 designs stored"), std::string::npos) << p.output;
+    const std::string csv = (out / "d.csv").string();
+    fs::remove(csv);
+    const CliRun r = parallax::test::shell(who + PARALLAX_CLI + " report --db " + db + " --csv " + csv);
+    EXPECT_EQ(r.status, 0) << who << r.output;
+    EXPECT_TRUE(fs::exists(csv));
+  }
+  EXPECT_EQ(snapshot(store), before);
+  fs::permissions(store, fs::perms::owner_all);
+}
+
+// Outputs never overwrite inputs: the store, its journal, the dataset, or another output.
+TEST(CliStore, ReportNeverWritesOntoItsInputs) {
+  const fs::path d = temp_dir("store_outputs");
+  const std::string db = small_store(d);
+  const std::string bytes = parallax::test::read_file(db);
+  const std::string in_dataset = kStoreDataset + "/training/report.csv";
+  struct Case {
+    std::string args, option;
+  };
+  for (const Case& c : {Case{"--csv " + db, "--csv"}, Case{"--html " + db, "--html"}, Case{"--json " + db, "--json"},
+                        Case{"--frames-csv " + db + "-journal", "--frames-csv"}, Case{"--csv " + in_dataset, "--csv"},
+                        Case{"--html " + kStoreDataset, "--html"},
+                        Case{"--csv " + (d / "a.csv").string() + " --frames-csv " + (d / "a.csv").string(), "--frames-csv"}}) {
+    const CliRun r = run_cli("report --db " + db + " " + c.args);
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.option), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(parallax::test::read_file(db), bytes);
+  EXPECT_FALSE(fs::exists(in_dataset));
+  EXPECT_FALSE(fs::exists(d / "a.csv"));
+}
+
+// Rows whose metrics are NULL, hold nulls, are not JSON or hold strings: pareto, report and
+// export-hls never abort; an unreadable row is named (store and row) and shown as an error.
+TEST(CliStore, UnreadableOrMissingMetricsNeverCrash) {
+  const fs::path d = temp_dir("store_rows");
+  const std::string db = small_store(d);
+  sql(db,
+      "UPDATE results SET metrics = '{\"correct_3px_pct\": null, \"density_pct\": 80, \"fits_device\": 1}' WHERE rowid = 1;"
+      "UPDATE frames SET metrics = NULL WHERE rowid = 1;");
+  // export-hls (a simulation of a few seconds) only when asked.
+  auto readers = [&](const std::string& tag, bool with_export) {
+    std::vector<CliRun> runs = {
+        run_cli("pareto --db " + db), run_cli("pareto --json --db " + db),
+        run_cli("report --db " + db + " --csv " + (d / "d.csv").string() + " --frames-csv " + (d / "f.csv").string() +
+                " --json " + (d / "r.json").string() + " --html " + (d / "r.html").string())};
+    if (with_export) runs.push_back(run_cli("export-hls --db " + db + " --design " + tag + " --out " + (d / "hls").string()));
+    for (const auto& r : runs) EXPECT_TRUE(exited_cleanly(r));
+    return runs;
+  };
+  sqlite3* c = nullptr;
+  ASSERT_EQ(sqlite3_open(db.c_str(), &c), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(c, "SELECT hash FROM results ORDER BY rowid", -1, &st, nullptr), SQLITE_OK);
+  std::vector<std::string> hashes;
+  while (sqlite3_step(st) == SQLITE_ROW) hashes.push_back(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)));
+  sqlite3_finalize(st);
+  sqlite3_close(c);
+  ASSERT_EQ(hashes.size(), 2u);
+  auto nulls = readers(hashes[0], true);
+  EXPECT_EQ(nulls[0].status, 0) << nulls[0].output;
+  EXPECT_EQ(nulls[2].status, 0) << nulls[2].output;
+  EXPECT_EQ(nulls[3].status, 0) << nulls[3].output;
+  for (const char* bad : {"'not json'", "'{\"fps\": \"fast\"}'", "'[1, 2]'"}) {
+    sql(db, std::string("UPDATE results SET metrics = ") + bad + " WHERE rowid = 2;");
+    auto runs = readers(hashes[1], bad[1] == 'n');
+    EXPECT_EQ(runs[0].status, 0) << runs[0].output;
+    EXPECT_NE(runs[0].output.find(db + ": results row 2, metrics (design " + hashes[1]), std::string::npos) << runs[0].output;
+    EXPECT_EQ(runs[2].status, 0) << runs[2].output;
+    const std::string csv = parallax::test::read_file(d / "d.csv");
+    EXPECT_NE(csv.find(hashes[1] + ",sweep,error,"), std::string::npos) << csv;
+  }
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 // scripts ran, and its screenshot is not blank.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -47,7 +49,7 @@ struct Fixture {
   fs::path dir;
   std::string db;
   Fixture() {
-    dir = fs::temp_directory_path() / "parallax_report_test";
+    dir = fs::temp_directory_path() / ("parallax_report_test_" + std::to_string(getpid()));  // checkouts share /tmp
     fs::remove_all(dir);
     fs::create_directories(dir);
     db = (dir / "r.db").string();
@@ -125,6 +127,40 @@ TEST(Report, HtmlFetchesNothing) {
   for (const char* bad : {"src=\"http", "href=\"http", "src='http", "url(http", "<link ", "@import"})
     EXPECT_EQ(html.find(bad), std::string::npos) << bad;
   EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
+}
+
+// The store keeps the dataset folder of each sweep: without --dataset the report renders the
+// front designs' images from it while it exists, and says so when it is gone.
+TEST(Report, ImagesFromTheSweepsOwnDatasetWhileItExists) {
+  ASSERT_TRUE(fixture().ok);
+  const fs::path html = fixture().dir / "no-dataset.html";
+  int st = -1;
+  run(std::string(PARALLAX_CLI) + " report --db " + fixture().db + " --details 1 --html " + html.string() + " 2>&1", &st);
+  ASSERT_EQ(st, 0);
+  EXPECT_NE(slurp(html).find("left image, frame 000001"), std::string::npos);
+  EXPECT_NE(slurp(html).find("--dataset " + fs::canonical(kData).string()), std::string::npos);  // reproduce command
+
+  const fs::path d = fs::temp_directory_path() / ("parallax_report_test_gone_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  fs::copy(kData, d / "kitti", fs::copy_options::recursive);
+  const std::string db = (d / "g.db").string();
+  {
+    explore::SweepSpec s;
+    s.name = "gone";
+    s.base = kCensus;
+    s.frames = "1";
+    explore::ResultStore store(db);
+    explore::SweepRunOptions ro;
+    ro.dataset = (d / "kitti").string();
+    explore::run_sweep(s, store, ro);
+  }
+  fs::remove_all(d / "kitti");
+  const std::string out = run(std::string(PARALLAX_CLI) + " report --db " + db + " --html " + (d / "g.html").string() + " 2>&1", &st);
+  ASSERT_EQ(st, 0) << out;
+  EXPECT_NE(out.find("dataset " + (d / "kitti").string() + " is gone"), std::string::npos) << out;
+  EXPECT_EQ(slurp(d / "g.html").find("left image, frame"), std::string::npos);
+  fs::remove_all(d);
 }
 
 // `run` and `sim` write the per-design section as a page of its own.

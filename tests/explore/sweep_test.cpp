@@ -26,7 +26,8 @@ const std::string kData = PARALLAX_DATA_DIR "/kitti2015-640x360";
 const std::string kCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
 
 fs::path fresh(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("parallax_sweep_test_" + name);
+  // The pid: test runs of several checkouts share /tmp.
+  const fs::path d = fs::temp_directory_path() / ("parallax_sweep_test_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -224,6 +225,7 @@ TEST(SweepScale, ShardsMergeToTheWholeSweep) {
   EXPECT_EQ(merged.merge_from((d / "part1.db").string()), 0);  // merging twice adds nothing
   EXPECT_EQ(by_hash(merged), by_hash(whole));
   EXPECT_EQ(merged.sweeps().size(), 1u);
+  EXPECT_EQ(merged.designs("small").size(), 6u);  // the sweep's membership came along
   ro.shard_index = 4;
   EXPECT_THROW(explore::run_sweep(s, merged, ro), explore::InputError);
 }
@@ -419,6 +421,350 @@ TEST(SweepStore, DesignsFilterFramesBySweepAndCanSkipThem) {
     EXPECT_EQ(store.designs("").at(1).frames.size(), 2u);
   }
   std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace parallax::test
+
+// --- a results store that cannot lie (issue 15, items 4 and 5) ---------------------------------
+
+#include <sqlite3.h>
+
+#include <cmath>
+#include <fstream>
+#include <regex>
+
+#include "../common/shell.hpp"
+
+namespace parallax::test {
+namespace {
+
+namespace fs = std::filesystem;
+using explore::ResultStore;
+using explore::SweepSpec;
+
+const std::string kStoreData = PARALLAX_DATA_DIR "/kitti2015-640x360";
+const std::string kStoreCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
+const std::string kCli = PARALLAX_CLI;
+
+fs::path store_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("parallax_store_test_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// A copy of the shipped KITTI crops (the tests alter it).
+fs::path copy_dataset(const fs::path& dir) {
+  const fs::path d = dir / "kitti";
+  fs::copy(kStoreData, d, fs::copy_options::recursive);
+  return d;
+}
+
+void sql(const std::string& db, const std::string& statements) {
+  sqlite3* c = nullptr;
+  ASSERT_EQ(sqlite3_open(db.c_str(), &c), SQLITE_OK);
+  char* err = nullptr;
+  const int rc = sqlite3_exec(c, statements.c_str(), nullptr, nullptr, &err);
+  EXPECT_EQ(rc, SQLITE_OK) << (err ? err : "") << "\n" << statements;
+  sqlite3_free(err);
+  sqlite3_close(c);
+}
+
+SweepSpec two_designs(const std::string& name) {
+  SweepSpec s;
+  s.name = name;
+  s.base = kStoreCensus;
+  s.frames = "1";
+  explore::add_axis(s, "p2=32,64");
+  return s;
+}
+
+explore::SweepRunOptions on(const std::string& dataset) {
+  explore::SweepRunOptions ro;
+  ro.dataset = dataset;
+  ro.jobs = 2;
+  return ro;
+}
+
+std::set<std::string> hashes(const std::vector<ResultStore::Row>& rows) {
+  std::set<std::string> h;
+  for (const auto& r : rows) h.insert(r.hash);
+  return h;
+}
+
+// Sum of "N evaluated" over the summary lines of sweeps.
+int evaluated_in(const std::string& output) {
+  int n = 0;
+  static const std::regex re(R"((\d+) evaluated)");
+  for (auto it = std::sregex_iterator(output.begin(), output.end(), re); it != std::sregex_iterator(); ++it)
+    n += std::stoi((*it)[1].str());
+  return n;
+}
+
+// Results are keyed by the design and by what it was measured on: another --frames, --gt or
+// dataset evaluates anew (and the sweep then lists the new results); going back reuses.
+TEST(SweepStoreKeys, RerunOnOtherFramesGroundTruthOrDatasetEvaluatesAnew) {
+  const fs::path d = store_dir("keys");
+  ResultStore store((d / "k.db").string());
+  SweepSpec s = two_designs("k");
+  auto first = explore::run_sweep(s, store, on(kStoreData));
+  EXPECT_EQ(first.evaluated, 2);
+  s.frames = "5";
+  auto other = explore::run_sweep(s, store, on(kStoreData));
+  EXPECT_EQ(other.evaluated, 2) << "results measured on frame 1 reused for frame 5";
+  EXPECT_EQ(other.skipped, 0);
+  EXPECT_FALSE(other.notes.empty());  // the sweep's measurement changed: said so
+  auto rows = store.designs("k");
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& r : rows) {
+    ASSERT_EQ(r.frames.size(), 1u);
+    EXPECT_EQ(r.frames[0].first, "000005");
+    EXPECT_NE(r.measurement.find("\"000005\""), std::string::npos) << r.measurement;
+  }
+  s.frames = "1";
+  auto back = explore::run_sweep(s, store, on(kStoreData));
+  EXPECT_EQ(back.evaluated, 0);
+  EXPECT_EQ(back.skipped, 2);
+  for (const auto& r : store.designs("k")) EXPECT_EQ(r.frames.at(0).first, "000001");
+  s.gt = "occ";
+  EXPECT_EQ(explore::run_sweep(s, store, on(kStoreData)).evaluated, 2);
+  s.gt = "noc";
+  const fs::path copy = copy_dataset(d);
+  EXPECT_EQ(explore::run_sweep(s, store, on(copy.string())).evaluated, 2);
+  EXPECT_EQ(store.sweep_dataset("k"), fs::canonical(copy).string());
+  EXPECT_EQ(store.count_designs(), 8);
+  // The measurement names the contract version, so a new contract never reuses old results.
+  EXPECT_NE(store.designs("k").at(0).measurement.find(explore::kResultsContract), std::string::npos);
+}
+
+// A sweep name lists exactly its own designs, also those another sweep evaluated first.
+TEST(SweepStoreKeys, OverlappingSweepNamesListExactlyTheirOwnDesigns) {
+  const fs::path d = store_dir("names");
+  const std::string db = (d / "n.db").string();
+  std::set<std::string> a_hashes, b_hashes;
+  {
+    ResultStore store(db);
+    SweepSpec a = two_designs("a");
+    explore::add_axis(a, "p2=32,48,64");
+    SweepSpec b = two_designs("b");
+    explore::add_axis(b, "p2=48,64,96");
+    EXPECT_EQ(explore::run_sweep(a, store, on(kStoreData)).evaluated, 3);
+    const auto sb = explore::run_sweep(b, store, on(kStoreData));
+    EXPECT_EQ(sb.evaluated, 1);
+    EXPECT_EQ(sb.skipped, 2);
+    a_hashes = hashes(store.designs("a"));
+    b_hashes = hashes(store.designs("b"));
+    const config::PipelineConfig base = config::load_config(kStoreCensus);
+    std::set<std::string> want_a, want_b;
+    for (const auto& p : explore::enumerate_designs(a)) want_a.insert(explore::materialise(base, p).hash);
+    for (const auto& p : explore::enumerate_designs(b)) want_b.insert(explore::materialise(base, p).hash);
+    EXPECT_EQ(a_hashes, want_a);
+    EXPECT_EQ(b_hashes, want_b);
+    EXPECT_EQ(store.count_designs(), 4);
+  }
+  // The same through the CLI: report --csv of b has b's three designs.
+  const Shell r = shell(kCli + " report --db " + db + " --sweep b --csv " + (d / "b.csv").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::istringstream csv(read_file(d / "b.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::set<std::string> listed;
+  while (std::getline(csv, line)) listed.insert(line.substr(0, line.find(',')));
+  EXPECT_EQ(listed, b_hashes);
+}
+
+// A design that failed because of its inputs is not reused: fix the input and rerun, and it is
+// evaluated. Inputs that would fail every design fail the sweep before anything is stored.
+TEST(SweepStoreKeys, FailedDesignsAreNotReused) {
+  const fs::path d = store_dir("failed");
+  const fs::path data = copy_dataset(d);
+  const fs::path frame = data / "training/image_2/000005_10.png";
+  const std::string good = read_file(frame);
+  std::ofstream(frame, std::ios::binary | std::ios::trunc) << good.substr(0, 200);  // truncated
+  ResultStore store((d / "f.db").string());
+  SweepSpec s = two_designs("f");
+  s.frames = "1,5";
+  auto broken = explore::run_sweep(s, store, on(data.string()));
+  EXPECT_EQ(broken.failed, 2);
+  for (const auto& r : store.designs("f")) {
+    EXPECT_EQ(r.status, "error");
+    EXPECT_NE(r.reason.find("000005_10.png"), std::string::npos) << r.reason;
+  }
+  std::ofstream(frame, std::ios::binary | std::ios::trunc) << good;  // fixed
+  auto fixed = explore::run_sweep(s, store, on(data.string()));
+  EXPECT_EQ(fixed.evaluated, 2);
+  EXPECT_EQ(fixed.failed, 0);
+  EXPECT_EQ(fixed.skipped, 0);
+  for (const auto& r : store.designs("f")) EXPECT_EQ(r.status, "ok");
+  EXPECT_EQ(store.count_designs(), 2);  // the failed rows were replaced
+  // A bad frame filter or a missing flight scenario: an error, nothing stored.
+  SweepSpec bad = two_designs("bad");
+  bad.frames = "99";
+  EXPECT_THROW(explore::run_sweep(bad, store, on(data.string())), explore::InputError);
+  bad.frames = "1";
+  bad.flight_scenario = (d / "no-such-scenario.yaml").string();
+  EXPECT_THROW(explore::run_sweep(bad, store, on(data.string())), explore::InputError);
+  EXPECT_EQ(store.count_designs(), 2);
+  for (const auto& sw : store.sweeps()) EXPECT_NE(sw.name, "bad");
+}
+
+// NaN never reaches the store (a missing metric is absent), and a design without a metric ranks
+// last on it: it fails a bound on it, and it never dominates on it.
+TEST(SweepStoreNan, MissingMetricsAreAbsentAndRankLast) {
+  const fs::path d = store_dir("nan");
+  ResultStore store((d / "n.db").string());
+  ResultStore::Row r;
+  r.hash = "00000000000000aa";
+  r.sweep = "n";
+  r.config_yaml = "name: x\n";
+  r.status = "ok";
+  r.metrics = {{"correct_3px_pct", std::nan("")}, {"density_pct", 70.0}, {"fps", std::numeric_limits<double>::infinity()}};
+  r.frames = {{"000001", {{"correct_3px_pct", std::nan("")}, {"density_pct", 70.0}}}};
+  store.put_design(r);
+  const auto rows = store.designs("n");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].metrics, (std::map<std::string, double>{{"density_pct", 70.0}}));
+  EXPECT_EQ(rows[0].frames.at(0).second, (std::map<std::string, double>{{"density_pct", 70.0}}));
+
+  SweepSpec s;
+  s.require_fit = false;
+  s.objectives = {{"correct_3px_pct", true}, {"density_pct", true}};
+  auto row = [](const char* h, std::map<std::string, double> m) {
+    ResultStore::Row x;
+    x.hash = h;
+    x.status = "ok";
+    x.metrics = std::move(m);
+    return x;
+  };
+  const std::vector<ResultStore::Row> pts = {
+      row("a", {{"density_pct", 99}}),                                   // no correct: -inf there
+      row("b", {{"correct_3px_pct", 50}, {"density_pct", 50}}),
+      row("c", {}),                                                      // nothing: dominated
+      row("d", {{"correct_3px_pct", std::nan("")}, {"density_pct", 40}})};  // NaN in memory: as absent
+  std::set<std::string> front;
+  for (const auto& p : explore::pareto_front(s, pts)) front.insert(p.hash);
+  EXPECT_EQ(front, (std::set<std::string>{"a", "b"}));
+  s.max_latency_ms = 50;  // a bound on a metric the design has not: not met
+  EXPECT_FALSE(explore::meets_constraints(s, pts[1]));
+  EXPECT_EQ(explore::objective_value(pts[3], s.objectives[0]), -std::numeric_limits<double>::infinity());
+}
+
+// Stores holding null metrics (as NaN was written before) or a NULL metrics column: NSGA-II
+// ranks those designs (last on the missing objective) while it continues the sweep, and pareto,
+// report (CSV, frames CSV, JSON, HTML) and export-hls read the store, with empty cells.
+TEST(SweepStoreNan, NullMetricsNeverCrashNsga2OrTheReaders) {
+  const fs::path d = store_dir("nulls");
+  const std::string db = (d / "n.db").string();
+  SweepSpec s = two_designs("evo");
+  s.strategy = "nsga2";
+  s.samples = 4;
+  s.generations = 1;
+  explore::add_axis(s, "median=0,3,5");
+  {
+    ResultStore store(db);
+    explore::run_sweep(s, store, on(kStoreData));
+  }
+  sql(db,
+      "UPDATE results SET metrics = json_set(metrics, '$.correct_3px_pct', NULL);"
+      "UPDATE frames SET metrics = json_set(metrics, '$.correct_3px_pct', NULL);"
+      "UPDATE results SET metrics = NULL WHERE rowid = (SELECT MIN(rowid) FROM results);");
+  std::string hash;
+  {
+    ResultStore store(db);
+    const auto before = store.designs("evo");
+    ASSERT_FALSE(before.empty());
+    for (const auto& r : before) {
+      EXPECT_EQ(r.status, "ok") << r.reason;  // a missing metric is not an unreadable row
+      EXPECT_FALSE(r.metrics.count("correct_3px_pct"));
+    }
+    EXPECT_TRUE(before[0].metrics.empty());
+    hash = before[0].hash;
+    s.generations = 3;  // continue: the stored population is ranked with its missing objective
+    const auto sum = explore::run_sweep(s, store, on(kStoreData));
+    EXPECT_GE(sum.skipped, int(before.size()));
+    std::set<std::string> front;
+    for (const auto& r : explore::pareto_front(s, store.designs("evo"))) front.insert(r.hash);
+    EXPECT_FALSE(front.count(hash)) << "a design without metrics on the front";
+  }
+  const Shell p = shell(kCli + " pareto --db " + db + " --sweep evo");
+  EXPECT_EQ(p.status, 0) << p.output;
+  EXPECT_EQ(shell(kCli + " pareto --json --db " + db + " --sweep evo").status, 0);
+  const Shell r = shell(kCli + " report --db " + db + " --sweep evo --csv " + (d / "d.csv").string() + " --frames-csv " +
+                        (d / "f.csv").string() + " --json " + (d / "r.json").string() + " --html " + (d / "r.html").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(read_file(d / "r.json").find("null"), std::string::npos);
+  EXPECT_EQ(read_file(d / "d.csv").find("nan"), std::string::npos);
+  EXPECT_EQ(read_file(d / "f.csv").find("nan"), std::string::npos);
+  const Shell e = shell(kCli + " export-hls --db " + db + " --design " + hash + " --out " + (d / "hls").string());
+  EXPECT_EQ(e.status, 0) << e.output;
+}
+
+// Two identical sweeps at once on one store share the work: each design evaluated once in all.
+TEST(SweepStoreConcurrency, IdenticalSweepsAtOnceEvaluateEachDesignOnce) {
+  const fs::path d = store_dir("concurrent");
+  const std::string db = (d / "c.db").string();
+  const std::string args = " sweep --base " + kStoreCensus + " --grid disparities=30,24,36,42,48,54 --dataset " + kStoreData +
+                           " --frames 1,5 --jobs 1 --no-sharing --db " + db;
+  const Shell both = shell("(" + kCli + args + " 2>/dev/null & " + kCli + args + " 2>/dev/null & wait)");
+  EXPECT_EQ(evaluated_in(both.output), 6) << both.output;
+  EXPECT_NE(both.output.find("already in"), std::string::npos) << both.output;
+  ResultStore store(db);
+  EXPECT_EQ(store.count_designs(), 6);
+  EXPECT_EQ(store.designs("sweep").size(), 6u);
+  for (const auto& r : store.designs("sweep")) EXPECT_EQ(r.status, "ok");
+}
+
+// A claim left by a process that died does not block: the next sweep takes it over.
+TEST(SweepStoreConcurrency, ClaimOfADeadProcessIsTakenOver) {
+  const fs::path d = store_dir("stale");
+  const std::string db = (d / "s.db").string();
+  SweepSpec s = two_designs("s");
+  { ResultStore create(db); }
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);  // a pid that no longer runs
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  const config::PipelineConfig base = config::load_config(kStoreCensus);
+  const std::string measurement =
+      explore::measurement_of(s, fs::canonical(kStoreData).string(), {"000001"});
+  for (const auto& p : explore::enumerate_designs(s)) {
+    const std::string key = explore::result_key(explore::materialise(base, p).hash, measurement);
+    sql(db, "INSERT INTO claims(key, owner, host, pid, started, claimed_at) VALUES('" + key + "', 'dead', '" + host + "', " +
+                std::to_string(child) + ", 12345, strftime('%s','now'))");
+  }
+  ResultStore store(db);
+  const auto sum = explore::run_sweep(s, store, on(kStoreData));
+  EXPECT_EQ(sum.evaluated, 2);
+  EXPECT_EQ(store.designs("s").size(), 2u);
+}
+
+// Another connection holding the write lock longer than the notice time: the sweep waits,
+// says so, and finishes.
+TEST(SweepStoreConcurrency, LockHeldByAnotherConnectionIsWaitedOut) {
+  const fs::path d = store_dir("lock");
+  const std::string db = (d / "l.db").string();
+  { ResultStore create(db); }
+  sqlite3* c = nullptr;
+  ASSERT_EQ(sqlite3_open(db.c_str(), &c), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(c, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr), SQLITE_OK);
+  std::thread holder([c] {
+    std::this_thread::sleep_for(std::chrono::seconds(3));
+    sqlite3_exec(c, "COMMIT", nullptr, nullptr, nullptr);
+  });
+  const auto t0 = std::chrono::steady_clock::now();
+  const Shell r = shell("PARALLAX_LOCK_NOTICE_MS=300 " + kCli + " sweep --base " + kStoreCensus + " --dataset " + kStoreData +
+                        " --frames 1 --db " + db);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  holder.join();
+  sqlite3_close(c);
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("waiting for lock on " + db), std::string::npos) << r.output;
+  EXPECT_GE(s, 2.5);  // it did wait
+  ResultStore store(db);
+  EXPECT_EQ(store.count_designs(), 1);
 }
 
 }  // namespace

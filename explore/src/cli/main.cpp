@@ -1248,7 +1248,7 @@ int run_cli(int argc, char** argv) {
       return 0;
     }
     if (*paretoc) {
-      ResultStore store(pa_db);
+      ResultStore store(pa_db, ResultStore::Access::read);
       const SweepSpec chosen = choose_sweep(store, pa_db, pa_sweep);
       const SweepSpec* spec = &chosen;
       const auto rows = store.designs(spec->name, false);
@@ -1272,10 +1272,14 @@ int run_cli(int argc, char** argv) {
           const auto pos = r.config_yaml.find("name: ");
           if (pos != std::string::npos) name = r.config_yaml.substr(pos + 6, r.config_yaml.find('\n', pos) - pos - 6);
           std::printf("%-18s %-40s", r.hash.c_str(), name.substr(0, 40).c_str());
-          for (const auto& o : spec->objectives)
-            std::printf(" %16.3f", r.metrics.count(o.key) ? r.metrics.at(o.key) : 0.0);
-          std::printf(" %8.1f %8.0f\n", r.metrics.count("fps") ? r.metrics.at("fps") : 0.0,
-                      r.metrics.count("bram18k") ? r.metrics.at("bram18k") : 0.0);
+          auto cell = [&](const std::string& k, int width, int decimals) {  // a missing metric: "-"
+            if (r.metrics.count(k)) std::printf(" %*.*f", width, decimals, r.metrics.at(k));
+            else std::printf(" %*s", width, "-");
+          };
+          for (const auto& o : spec->objectives) cell(o.key, 16, 3);
+          cell("fps", 8, 1);
+          cell("bram18k", 8, 0);
+          std::printf("\n");
         }
       }
       return 0;
@@ -1283,9 +1287,12 @@ int run_cli(int argc, char** argv) {
     if (*reportc) {
       if (rp_html.empty() && rp_csv.empty() && rp_frames_csv.empty() && rp_json.empty())
         throw InputError("report: nothing to write; give --html, --csv, --frames-csv or --json");
-      ResultStore store(rp_db);
+      ResultStore store(rp_db, ResultStore::Access::read);
       const SweepSpec chosen = choose_sweep(store, rp_db, rp_sweep);
       const SweepSpec* spec = &chosen;
+      const std::string swept = store.sweep_dataset(spec->name);  // the folder the sweep ran on
+      check_report_outputs(rp_db, {rp_dataset, swept},
+                           {{"--html", rp_html}, {"--csv", rp_csv}, {"--frames-csv", rp_frames_csv}, {"--json", rp_json}});
       const auto rows = store.designs(spec->name);
       auto write = [](const std::string& path, const std::string& text) {
         std::ofstream out(path, std::ios::binary);
@@ -1307,7 +1314,7 @@ int run_cli(int argc, char** argv) {
       if (!rp_json.empty()) write(rp_json, report_json(rows));
       if (!rp_html.empty()) {
         ReportOptions ro;
-        ro.dataset = rp_dataset;
+        ro.dataset = rp_dataset.empty() ? images_dataset(swept) : rp_dataset;
         ro.frame = rp_frame;
         ro.details = rp_details;
         write(rp_html, html_report(*spec, rows, ro));
@@ -1479,10 +1486,12 @@ int run_cli(int argc, char** argv) {
       } else {
         if (!fs::exists(ex_db)) throw InputError(ex_db + ": results store not found");
         if (ex_design.size() < 4) throw InputError("--design '" + ex_design + "': give at least 4 hex digits of the hash");
-        ResultStore store(ex_db);
+        ResultStore store(ex_db, ResultStore::Access::read);
         std::vector<ResultStore::Row> hits;
-        for (auto& row : store.designs("", false))
-          if (row.hash.rfind(ex_design, 0) == 0) hits.push_back(std::move(row));
+        for (auto& row : store.designs("", false))  // a design measured on several datasets is one design
+          if (row.hash.rfind(ex_design, 0) == 0 &&
+              std::none_of(hits.begin(), hits.end(), [&](const ResultStore::Row& h) { return h.hash == row.hash; }))
+            hits.push_back(std::move(row));
         if (hits.empty()) throw InputError(ex_db + ": no design whose hash starts with '" + ex_design + "' (see parallax pareto)");
         if (hits.size() > 1)
           throw InputError(ex_db + ": " + std::to_string(hits.size()) + " designs start with '" + ex_design + "'; give more digits");

@@ -68,4 +68,13 @@ struct ReportOptions {
 };
 std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt);
 
+// Outputs never overwrite their inputs: InputError naming the option when an output (option,
+// path) is the store (or its journal), one of the dataset folders or a file inside one, or the
+// same file as another output. Empty paths are not outputs.
+void check_report_outputs(const std::string& store_path, const std::vector<std::string>& dataset_dirs,
+                          const std::vector<std::pair<std::string, std::string>>& outputs);
+// The dataset the report renders images from when none is given: the folder the sweep ran on
+// (ResultStore::sweep_dataset) when it still exists; "" (and a note on stderr) otherwise.
+std::string images_dataset(const std::string& swept_dataset);
+
 }  // namespace parallax::explore

@@ -85,35 +85,79 @@ struct MaterialisedDesign {
 };
 MaterialisedDesign materialise(const config::PipelineConfig& base, const DesignPoint& d);
 
-// Results store: SQLite, one transaction per design (a killed process loses at most the design
-// it was evaluating, and never writes one twice).
+// What a result was measured on: the dataset (absolute path), the frames the filter selected,
+// the ground-truth kind, everything else of the sweep that changes the metrics (device, avoidance,
+// flight) and the results contract (kResultsContract and the models' version). Canonical JSON:
+// equal text, equal measurement. Results are keyed by the design AND by this (result_key).
+constexpr const char* kResultsContract = "parallax-results/2";
+std::string measurement_of(const SweepSpec& s, const std::string& dataset_dir, const std::vector<std::string>& frame_ids);
+// "HASH@CONTEXT": the design hash, then a hash of the measurement.
+std::string result_key(const std::string& design_hash, const std::string& measurement);
+
+// Results store: SQLite (schema in docs/explorer.md, "The store"). One transaction per design: a
+// killed process loses at most the designs it was evaluating, and never writes one twice.
+// Results are keyed by design and measurement; each sweep name lists its own results (a table
+// of sweep -> result keys); only successful evaluations (and invalid designs) are reused, a
+// failed one is evaluated again by the next run. Concurrent sweeps on one store share work:
+// a design is claimed (owner: host, pid, process start time) before it is evaluated, others
+// wait for it, and the claim of a process that died is taken over. Lock waits are retried
+// without limit and reported on stderr ("waiting for lock on FILE") once they last longer than
+// lock_notice_ms (default 2000; environment PARALLAX_LOCK_NOTICE_MS).
 class ResultStore {
  public:
-  explicit ResultStore(const std::string& path);  // creates the schema; InputError naming the file
-  ~ResultStore();
+  enum class Access {
+    write,  // sweep, merge: create the store if the path is absent (or an empty file)
+    read,   // pareto, report, export-hls: opened read-only, never created or altered
+  };
+  // InputError naming the file: not found (read), not an SQLite file, an SQLite file that is not
+  // a Parallax store, a store of an older schema (refused: rerun into a new store), or one made by
+  // a newer Parallax.
+  explicit ResultStore(const std::string& path, Access access = Access::write);
+  ~ResultStore();  // releases the claims this store still holds
   ResultStore(const ResultStore&) = delete;
   ResultStore& operator=(const ResultStore&) = delete;
+  const std::string& path() const;
 
-  void put_sweep(const SweepSpec& s);
-  bool has_design(const std::string& hash);
+  // Records the sweep (its spec, the dataset folder and the measurement). Returns true when the
+  // sweep existed with another measurement: its name now lists only the new measurement's
+  // results (the earlier results stay in the store, reusable by a sweep measured like them).
+  bool put_sweep(const SweepSpec& s, const std::string& dataset_dir = "", const std::string& measurement = "");
+  // The dataset folder the sweep was last run on ("" when unknown).
+  std::string sweep_dataset(const std::string& sweep);
+  // A reusable result: status ok or invalid (a failed evaluation is not reused).
+  bool has_result(const std::string& key);
   struct Row {
     std::string hash, sweep, config_yaml, status, reason;  // status: ok | invalid | error
-    std::map<std::string, double> metrics;                 // pooled accuracy, timing, resources
+    std::map<std::string, double> metrics;                 // pooled accuracy, timing, resources; finite only
     std::vector<std::pair<std::string, std::map<std::string, double>>> frames;  // per-frame accuracy
     std::string model_version, started_at, finished_at;
+    std::string measurement;  // measurement_of(...) ("" = unknown)
+    std::string key;          // result_key(hash, measurement); put_design fills it when empty
   };
-  void put_design(const Row& row);  // one transaction; a second put of a hash is ignored
-  // The designs of one sweep ("" = all), in insertion order; with_frames = false leaves each
-  // Row::frames empty and skips reading the per-frame table (pareto, NSGA-II, export).
+  // One transaction: the row, its frames, its sweep's membership, and the end of its claim. A
+  // reusable row of the same key is kept (the put only adds the membership; returns false); a
+  // failed one is replaced. Non-finite metrics are stored as absent.
+  bool put_design(const Row& row);
+  void add_member(const std::string& sweep, const std::string& key);
+  // Claims before evaluating, one transaction for the batch: mine (evaluate it), reusable (a
+  // result exists), or busy (a live process claimed it; wait, then ask again).
+  enum class Claim { mine, reusable, busy };
+  std::vector<Claim> claim(const std::vector<std::string>& keys);
+  void release(const std::string& key);
+  // The results of one sweep ("" = every result), in insertion order; with_frames = false leaves
+  // each Row::frames empty and skips reading the per-frame table (pareto, NSGA-II, export). A row
+  // whose stored metrics cannot be read (not JSON, not numbers) is returned as status error with
+  // the reason, and a warning naming the store and the row goes to stderr.
   std::vector<Row> designs(const std::string& sweep = "", bool with_frames = true);
   std::vector<SweepSpec> sweeps();
   int64_t count_designs();
-  // Copies every sweep, design and frame of another store that this one lacks (same hash: kept
-  // as is). Returns the designs added.
+  // Copies every sweep, result, membership and frame of another store that this one lacks (same
+  // key: kept as is, a failed result replaced by a reusable one). Returns the results added.
   int64_t merge_from(const std::string& other_path);
 
+  struct Impl;  // store.cpp
+
  private:
-  struct Impl;
   Impl* impl_;
 };
 
@@ -133,6 +177,7 @@ struct SweepRunOptions {
   std::function<void(int done, int total, int skipped)> progress;
 };
 struct SweepSummary {
+  std::vector<std::string> notes;  // for the user (e.g. the sweep's measurement changed), also on stderr
   int total = 0, evaluated = 0, skipped = 0, invalid = 0, failed = 0;
   double seconds = 0.0;
   // The first reasons of invalid or failed designs ("design HASH: reason"), at most five.
@@ -140,8 +185,11 @@ struct SweepSummary {
 };
 SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt);
 
-// The designs of a sweep that meet its constraints and are not dominated on its objectives.
+// The designs of a sweep that meet its constraints and are not dominated on its objectives. A
+// design without a metric (absent or not finite) ranks last on it: it fails a constraint on it,
+// and its objective value is -infinity (objective_value; larger is better).
 std::vector<ResultStore::Row> pareto_front(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows);
 bool meets_constraints(const SweepSpec& spec, const ResultStore::Row& row);
+double objective_value(const ResultStore::Row& row, const Objective& objective);
 
 }  // namespace parallax::explore
