@@ -4,6 +4,7 @@
 // reader's documented error type; any other exception fails, and a crash or a sanitizer report
 // (the debug preset builds with ASan + UBSan) fails the run. Same seed, same inputs.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <zlib.h>
 
 #include <cmath>
@@ -244,6 +245,69 @@ TEST_F(Fuzz, PfmDisparity) {
        [&](const std::string& bytes) {
          write_all(file, bytes);
          (void)explore::read_pfm_disparity(file);
+       },
+       is<explore::InputError>);
+}
+
+// A small real store (a sweep, three results with frames), its bytes mutated: opened read-only and
+// read as pareto and report read it. Then its metrics column rewritten with mutated JSON.
+TEST_F(Fuzz, ResultStore) {
+  const fs::path good = dir_ / "good.db";
+  {
+    explore::ResultStore store(good.string());
+    explore::SweepSpec spec;
+    spec.name = "fuzz";
+    spec.base = std::string(PARALLAX_CONFIG_DIR) + "/ruf2018-census.yaml";
+    store.put_sweep(spec, "/data/kitti", "{}");
+    for (int k = 0; k < 3; ++k) {
+      explore::ResultStore::Row r;
+      r.hash = "00000000000000a" + std::to_string(k);
+      r.sweep = "fuzz";
+      r.config_yaml = "p2: " + std::to_string(40 + k) + "\n";
+      r.status = "ok";
+      r.metrics = {{"correct_3px_pct", 90.0 + k}, {"bram18k", 100.0 - k}, {"fps", 29.5}};
+      r.frames = {{"000001", {{"correct_3px_pct", 91.0}}}, {"000005", {{"correct_3px_pct", 89.0}}}};
+      r.measurement = "{}";
+      store.put_design(r);
+    }
+  }
+  const std::string bytes = read_all(good);
+  ASSERT_GT(bytes.size(), 1000u);
+  const fs::path file = dir_ / "store.db";
+  auto read_store = [&](const fs::path& f) {
+    explore::ResultStore store(f.string(), explore::ResultStore::Access::read);
+    for (const auto& s : store.sweeps()) (void)store.designs(s.name, false);
+    (void)store.designs("", true);
+    (void)store.count_designs();
+  };
+  const std::vector<std::string> tokens = {std::string(16, '\0'), std::string(4, '\xff'), "SQLite format 3", "{", "}",
+                                           "\"correct_3px_pct\":", "NaN", "null", "[", "]"};
+  fuzz("store file", {bytes}, tokens, 15007,
+       [&](const std::string& b) {
+         fs::remove(file);
+         write_all(file, b);
+         read_store(file);
+       },
+       is<explore::InputError>);
+  // The metrics column: what another program (or an older Parallax) may have written there.
+  const std::vector<std::string> json_seeds = {"{\"correct_3px_pct\": 91.5, \"bram18k\": 120, \"fps\": 29.5}",
+                                               "{\"a\": [1, 2], \"b\": {\"c\": null}}"};
+  const std::vector<std::string> json_tokens = {"{", "}", "[", "]", ",", ":", "\"", "null", "NaN", "-Infinity", "1e999",
+                                                "\"x\"", "true", "\\u0000", "-"};
+  fuzz("store metrics JSON", json_seeds, json_tokens, 15008,
+       [&](const std::string& text) {
+         fs::remove(file);
+         fs::copy_file(good, file);
+         sqlite3* db = nullptr;
+         ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+         sqlite3_stmt* st = nullptr;
+         ASSERT_EQ(sqlite3_prepare_v2(db, "UPDATE results SET metrics = ?1", -1, &st, nullptr), SQLITE_OK);
+         sqlite3_bind_text(st, 1, text.data(), int(text.size()), SQLITE_TRANSIENT);
+         EXPECT_EQ(sqlite3_step(st), SQLITE_DONE);
+         sqlite3_finalize(st);
+         sqlite3_close(db);
+         read_store(file);
+         throw explore::InputError("read");  // counted as a refusal: reading must not throw anything else
        },
        is<explore::InputError>);
 }
