@@ -526,7 +526,7 @@ int run_cli(int argc, char** argv) {
   std::string score_pred, score_dataset, score_frames, score_gt = "noc", score_roi;
   bool score_json = false;
   auto* score = app.add_subcommand("score", "Score existing KITTI-format disparity PNGs (any method) with the same protocol");
-  score->add_option("--pred", score_pred, "Folder of predictions named like the GT files (NNNNNN_10.png)")->required();
+  score->add_option("--pred", score_pred, "Folder of predictions, one KITTI 16-bit PNG per frame named <frame id>_10.png (as eval --save writes them)")->required();
   score->add_option("--dataset", score_dataset, "Dataset folder with the ground truth")->required();
   score->add_option("--frames", score_frames, "Frames to score, e.g. 1-5,7, or @FILE (default: all with GT)")->transform(FrameList());
   score->add_option("--gt", score_gt, "Ground truth kind: noc or occ")->check(CLI::IsMember({"noc", "occ"}));
@@ -1335,7 +1335,17 @@ int run_cli(int argc, char** argv) {
       for (const auto& ref : refs) {
         Frame f = load_frame(ref);
         const Roi roi = resolve_roi(roi_for(cfg), f.left.cols, f.left.rows);
-        const Rig rig = av_calib.empty() ? kitti_default_rig(roi.x0, roi.y0) : load_rig(av_calib, roi.x0, roi.y0);
+        // The rig: --calib when given, else the frame's own calibration file (KITTI calib,
+        // Middlebury calib.txt), else KITTI 2015's.
+        Rig rig = kitti_default_rig(roi.x0, roi.y0);
+        if (!av_calib.empty()) {
+          rig = load_rig(av_calib, roi.x0, roi.y0);
+        } else if (f.calibration.known) {
+          rig.focal_px = f.calibration.focal_px;
+          rig.baseline_m = f.calibration.baseline_m;
+          rig.cx_px = f.calibration.cx_px - roi.x0;
+          rig.cy_px = f.calibration.cy_px - roi.y0;
+        }
         const DisparityMap d = run_design(cfg, crop_to_roi(f.left, roi).clone(), crop_to_roi(f.right, roi).clone(), pipe);
         const AvoidScore s = acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, roi),
                                      crop_to_roi(f.gt_mask, roi), cfg.disparities, rig);
