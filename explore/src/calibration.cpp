@@ -1,5 +1,6 @@
 // Calibration files of stereo datasets: Middlebury calib.txt and dmin.txt, KITTI P matrices.
 #include "parallax/explore/calibration.hpp"
+#include "text_util.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -10,17 +11,11 @@
 #include <vector>
 
 namespace parallax::explore {
+using detail::trim;
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string trim(const std::string& s) {
-  std::size_t b = 0;
-  std::size_t e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b])) != 0) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1])) != 0) --e;
-  return s.substr(b, e - b);
-}
 
 // Opens a text file for reading; InputError naming it when it is missing, a folder or unreadable.
 std::ifstream open_text(const fs::path& file, const char* role) {

@@ -2,6 +2,7 @@
 // Readers of the layouts as downloaded: KITTI 2015, KITTI 2012 (grey or colour), Middlebury
 // 2014/2021 and 2005/2006 scene folders, and the legacy Middlebury index pairs.tsv.
 #include "parallax/explore/dataset.hpp"
+#include "text_util.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -17,6 +18,7 @@
 #include "parallax/explore/disparity_io.hpp"
 
 namespace parallax::explore {
+using detail::trim;
 namespace fs = std::filesystem;
 
 namespace {
@@ -34,13 +36,6 @@ bool is_file(const fs::path& p) {
   return fs::is_regular_file(p, ec);
 }
 
-std::string trim(const std::string& s) {
-  std::size_t b = 0;
-  std::size_t e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b])) != 0) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1])) != 0) --e;
-  return s.substr(b, e - b);
-}
 
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> parts;

@@ -31,8 +31,10 @@
 
 #include "parallax/explore/dataset.hpp"
 #include "parallax/explore/sweep.hpp"
+#include "text_util.hpp"
 
 namespace parallax::explore {
+using detail::utc_now;
 
 using json = nlohmann::json;
 namespace fs = std::filesystem;
@@ -57,14 +59,6 @@ const char* kSchema =
     "CREATE TABLE IF NOT EXISTS claims(key TEXT PRIMARY KEY, owner TEXT NOT NULL, host TEXT NOT NULL,"
     " pid INTEGER NOT NULL, started INTEGER NOT NULL, claimed_at INTEGER NOT NULL);";
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 int64_t unix_now() { return int64_t(std::time(nullptr)); }
 

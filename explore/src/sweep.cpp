@@ -1,5 +1,6 @@
 // Sweeps and Pareto fronts (sweep.hpp); the results store is in store.cpp.
 #include "parallax/explore/sweep.hpp"
+#include "text_util.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -30,6 +31,7 @@
 #include "parallax/sim/cycle.hpp"
 
 namespace parallax::explore {
+using detail::utc_now;
 
 using json = nlohmann::json;
 
@@ -326,14 +328,6 @@ std::string fnv1a_hex(const std::string& s) {
   return buf;
 }
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 }  // namespace
 
