@@ -455,11 +455,7 @@ int report_exception(std::exception_ptr ep) {
   };
   try {
     std::rethrow_exception(ep);
-  } catch (const config::ConfigError& e) {
-    return user(e.what());
-  } catch (const InputError& e) {
-    return user(e.what());
-  } catch (const hlsx::ExportError& e) {
+  } catch (const UserError& e) {
     return user(e.what());
   } catch (const cv::Exception& e) {
     return user(std::string("OpenCV: ") + e.what());

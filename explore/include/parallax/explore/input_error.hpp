@@ -1,16 +1,16 @@
 // The error type for bad user input (data files, dataset folders, arguments).
 #pragma once
 
-#include <stdexcept>
+#include "parallax/config/user_error.hpp"
 
 namespace parallax::explore {
 
 // Any problem with the user's input data or arguments (missing or unreadable file, size
 // mismatch, unknown layout, bad frame filter, bad ROI, malformed calibration). The message names
 // the file (and the field or line) or the argument and the problem, ready to be printed as is.
-class InputError : public std::runtime_error {
+class InputError : public UserError {
  public:
-  using std::runtime_error::runtime_error;
+  using UserError::UserError;
 };
 
 }  // namespace parallax::explore

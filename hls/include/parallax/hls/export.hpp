@@ -21,9 +21,9 @@ namespace parallax::hlsx {
 
 // A request that cannot be exported, or a project that cannot be written; the message names the
 // field or the path.
-class ExportError : public std::runtime_error {
+class ExportError : public UserError {
  public:
-  using std::runtime_error::runtime_error;
+  using UserError::UserError;
 };
 
 // One FIFO between two stages of the top, with the depth chosen from the simulator's sizing.

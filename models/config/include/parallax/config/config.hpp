@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "parallax/config/user_error.hpp"
 #include "parallax/kernels/params.hpp"
 
 namespace parallax::config {
@@ -82,9 +83,9 @@ std::vector<FieldError> validate(const PipelineConfig& c);
 
 // A configuration file or override that cannot be used: the message names the file and every
 // offending field.
-class ConfigError : public std::runtime_error {
+class ConfigError : public UserError {
  public:
-  using std::runtime_error::runtime_error;
+  using UserError::UserError;
 };
 
 // The whole text of a user-given file (configuration, sweep, scenario, points, report), refusing
