@@ -49,7 +49,7 @@ optional_deps() {
 # The independent MAVLink decoder of the tests (node-mavlink from the npm registry); the test is
 # skipped when it cannot be installed.
 npm_deps() {
-  local dir=tests/explore/mavlink_node
+  local dir=tests/explore/uav/mavlink_node
   [ -d "$dir/node_modules/node-mavlink" ] && return 0
   if ! command -v npm >/dev/null 2>&1; then  # Debian's packages, when no node is installed at all
     local sudo=""

@@ -20,12 +20,12 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "parallax/config/config.hpp"
-#include "parallax/explore/dataset.hpp"
-#include "parallax/explore/disparity_io.hpp"
-#include "parallax/explore/hls_report.hpp"
-#include "parallax/explore/scene.hpp"
-#include "parallax/explore/sweep.hpp"
-#include "../eval/pfm_writer.hpp"
+#include "parallax/eval/dataset.hpp"
+#include "parallax/eval/disparity_io.hpp"
+#include "parallax/hls_flow/hls_report.hpp"
+#include "parallax/uav/scene.hpp"
+#include "parallax/search/sweep.hpp"
+#include "eval/pfm_writer.hpp"
 
 namespace fs = std::filesystem;
 using namespace parallax;

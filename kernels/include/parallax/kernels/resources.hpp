@@ -62,7 +62,7 @@ inline const char* op_kind_name(OpKind k) {
 //       removes it), e.g. the LR registers without the check, a path kind's state when inactive.
 // declare() turns the description into r.registers / r.memory through DeclareStorage, so the
 // model's registers and memories are computed from the same expressions that size and partition
-// the members; tests/resources/storage_test.cpp checks the description against the members'
+// the members; tests/models/resources/storage_test.cpp checks the description against the members'
 // extents (sizeof) in FIXED instantiations.
 template <class R>
 class DeclareStorage {

@@ -1,0 +1,381 @@
+// The avoidance stage (avoid.hpp).
+#include "parallax/uav/avoid.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <ceres/ceres.h>
+#include <opencv2/core/persistence.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "parallax/eval/dataset.hpp"
+
+namespace parallax::explore {
+
+const char* to_string(Manoeuvre m) {
+  switch (m) {
+    case Manoeuvre::left: return "left";
+    case Manoeuvre::right: return "right";
+    case Manoeuvre::up: return "up";
+    case Manoeuvre::down: return "down";
+    default: return "fly_on";
+  }
+}
+
+Rig load_rig(const std::string& path, int x0, int y0) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read the calibration file");
+  Rig r;
+  const std::string ext = path.size() > 4 ? path.substr(path.size() - 4) : "";
+  if (ext == ".yml" || ext == "yaml") {
+    cv::FileStorage fs(path, cv::FileStorage::READ);
+    if (!fs.isOpened()) throw InputError(path + ": not an OpenCV YAML file");
+    for (const char* k : {"focal_px", "baseline_m", "cx_px", "cy_px"})
+      if (fs[k].empty()) throw InputError(path + ": missing field '" + k + "'");
+    r.focal_px = double(fs["focal_px"]);
+    r.baseline_m = double(fs["baseline_m"]);
+    r.cx_px = double(fs["cx_px"]) - x0;
+    r.cy_px = double(fs["cy_px"]) - y0;
+    return r;
+  }
+  // KITTI: "P_rect_02: 12 numbers" (cam_to_cam) or "P2: 12 numbers" (object calib).
+  std::vector<double> p2, p3;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    const std::string key = line.substr(0, colon);
+    std::istringstream ss(line.substr(colon + 1));
+    std::vector<double> v;
+    double x;
+    while (ss >> x) v.push_back(x);
+    if (v.size() != 12) continue;
+    if (key == "P_rect_02" || key == "P2") p2 = v;
+    if (key == "P_rect_03" || key == "P3") p3 = v;
+  }
+  if (p2.empty() || p3.empty()) throw InputError(path + ": needs P_rect_02 and P_rect_03 (or P2 and P3) with 12 numbers");
+  r.focal_px = p2[0];
+  r.cx_px = p2[2] - x0;
+  r.cy_px = p2[6] - y0;
+  // P3[3] = -f * B (+ P2's own offset): B = (P2[3] - P3[3]) / f.
+  r.baseline_m = (p2[3] - p3[3]) / p2[0];
+  if (!(r.focal_px > 0) || !(r.baseline_m > 0)) throw InputError(path + ": focal length and baseline must be positive");
+  return r;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+struct LineResidual {
+  double d, y;
+  template <class T>
+  bool operator()(const T* const ab, T* r) const {
+    r[0] = T(y) - (ab[0] * T(d) + ab[1]);
+    return true;
+  }
+};
+
+}  // namespace
+
+AvoidResult avoid(const cv::Mat& disp, const cv::Mat& valid, int max_d, const Rig& rig, const AvoidParams& p) {
+  CV_Assert(disp.type() == CV_32FC1 && valid.type() == CV_8UC1 && disp.size() == valid.size() && max_d > 0);
+  AvoidResult res;
+  const int W = disp.cols, H = disp.rows;
+  const int top = H * p.horizon_rows_pct / 100;
+  auto t0 = Clock::now();
+  // V map over the region of interest: rows x disparities.
+  res.v_map = cv::Mat::zeros(H, max_d, CV_32S);
+  for (int y = top; y < H; ++y) {
+    const float* d = disp.ptr<float>(y);
+    const uint8_t* v = valid.ptr<uint8_t>(y);
+    int* row = res.v_map.ptr<int>(y);
+    for (int x = 0; x < W; ++x)
+      if (v[x]) {
+        const int di = int(std::lround(d[x]));
+        if (di >= p.min_disparity_px && di < max_d) ++row[di];
+      }
+  }
+  res.timings.uv_maps_ms += ms_since(t0);
+  // Ground: a robust line row = a d + b through the V-map cells that vote for it.
+  t0 = Clock::now();
+  {
+    double ab[2] = {double(H - top) / double(max_d), double(top)};
+    ceres::Problem problem;
+    int points = 0;
+    // One vote per disparity: the row where the V map peaks (the ground dominates each column of
+    // the V map below the horizon; obstacles are outliers the Cauchy loss discounts).
+    for (int d = p.min_disparity_px; d < max_d; ++d) {
+      int best_y = -1, best = p.v_threshold - 1;
+      for (int y = top; y < H; ++y) {
+        const int c = res.v_map.at<int>(y, d);
+        if (c > best) {
+          best = c;
+          best_y = y;
+        }
+      }
+      if (best_y < 0) continue;
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{double(d), double(best_y)}),
+                               new ceres::CauchyLoss(2.0), ab);
+      ++points;
+    }
+    if (points >= 8) {
+      ceres::Solver::Options opt;
+      opt.logging_type = ceres::SILENT;
+      opt.max_num_iterations = 50;
+      ceres::Solver::Summary sum;
+      ceres::Solve(opt, &problem, &sum);
+      // A ground plane seen from above rises in the image as it nears: the slope is positive.
+      res.ground_found = ab[0] > 0.05 && std::isfinite(ab[0]) && std::isfinite(ab[1]);
+      res.ground_slope = ab[0];
+      res.ground_offset = ab[1];
+    }
+  }
+  auto is_obstacle_px = [&](int y, int di) {
+    if (di < p.min_disparity_px || di >= max_d || y < top) return false;
+    if (!res.ground_found) return true;
+    return double(y) < res.ground_slope * di + res.ground_offset - p.ground_tolerance_px;
+  };
+  res.timings.filtering_ms += ms_since(t0);
+  // U map of the obstacle pixels: disparities x columns.
+  t0 = Clock::now();
+  res.u_map = cv::Mat::zeros(max_d, W, CV_32S);
+  for (int y = top; y < H; ++y) {
+    const float* d = disp.ptr<float>(y);
+    const uint8_t* v = valid.ptr<uint8_t>(y);
+    for (int x = 0; x < W; ++x)
+      if (v[x]) {
+        const int di = int(std::lround(d[x]));
+        if (is_obstacle_px(y, di)) ++res.u_map.at<int>(di, x);
+      }
+  }
+  res.timings.uv_maps_ms += ms_since(t0);
+  // Threshold, dilate, smooth.
+  t0 = Clock::now();
+  cv::Mat bin = res.u_map >= p.u_threshold;
+  if (p.dilate_px > 0)
+    cv::dilate(bin, bin, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * p.dilate_px + 1, 2 * p.dilate_px + 1)));
+  if (p.gaussian_sigma_px > 0) {
+    cv::GaussianBlur(bin, bin, cv::Size(0, 0), p.gaussian_sigma_px);
+    bin = bin >= 128;
+  }
+  res.u_binary = bin;
+  res.timings.filtering_ms += ms_since(t0);
+  // The largest contours, their ellipses, rows and geometry.
+  t0 = Clock::now();
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(bin.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  std::sort(contours.begin(), contours.end(),
+            [](const auto& a, const auto& b) { return cv::contourArea(a) > cv::contourArea(b); });
+  for (const auto& c : contours) {
+    if (int(res.obstacles.size()) >= p.max_obstacles) break;
+    if (cv::contourArea(c) < p.min_area_cells) continue;
+    Obstacle o;
+    o.u_box = cv::boundingRect(c);
+    o.ellipse = c.size() >= 5 ? cv::fitEllipse(c) : cv::RotatedRect(cv::Point2f(float(o.u_box.x + o.u_box.width / 2.0),
+                                                                                 float(o.u_box.y + o.u_box.height / 2.0)),
+                                                                     cv::Size2f(float(o.u_box.width), float(o.u_box.height)), 0);
+    const cv::Moments m = cv::moments(c);
+    o.centroid = m.m00 > 0 ? cv::Point2f(float(m.m10 / m.m00), float(m.m01 / m.m00)) : o.ellipse.center;
+    int y0 = H, y1 = -1;
+    for (int y = top; y < H; ++y) {
+      const float* d = disp.ptr<float>(y);
+      const uint8_t* v = valid.ptr<uint8_t>(y);
+      for (int x = o.u_box.x; x < o.u_box.x + o.u_box.width; ++x) {
+        if (!v[x]) continue;
+        const int di = int(std::lround(d[x]));
+        if (di >= o.u_box.y && di < o.u_box.y + o.u_box.height && is_obstacle_px(y, di)) {
+          y0 = std::min(y0, y);
+          y1 = std::max(y1, y);
+        }
+      }
+    }
+    if (y1 < y0) continue;
+    o.v_box = cv::Rect(o.u_box.y, y0, o.u_box.height, y1 - y0 + 1);
+    o.reaches_roi_top = y0 <= top + 1;
+    const double d_near = std::max(double(p.min_disparity_px), double(o.u_box.y + o.u_box.height - 1));
+    const double z = rig.focal_px * rig.baseline_m / d_near;
+    const double xc = o.u_box.x + o.u_box.width / 2.0, yc = y0 + (y1 - y0 + 1) / 2.0;
+    o.centre_m = Eigen::Vector3d((xc - rig.cx_px) * z / rig.focal_px, (yc - rig.cy_px) * z / rig.focal_px, z);
+    o.range_m = z;
+    o.lateral_m = o.centre_m.x();
+    o.width_m = double(o.u_box.width) * z / rig.focal_px;
+    o.height_m = double(y1 - y0 + 1) * z / rig.focal_px;
+    res.obstacles.push_back(o);
+  }
+  std::sort(res.obstacles.begin(), res.obstacles.end(), [](const Obstacle& a, const Obstacle& b) { return a.range_m < b.range_m; });
+  res.timings.contours_ms += ms_since(t0);
+  // Reactive planner: the nearest obstacle inside the corridor within the critical distance is
+  // passed on the side that needs the shortest displacement.
+  t0 = Clock::now();
+  const double clear = p.vehicle_radius_m + p.safety_margin_m;
+  res.velocity_mps = Eigen::Vector3d(p.cruise_mps, 0, 0);
+  for (std::size_t i = 0; i < res.obstacles.size(); ++i) {
+    const Obstacle& o = res.obstacles[i];
+    if (o.range_m > p.critical_distance_m) continue;
+    const double left_edge = o.lateral_m - o.width_m / 2, right_edge = o.lateral_m + o.width_m / 2;
+    const double top_edge = o.centre_m.y() - o.height_m / 2, bottom_edge = o.centre_m.y() + o.height_m / 2;
+    if (left_edge > clear || right_edge < -clear || top_edge > clear || bottom_edge < -clear) continue;  // not in the way
+    struct Option {
+      Manoeuvre m;
+      double displacement_m;
+    };
+    // The drone (at 0) must end `clear` beyond the edge it passes: x <= left_edge - clear, x >=
+    // right_edge + clear, y <= top_edge - clear (up; y points down) or y >= bottom_edge + clear.
+    std::vector<Option> options = {{Manoeuvre::left, clear - left_edge}, {Manoeuvre::right, clear + right_edge}};
+    // Over the top only when the top was seen (not cut by the region of interest).
+    if (!o.reaches_roi_top) options.push_back({Manoeuvre::up, clear - top_edge});
+    // Below an obstacle that stands on the ground there is no way through.
+    if (!res.ground_found) options.push_back({Manoeuvre::down, clear + bottom_edge});
+    const auto best = std::min_element(options.begin(), options.end(),
+                                       [](const Option& a, const Option& b) { return a.displacement_m < b.displacement_m; });
+    res.manoeuvre = best->m;
+    res.target = int(i);
+    const double slow = std::clamp(o.range_m / p.critical_distance_m, 0.2, 1.0);
+    res.velocity_mps = Eigen::Vector3d(p.cruise_mps * slow, 0, 0);
+    if (best->m == Manoeuvre::left) res.velocity_mps.y() = -p.sidestep_mps;
+    if (best->m == Manoeuvre::right) res.velocity_mps.y() = p.sidestep_mps;
+    if (best->m == Manoeuvre::up) res.velocity_mps.z() = -p.sidestep_mps;
+    if (best->m == Manoeuvre::down) res.velocity_mps.z() = p.sidestep_mps;
+    break;
+  }
+  res.timings.planning_ms += ms_since(t0);
+  return res;
+}
+
+AvoidScore score_avoidance(const AvoidResult& design, const AvoidResult& ref) {
+  AvoidScore s;
+  s.predicted = int(design.obstacles.size());
+  s.reference = int(ref.obstacles.size());
+  std::vector<bool> used(ref.obstacles.size(), false);
+  for (const auto& o : design.obstacles) {
+    double best = 0;
+    int best_j = -1;
+    for (std::size_t j = 0; j < ref.obstacles.size(); ++j) {
+      if (used[j]) continue;
+      const cv::Rect inter = o.u_box & ref.obstacles[j].u_box;
+      const double uni = double(o.u_box.area() + ref.obstacles[j].u_box.area() - inter.area());
+      const double iou = uni > 0 ? double(inter.area()) / uni : 0.0;
+      if (iou > best) {
+        best = iou;
+        best_j = int(j);
+      }
+    }
+    if (best_j >= 0 && best >= 0.3) {
+      used[std::size_t(best_j)] = true;
+      ++s.matched;
+      s.range_error_sum_m += std::fabs(o.range_m - ref.obstacles[std::size_t(best_j)].range_m);
+    }
+  }
+  s.same_decision = design.manoeuvre == ref.manoeuvre;
+  return s;
+}
+
+Rig kitti_default_rig(int x0, int y0) {
+  Rig r;
+  r.focal_px = 721.5377;
+  r.baseline_m = 0.5327;
+  r.cx_px = 609.5593 - x0;
+  r.cy_px = 172.854 - y0;
+  return r;
+}
+
+AvoidScore AvoidAccumulator::add(const cv::Mat& disp, const cv::Mat& valid, const cv::Mat& gt, const cv::Mat& gm, int max_d,
+                                 const Rig& rig) {
+  last_design_ = avoid(disp, valid, max_d, rig);
+  last_reference_ = avoid(gt, gm, max_d, rig);
+  const AvoidScore s = score_avoidance(last_design_, last_reference_);
+  total_.predicted += s.predicted;
+  total_.reference += s.reference;
+  total_.matched += s.matched;
+  total_.range_error_sum_m += s.range_error_sum_m;
+  agree_ += s.same_decision ? 1 : 0;
+  ++frames_;
+  timing_sum_.uv_maps_ms += last_design_.timings.uv_maps_ms;
+  timing_sum_.filtering_ms += last_design_.timings.filtering_ms;
+  timing_sum_.contours_ms += last_design_.timings.contours_ms;
+  timing_sum_.planning_ms += last_design_.timings.planning_ms;
+  return s;
+}
+
+std::vector<std::pair<std::string, double>> AvoidAccumulator::metrics() const {
+  return {{"obstacle_precision", total_.predicted ? 100.0 * total_.matched / total_.predicted : 0.0},
+          {"obstacle_recall", total_.reference ? 100.0 * total_.matched / total_.reference : 0.0},
+          {"range_error_m", total_.matched ? total_.range_error_sum_m / total_.matched : 0.0},
+          {"decision_agreement_pct", frames_ ? 100.0 * agree_ / frames_ : 0.0},
+          {"mean_ms_per_frame", frames_ ? timing_sum_.total_ms() / frames_ : 0.0}};
+}
+
+// --- MAVLink 2 ------------------------------------------------------------------------------
+
+uint16_t mavlink_crc(const uint8_t* data, std::size_t n, uint16_t crc) {
+  for (std::size_t i = 0; i < n; ++i) {
+    uint8_t tmp = uint8_t(data[i] ^ uint8_t(crc & 0xFF));
+    tmp = uint8_t(tmp ^ uint8_t(tmp << 4));
+    crc = uint16_t((crc >> 8) ^ (uint16_t(tmp) << 8) ^ (uint16_t(tmp) << 3) ^ (tmp >> 4));
+  }
+  return crc;
+}
+
+namespace {
+
+std::vector<uint8_t> frame(uint8_t seq, uint8_t sysid, uint8_t compid, uint32_t msgid, std::vector<uint8_t> payload,
+                           uint8_t crc_extra) {
+  while (payload.size() > 1 && payload.back() == 0) payload.pop_back();  // MAVLink 2 truncation
+  const std::size_t n = payload.size();
+  std::vector<uint8_t> f(10 + n + 2, 0);
+  const uint8_t header[10] = {0xFD, uint8_t(n), 0, 0, seq, sysid, compid, uint8_t(msgid & 0xFF),
+                              uint8_t((msgid >> 8) & 0xFF), uint8_t((msgid >> 16) & 0xFF)};
+  for (std::size_t i = 0; i < 10; ++i) f[i] = header[i];
+  for (std::size_t i = 0; i < n; ++i) f[10 + i] = payload[i];
+  uint16_t crc = mavlink_crc(f.data() + 1, 9 + n);
+  crc = mavlink_crc(&crc_extra, 1, crc);
+  f[10 + n] = uint8_t(crc & 0xFF);
+  f[11 + n] = uint8_t(crc >> 8);
+  return f;
+}
+
+template <class T>
+void put(std::vector<uint8_t>& b, T v) {
+  uint8_t raw[sizeof(T)];
+  std::memcpy(raw, &v, sizeof(T));  // little-endian host (x86, ARM): MAVLink's wire order
+  b.insert(b.end(), raw, raw + sizeof(T));
+}
+
+}  // namespace
+
+std::vector<uint8_t> mavlink_heartbeat(uint8_t seq, uint8_t sysid, uint8_t compid) {
+  std::vector<uint8_t> p;
+  put<uint32_t>(p, 0);  // custom_mode
+  p.push_back(18);      // type: MAV_TYPE_ONBOARD_CONTROLLER
+  p.push_back(8);       // autopilot: MAV_AUTOPILOT_INVALID (not an autopilot)
+  p.push_back(0);       // base_mode
+  p.push_back(4);       // system_status: MAV_STATE_ACTIVE
+  p.push_back(3);       // mavlink_version
+  return frame(seq, sysid, compid, 0, p, 50);
+}
+
+std::vector<uint8_t> mavlink_velocity_setpoint(uint8_t seq, uint8_t sysid, uint8_t compid, uint32_t time_boot_ms,
+                                               const Eigen::Vector3d& v, uint8_t target_system, uint8_t target_component) {
+  std::vector<uint8_t> p;
+  put<uint32_t>(p, time_boot_ms);
+  put<float>(p, 0);  // x
+  put<float>(p, 0);  // y
+  put<float>(p, 0);  // z
+  put<float>(p, float(v.x()));
+  put<float>(p, float(v.y()));
+  put<float>(p, float(v.z()));
+  for (int i = 0; i < 5; ++i) put<float>(p, 0);  // afx, afy, afz, yaw, yaw_rate
+  put<uint16_t>(p, 0x0DC7);                       // type_mask: velocity only
+  p.push_back(target_system);
+  p.push_back(target_component);
+  p.push_back(8);  // coordinate_frame: MAV_FRAME_BODY_NED
+  return frame(seq, sysid, compid, 84, p, 143);
+}
+
+}  // namespace parallax::explore
