@@ -464,6 +464,15 @@ void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const
   add_avoidance_images(s, d.disparity_px, d.valid_mask, cfg.disparities, r.x0, r.y0);
 }
 
+void add_figures(DesignSection& s, const DesignResult& r) {
+  if (r.timing) s.cycle = r.timing->cycle;
+  if (r.resources) {
+    s.resources = r.resources->estimate;
+    s.device = r.resources->utilisation.device;
+  }
+  for (const auto& kv : metric_columns(r)) s.metrics.emplace(kv.first, kv.second);
+}
+
 std::string design_section_html(const DesignSection& s) {
   std::ostringstream o;
   o << "<section class=\"design\"><h3>" << html_escape(s.title) << "</h3>";
@@ -630,11 +639,9 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
                 "parallax sim --config " + s.config_file + " --device " + spec.device + " --html " + r.hash + ".html";
     try {
       const config::PipelineConfig cfg = config::parse_config(r.config_yaml, "design " + r.hash);
-      int w = 0, h = 0;
-      design_size(cfg, w, h);
-      s.cycle = simulate_timing(cfg, w, h).cycle;
-      s.resources = res::estimate(res::design_inventory(cfg, w, h));
-      s.device = res::find_device(spec.device);
+      PointRequest timing_and_resources;
+      timing_and_resources.device = spec.device;
+      add_figures(s, evaluate_point(cfg, timing_and_resources));
       if (!opt.dataset.empty()) add_frame_images(s, cfg, opt.dataset, opt.frame);
       if (!spec.flight_scenario.empty()) add_flight(s, cfg, spec.flight_scenario, spec.flight_speed_mps, spec.flight_size_px);
     } catch (const std::exception& e) {

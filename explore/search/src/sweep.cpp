@@ -22,13 +22,11 @@
 #include <yaml-cpp/yaml.h>
 
 #include "parallax/uav/avoid.hpp"
+#include "parallax/design/result.hpp"
 #include "parallax/eval/dataset.hpp"
 #include "parallax/eval/evaluate.hpp"
-#include "parallax/uav/fly.hpp"
 #include "parallax/uav/scene.hpp"
-#include "parallax/eval/simulate.hpp"
-#include "parallax/resources/model.hpp"
-#include "parallax/sim/cycle.hpp"
+#include "parallax/resources/devices.hpp"
 
 namespace parallax::explore {
 using detail::utc_now;
@@ -387,56 +385,30 @@ std::string result_key(const std::string& design_hash, const std::string& measur
 
 namespace {
 
-// Flights of the design through the sweep's scenario (seeds 1..N).
-void add_flight_metrics(const SweepSpec& spec, const config::PipelineConfig& cfg, ResultStore::Row& row) {
-  const Scenario sc = load_scenario(spec.flight_scenario);
-  FlightParams fp;
-  fp.speed_mps = spec.flight_speed_mps;
-  fp.width_px = spec.flight_size_px;
-  int ok = 0, collisions = 0;
-  double min_clear = 1e9, time = 0;
-  for (int s = 1; s <= spec.flight_seeds; ++s) {
-    const FlightResult r = fly(cfg, generate_scene(sc, uint32_t(s)), fp, uint32_t(s));
-    ok += r.reached_goal ? 1 : 0;
-    collisions += r.collided ? 1 : 0;
-    min_clear = std::min(min_clear, r.min_clearance_m);
-    if (r.reached_goal) time += r.time_s;
-  }
-  row.metrics["flight_success_rate"] = 100.0 * ok / std::max(1, spec.flight_seeds);
-  row.metrics["flight_collisions"] = double(collisions);
-  row.metrics["flight_min_clearance_m"] = min_clear;
-  row.metrics["flight_time_to_goal_s"] = ok ? time / ok : 0.0;
+// What the sweep asks of every design (docs/explorer.md): its dataset's frames, avoidance,
+// flights and device.
+PointRequest point_request(const SweepSpec& spec, const Dataset* dataset) {
+  PointRequest req;
+  req.dataset = dataset;
+  req.gt_kind = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
+  req.frames = spec.frames;
+  req.avoidance = spec.avoidance;
+  req.device = spec.device;
+  req.flight_scenario = spec.flight_scenario;
+  req.flight_seeds = spec.flight_seeds;
+  req.flight_speed_mps = spec.flight_speed_mps;
+  req.flight_size_px = spec.flight_size_px;
+  return req;
 }
 
-// Timing (the schedule at the ROI size, once: it does not depend on the images) and resources
-// of a design whose accuracy metrics are in `row`.
-void finish_row(const SweepSpec& spec, const MaterialisedDesign& m, ResultStore::Row& row) {
-  if (!spec.flight_scenario.empty()) add_flight_metrics(spec, m.config, row);
-  const config::PipelineConfig& cfg = m.config;
-  int w = 0, h = 0;
-  design_size(cfg, w, h);
-  const SimulationResult sr = simulate_timing(cfg, w, h);
-  if (sr.cycle.deadlock) {
-    row.status = "error";
-    row.reason = "cycle model: " + sr.cycle.deadlock_message;
-  } else {
-    row.metrics["latency_ms"] = sr.latency_ms;
-    row.metrics["frame_interval_ms"] = sr.frame_interval_ms;
-    row.metrics["fps"] = sr.fps;
-    row.metrics["cycles_per_frame"] = double(sr.cycle.cycles_per_frame);
-    const res::Estimate est = res::estimate(res::design_inventory(cfg, w, h));
-    const res::Device* dev = res::find_device(spec.device);
-    const res::Utilisation u = res::utilisation(est.total, *dev);
-    const res::Power pw = res::power(est.total, cfg.clock_mhz, sr.frame_interval_ms);
-    row.metrics["bram18k"] = double(est.total.bram18k);
-    row.metrics["lut"] = double(est.total.lut);
-    row.metrics["ff"] = double(est.total.ff);
-    row.metrics["dsp"] = double(est.total.dsp);
-    row.metrics["fits_device"] = u.fits ? 1.0 : 0.0;
-    row.metrics["power_w"] = pw.total_w;
-    row.metrics["energy_mj_per_frame"] = pw.energy_mj_per_frame;
-    row.status = "ok";
-  }
+// Completes a design's result (what the sweep's shared evaluation has not measured) and writes
+// it into its row.
+void finish_row(const SweepSpec& spec, DesignResult& result, const Dataset* dataset, ResultStore::Row& row) {
+  complete_point(result, point_request(spec, dataset));
+  row.metrics = metric_columns(result);
+  row.frames = frame_columns(result);
+  row.status = result.status;
+  row.reason = result.reason;
   row.finished_at = utc_now();
 }
 
@@ -450,38 +422,11 @@ ResultStore::Row new_row(const SweepSpec& spec, const MaterialisedDesign& m) {
   return row;
 }
 
-void put_accuracy(ResultStore::Row& row, const std::vector<FrameRow>& frames) {
-  const FrameRow pooled = pool_rows(frames);
-  for (const auto& kv : named_metrics(pooled.metrics)) row.metrics[kv.first] = kv.second;
-  for (const auto& f : frames) {
-    std::map<std::string, double> fm;
-    for (const auto& kv : named_metrics(f.metrics)) fm[kv.first] = kv.second;
-    row.frames.emplace_back(f.frame_id, fm);
-  }
-  row.metrics["frames"] = double(frames.size());
-}
-
 ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m, const Dataset& dataset) {
   ResultStore::Row row = new_row(spec, m);
-  EvalOptions eo;
-  eo.gt_kind = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
-  eo.frames = spec.frames;
-  eo.threads = 1;
-  const EvalResult er = evaluate_design(m.config, dataset, eo);
-  put_accuracy(row, er.frames);
-  if (spec.avoidance) {
-    AvoidAccumulator acc;
-    sim::FuncPipeline pipe;
-    for (const auto& ref : list_frames(dataset, eo.gt_kind, spec.frames)) {
-      const Frame f = load_frame(ref);
-      const Roi r = resolve_roi(roi_for(m.config), f.left.cols, f.left.rows);
-      const DisparityMap d = run_design(m.config, crop_to_roi(f.left, r).clone(), crop_to_roi(f.right, r).clone(), pipe);
-      acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, r), crop_to_roi(f.gt_mask, r),
-              m.config.disparities, kitti_default_rig(r.x0, r.y0));
-    }
-    for (const auto& kv : acc.metrics()) row.metrics[kv.first] = kv.second;
-  }
-  finish_row(spec, m, row);
+  DesignResult result;
+  result.config = m.config;
+  finish_row(spec, result, &dataset, row);
   return row;
 }
 
@@ -494,7 +439,7 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
   if (refs.empty()) throw InputError(dataset.root.string() + ": no frame with ground truth matches '" + spec.frames + "'");
   std::vector<ResultStore::Row> rows;
   for (const auto* m : group) rows.push_back(new_row(spec, *m));
-  std::vector<std::vector<FrameRow>> frames(group.size());
+  std::vector<AccuracyFigures> accuracy(group.size());
   std::vector<AvoidAccumulator> avoidance(group.size());
   sim::FuncPipeline pipe;
   sim::CostRecording rec;
@@ -508,16 +453,18 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
     for (std::size_t k = 0; k < group.size(); ++k) {
       const kern::StereoParams p = group[k]->config.stereo_params(l.cols, l.rows);
       const DisparityMap d = to_disparity_map(pipe.run_from_costs(rec, p));
-      frames[k].push_back(make_frame_row(f.id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm)));
+      accuracy[k].frames.push_back(make_frame_row(f.id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm)));
       if (spec.avoidance)
         avoidance[k].add(d.disparity_px, d.valid_mask, gtd, gtm, p.disparities, kitti_default_rig(r.x0, r.y0));
     }
   }
   for (std::size_t k = 0; k < group.size(); ++k) {
-    put_accuracy(rows[k], frames[k]);
-    if (spec.avoidance)
-      for (const auto& kv : avoidance[k].metrics()) rows[k].metrics[kv.first] = kv.second;
-    finish_row(spec, *group[k], rows[k]);
+    DesignResult result;
+    result.config = group[k]->config;
+    accuracy[k].pooled = pool_rows(accuracy[k].frames);
+    result.accuracy = std::move(accuracy[k]);
+    if (spec.avoidance) result.avoidance = AvoidanceFigures{avoidance[k].metrics()};
+    finish_row(spec, result, &dataset, rows[k]);
   }
   return rows;
 }

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "parallax/design/result.hpp"
 #include "parallax/eval/evaluate.hpp"
 #include "parallax/eval/simulate.hpp"
 #include "parallax/resources/devices.hpp"
@@ -136,8 +137,11 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   if (!left.isContinuous() || !right.isContinuous() || r.left.size() != std::size_t(left.total()))
     throw hlsx::ExportError("export: the pair must be continuous 8-bit images");
 
-  // 3. Resources on the part's device.
-  const res::Estimate est = res::estimate(res::design_inventory(cfg, r.width_px, r.height_px));
+  // 3. Resources on the part's device (the resource part of evaluate_point).
+  pr.device = device_for_part(r.part);
+  const res::Device* dev = pr.device.empty() ? nullptr : res::find_device(pr.device);
+  const ResourceFigures figures = resource_figures(cfg, r.width_px, r.height_px, dev, 1e3 / std::max(pr.fps, 1e-9));
+  const res::Estimate& est = figures.estimate;
   pr.bram18k = est.total.bram18k;
   pr.lut = est.total.lut;
   pr.ff = est.total.ff;
@@ -145,9 +149,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   pr.uram = est.total.uram;
   for (const auto& s : est.stages)
     pr.stages.push_back({s.stage, s.usage.bram18k, s.usage.lut, s.usage.ff, s.usage.dsp});
-  pr.device = device_for_part(r.part);
-  if (const res::Device* d = pr.device.empty() ? nullptr : res::find_device(pr.device)) {
-    const res::Utilisation u = res::utilisation(est.total, *d);
+  if (dev != nullptr) {
+    const res::Utilisation& u = figures.utilisation;
     pr.bram18k_pct = u.bram18k_pct;
     pr.lut_pct = u.lut_pct;
     pr.ff_pct = u.ff_pct;

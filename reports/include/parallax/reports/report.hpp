@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "parallax/design/result.hpp"
 #include "parallax/hls_flow/hls_report.hpp"
 #include "parallax/search/sweep.hpp"
 #include "parallax/resources/model.hpp"
@@ -57,6 +58,10 @@ void add_avoidance_images(DesignSection& s, const cv::Mat& disparity_px, const c
 // Flies the design through a scenario (seed 1) and adds the top-down trajectory and a few frames.
 void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::string& scenario_path, double speed_mps,
                 int size_px);
+
+// The figures of an evaluated design in its section: the cycle report, the resource estimate and
+// its device, and every metric column the section does not hold yet (stored figures win).
+void add_figures(DesignSection& s, const DesignResult& r);
 
 std::string design_section_html(const DesignSection& s);
 std::string standalone_page(const std::string& title, const std::string& body_html);
