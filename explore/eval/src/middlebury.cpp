@@ -52,24 +52,27 @@ std::vector<fs::path> middlebury_scene_folders(const fs::path& dir) {
 
 namespace {
 
-int parse_int(const std::string& text, const std::string& where) {
+// The value of the whole of text by parse (std::stoi, std::stod: value from text, characters
+// used); InputError "where: 'text' is not <what>" when it fails or leaves characters over.
+template <class Parse>
+auto parse_whole(const std::string& text, const std::string& where, const char* what, Parse parse) {
   try {
     std::size_t used = 0;
-    const int value = std::stoi(text, &used);
+    const auto value = parse(text, &used);
     if (used == text.size()) return value;
   } catch (const std::exception&) {
   }
-  throw InputError(where + ": '" + text + "' is not an integer");
+  throw InputError(where + ": '" + text + "' is not " + what);
+}
+
+int parse_int(const std::string& text, const std::string& where) {
+  return parse_whole(text, where, "an integer",
+                     [](const std::string& t, std::size_t* used) { return std::stoi(t, used); });
 }
 
 double parse_double(const std::string& text, const std::string& where) {
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
-  }
-  throw InputError(where + ": '" + text + "' is not a number");
+  return parse_whole(text, where, "a number",
+                     [](const std::string& t, std::size_t* used) { return std::stod(t, used); });
 }
 
 // Reads pairs.tsv: a header row naming the columns (scene, left, right, gt_left, a column whose
