@@ -95,20 +95,24 @@ struct ObstacleTest {
   }
 };
 
-// V map over the region of interest (rows top and below): rows x disparities.
-cv::Mat v_map_of(const cv::Mat& disp, const cv::Mat& valid, int max_d, int top, const AvoidParams& p) {
-  const int W = disp.cols, H = disp.rows;
-  cv::Mat v_map = cv::Mat::zeros(H, max_d, CV_32S);
-  for (int y = top; y < H; ++y) {
+// Calls f(y, x, di) for each valid pixel of rows top and below and columns x0 to x1 - 1, di its
+// disparity rounded to the nearest integer.
+template <class F>
+void for_each_valid_px(const cv::Mat& disp, const cv::Mat& valid, int top, int x0, int x1, F f) {
+  for (int y = top; y < disp.rows; ++y) {
     const float* d = disp.ptr<float>(y);
     const uint8_t* v = valid.ptr<uint8_t>(y);
-    int* row = v_map.ptr<int>(y);
-    for (int x = 0; x < W; ++x)
-      if (v[x]) {
-        const int di = int(std::lround(d[x]));
-        if (di >= p.min_disparity_px && di < max_d) ++row[di];
-      }
+    for (int x = x0; x < x1; ++x)
+      if (v[x]) f(y, x, int(std::lround(d[x])));
   }
+}
+
+// V map over the region of interest (rows top and below): rows x disparities.
+cv::Mat v_map_of(const cv::Mat& disp, const cv::Mat& valid, int max_d, int top, const AvoidParams& p) {
+  cv::Mat v_map = cv::Mat::zeros(disp.rows, max_d, CV_32S);
+  for_each_valid_px(disp, valid, top, 0, disp.cols, [&](int y, int, int di) {
+    if (di >= p.min_disparity_px && di < max_d) ++v_map.at<int>(y, di);
+  });
   return v_map;
 }
 
@@ -150,17 +154,10 @@ void fit_ground(AvoidResult& res, int max_d, int top, const AvoidParams& p) {
 
 // U map of the obstacle pixels: disparities x columns.
 cv::Mat u_map_of(const cv::Mat& disp, const cv::Mat& valid, int max_d, int top, const ObstacleTest& is_obstacle_px) {
-  const int W = disp.cols, H = disp.rows;
-  cv::Mat u_map = cv::Mat::zeros(max_d, W, CV_32S);
-  for (int y = top; y < H; ++y) {
-    const float* d = disp.ptr<float>(y);
-    const uint8_t* v = valid.ptr<uint8_t>(y);
-    for (int x = 0; x < W; ++x)
-      if (v[x]) {
-        const int di = int(std::lround(d[x]));
-        if (is_obstacle_px(y, di)) ++u_map.at<int>(di, x);
-      }
-  }
+  cv::Mat u_map = cv::Mat::zeros(max_d, disp.cols, CV_32S);
+  for_each_valid_px(disp, valid, top, 0, disp.cols, [&](int y, int x, int di) {
+    if (is_obstacle_px(y, di)) ++u_map.at<int>(di, x);
+  });
   return u_map;
 }
 
@@ -181,26 +178,19 @@ cv::Mat u_binary_of(const cv::Mat& u_map, const AvoidParams& p) {
 // when none of its pixels is an obstacle pixel.
 bool obstacle_of(const std::vector<cv::Point>& c, const cv::Mat& disp, const cv::Mat& valid, int top,
                  const ObstacleTest& is_obstacle_px, const Rig& rig, const AvoidParams& p, Obstacle& o) {
-  const int H = disp.rows;
   o.u_box = cv::boundingRect(c);
   o.ellipse = c.size() >= 5 ? cv::fitEllipse(c) : cv::RotatedRect(cv::Point2f(float(o.u_box.x + o.u_box.width / 2.0),
                                                                                float(o.u_box.y + o.u_box.height / 2.0)),
                                                                    cv::Size2f(float(o.u_box.width), float(o.u_box.height)), 0);
   const cv::Moments m = cv::moments(c);
   o.centroid = m.m00 > 0 ? cv::Point2f(float(m.m10 / m.m00), float(m.m01 / m.m00)) : o.ellipse.center;
-  int y0 = H, y1 = -1;
-  for (int y = top; y < H; ++y) {
-    const float* d = disp.ptr<float>(y);
-    const uint8_t* v = valid.ptr<uint8_t>(y);
-    for (int x = o.u_box.x; x < o.u_box.x + o.u_box.width; ++x) {
-      if (!v[x]) continue;
-      const int di = int(std::lround(d[x]));
-      if (di >= o.u_box.y && di < o.u_box.y + o.u_box.height && is_obstacle_px(y, di)) {
-        y0 = std::min(y0, y);
-        y1 = std::max(y1, y);
-      }
+  int y0 = disp.rows, y1 = -1;
+  for_each_valid_px(disp, valid, top, o.u_box.x, o.u_box.x + o.u_box.width, [&](int y, int, int di) {
+    if (di >= o.u_box.y && di < o.u_box.y + o.u_box.height && is_obstacle_px(y, di)) {
+      y0 = std::min(y0, y);
+      y1 = std::max(y1, y);
     }
-  }
+  });
   if (y1 < y0) return false;
   o.v_box = cv::Rect(o.u_box.y, y0, o.u_box.height, y1 - y0 + 1);
   o.reaches_roi_top = y0 <= top + 1;
