@@ -81,138 +81,151 @@ struct LineResidual {
   }
 };
 
-}  // namespace
-
-AvoidResult avoid(const cv::Mat& disp, const cv::Mat& valid, int max_d, const Rig& rig, const AvoidParams& p) {
-  CV_Assert(disp.type() == CV_32FC1 && valid.type() == CV_8UC1 && disp.size() == valid.size() && max_d > 0);
-  AvoidResult res;
-  const int W = disp.cols, H = disp.rows;
-  const int top = H * p.horizon_rows_pct / 100;
-  auto t0 = Clock::now();
-  // V map over the region of interest: rows x disparities.
-  res.v_map = cv::Mat::zeros(H, max_d, CV_32S);
-  for (int y = top; y < H; ++y) {
-    const float* d = disp.ptr<float>(y);
-    const uint8_t* v = valid.ptr<uint8_t>(y);
-    int* row = res.v_map.ptr<int>(y);
-    for (int x = 0; x < W; ++x)
-      if (v[x]) {
-        const int di = int(std::lround(d[x]));
-        if (di >= p.min_disparity_px && di < max_d) ++row[di];
-      }
-  }
-  res.timings.uv_maps_ms += ms_since(t0);
-  // Ground: a robust line row = a d + b through the V-map cells that vote for it.
-  t0 = Clock::now();
-  {
-    double ab[2] = {double(H - top) / double(max_d), double(top)};
-    ceres::Problem problem;
-    int points = 0;
-    // One vote per disparity: the row where the V map peaks (the ground dominates each column of
-    // the V map below the horizon; obstacles are outliers the Cauchy loss discounts).
-    for (int d = p.min_disparity_px; d < max_d; ++d) {
-      int best_y = -1, best = p.v_threshold - 1;
-      for (int y = top; y < H; ++y) {
-        const int c = res.v_map.at<int>(y, d);
-        if (c > best) {
-          best = c;
-          best_y = y;
-        }
-      }
-      if (best_y < 0) continue;
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{double(d), double(best_y)}),
-                               new ceres::CauchyLoss(2.0), ab);
-      ++points;
-    }
-    if (points >= 8) {
-      ceres::Solver::Options opt;
-      opt.logging_type = ceres::SILENT;
-      opt.max_num_iterations = 50;
-      ceres::Solver::Summary sum;
-      ceres::Solve(opt, &problem, &sum);
-      // A ground plane seen from above rises in the image as it nears: the slope is positive.
-      res.ground_found = ab[0] > 0.05 && std::isfinite(ab[0]) && std::isfinite(ab[1]);
-      res.ground_slope = ab[0];
-      res.ground_offset = ab[1];
-    }
-  }
-  auto is_obstacle_px = [&](int y, int di) {
+// Whether a pixel at row y with disparity di is an obstacle pixel: inside the region of interest
+// and the disparity range, and above the ground line by more than the tolerance (every such
+// pixel when no ground was found).
+struct ObstacleTest {
+  const AvoidResult& res;
+  const AvoidParams& p;
+  int max_d, top;
+  bool operator()(int y, int di) const {
     if (di < p.min_disparity_px || di >= max_d || y < top) return false;
     if (!res.ground_found) return true;
     return double(y) < res.ground_slope * di + res.ground_offset - p.ground_tolerance_px;
-  };
-  res.timings.filtering_ms += ms_since(t0);
-  // U map of the obstacle pixels: disparities x columns.
-  t0 = Clock::now();
-  res.u_map = cv::Mat::zeros(max_d, W, CV_32S);
-  for (int y = top; y < H; ++y) {
+  }
+};
+
+// Calls f(y, x, di) for each valid pixel of rows top and below and columns x0 to x1 - 1, di its
+// disparity rounded to the nearest integer.
+template <class F>
+void for_each_valid_px(const cv::Mat& disp, const cv::Mat& valid, int top, int x0, int x1, F f) {
+  for (int y = top; y < disp.rows; ++y) {
     const float* d = disp.ptr<float>(y);
     const uint8_t* v = valid.ptr<uint8_t>(y);
-    for (int x = 0; x < W; ++x)
-      if (v[x]) {
-        const int di = int(std::lround(d[x]));
-        if (is_obstacle_px(y, di)) ++res.u_map.at<int>(di, x);
-      }
+    for (int x = x0; x < x1; ++x)
+      if (v[x]) f(y, x, int(std::lround(d[x])));
   }
-  res.timings.uv_maps_ms += ms_since(t0);
-  // Threshold, dilate, smooth.
-  t0 = Clock::now();
-  cv::Mat bin = res.u_map >= p.u_threshold;
+}
+
+// V map over the region of interest (rows top and below): rows x disparities.
+cv::Mat v_map_of(const cv::Mat& disp, const cv::Mat& valid, int max_d, int top, const AvoidParams& p) {
+  cv::Mat v_map = cv::Mat::zeros(disp.rows, max_d, CV_32S);
+  for_each_valid_px(disp, valid, top, 0, disp.cols, [&](int y, int, int di) {
+    if (di >= p.min_disparity_px && di < max_d) ++v_map.at<int>(y, di);
+  });
+  return v_map;
+}
+
+// Ground: a robust line row = a d + b through the V-map cells that vote for it; sets
+// res.ground_found, ground_slope and ground_offset.
+void fit_ground(AvoidResult& res, int max_d, int top, const AvoidParams& p) {
+  const int H = res.v_map.rows;
+  double ab[2] = {double(H - top) / double(max_d), double(top)};
+  ceres::Problem problem;
+  int points = 0;
+  // One vote per disparity: the row where the V map peaks (the ground dominates each column of
+  // the V map below the horizon; obstacles are outliers the Cauchy loss discounts).
+  for (int d = p.min_disparity_px; d < max_d; ++d) {
+    int best_y = -1, best = p.v_threshold - 1;
+    for (int y = top; y < H; ++y) {
+      const int c = res.v_map.at<int>(y, d);
+      if (c > best) {
+        best = c;
+        best_y = y;
+      }
+    }
+    if (best_y < 0) continue;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{double(d), double(best_y)}),
+                             new ceres::CauchyLoss(2.0), ab);
+    ++points;
+  }
+  if (points >= 8) {
+    ceres::Solver::Options opt;
+    opt.logging_type = ceres::SILENT;
+    opt.max_num_iterations = 50;
+    ceres::Solver::Summary sum;
+    ceres::Solve(opt, &problem, &sum);
+    // A ground plane seen from above rises in the image as it nears: the slope is positive.
+    res.ground_found = ab[0] > 0.05 && std::isfinite(ab[0]) && std::isfinite(ab[1]);
+    res.ground_slope = ab[0];
+    res.ground_offset = ab[1];
+  }
+}
+
+// U map of the obstacle pixels: disparities x columns.
+cv::Mat u_map_of(const cv::Mat& disp, const cv::Mat& valid, int max_d, int top, const ObstacleTest& is_obstacle_px) {
+  cv::Mat u_map = cv::Mat::zeros(max_d, disp.cols, CV_32S);
+  for_each_valid_px(disp, valid, top, 0, disp.cols, [&](int y, int x, int di) {
+    if (is_obstacle_px(y, di)) ++u_map.at<int>(di, x);
+  });
+  return u_map;
+}
+
+// The U map thresholded, dilated and smoothed.
+cv::Mat u_binary_of(const cv::Mat& u_map, const AvoidParams& p) {
+  cv::Mat bin = u_map >= p.u_threshold;
   if (p.dilate_px > 0)
     cv::dilate(bin, bin, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * p.dilate_px + 1, 2 * p.dilate_px + 1)));
   if (p.gaussian_sigma_px > 0) {
     cv::GaussianBlur(bin, bin, cv::Size(0, 0), p.gaussian_sigma_px);
     bin = bin >= 128;
   }
-  res.u_binary = bin;
-  res.timings.filtering_ms += ms_since(t0);
-  // The largest contours, their ellipses, rows and geometry.
-  t0 = Clock::now();
+  return bin;
+}
+
+// The obstacle of one U-map contour: its U-map box, ellipse and centroid, its rows in the image
+// (the obstacle pixels of its columns and disparities) and its geometry through the rig. False
+// when none of its pixels is an obstacle pixel.
+bool obstacle_of(const std::vector<cv::Point>& c, const cv::Mat& disp, const cv::Mat& valid, int top,
+                 const ObstacleTest& is_obstacle_px, const Rig& rig, const AvoidParams& p, Obstacle& o) {
+  o.u_box = cv::boundingRect(c);
+  o.ellipse = c.size() >= 5 ? cv::fitEllipse(c) : cv::RotatedRect(cv::Point2f(float(o.u_box.x + o.u_box.width / 2.0),
+                                                                               float(o.u_box.y + o.u_box.height / 2.0)),
+                                                                   cv::Size2f(float(o.u_box.width), float(o.u_box.height)), 0);
+  const cv::Moments m = cv::moments(c);
+  o.centroid = m.m00 > 0 ? cv::Point2f(float(m.m10 / m.m00), float(m.m01 / m.m00)) : o.ellipse.center;
+  int y0 = disp.rows, y1 = -1;
+  for_each_valid_px(disp, valid, top, o.u_box.x, o.u_box.x + o.u_box.width, [&](int y, int, int di) {
+    if (di >= o.u_box.y && di < o.u_box.y + o.u_box.height && is_obstacle_px(y, di)) {
+      y0 = std::min(y0, y);
+      y1 = std::max(y1, y);
+    }
+  });
+  if (y1 < y0) return false;
+  o.v_box = cv::Rect(o.u_box.y, y0, o.u_box.height, y1 - y0 + 1);
+  o.reaches_roi_top = y0 <= top + 1;
+  const double d_near = std::max(double(p.min_disparity_px), double(o.u_box.y + o.u_box.height - 1));
+  const double z = rig.focal_px * rig.baseline_m / d_near;
+  const double xc = o.u_box.x + o.u_box.width / 2.0, yc = y0 + (y1 - y0 + 1) / 2.0;
+  o.centre_m = Eigen::Vector3d((xc - rig.cx_px) * z / rig.focal_px, (yc - rig.cy_px) * z / rig.focal_px, z);
+  o.range_m = z;
+  o.lateral_m = o.centre_m.x();
+  o.width_m = double(o.u_box.width) * z / rig.focal_px;
+  o.height_m = double(y1 - y0 + 1) * z / rig.focal_px;
+  return true;
+}
+
+// The largest contours of the binary U map as obstacles, nearest first.
+std::vector<Obstacle> find_obstacles(const cv::Mat& u_binary, const cv::Mat& disp, const cv::Mat& valid, int top,
+                                     const ObstacleTest& is_obstacle_px, const Rig& rig, const AvoidParams& p) {
+  std::vector<Obstacle> obstacles;
   std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(bin.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  cv::findContours(u_binary.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
   std::sort(contours.begin(), contours.end(),
             [](const auto& a, const auto& b) { return cv::contourArea(a) > cv::contourArea(b); });
   for (const auto& c : contours) {
-    if (int(res.obstacles.size()) >= p.max_obstacles) break;
+    if (int(obstacles.size()) >= p.max_obstacles) break;
     if (cv::contourArea(c) < p.min_area_cells) continue;
     Obstacle o;
-    o.u_box = cv::boundingRect(c);
-    o.ellipse = c.size() >= 5 ? cv::fitEllipse(c) : cv::RotatedRect(cv::Point2f(float(o.u_box.x + o.u_box.width / 2.0),
-                                                                                 float(o.u_box.y + o.u_box.height / 2.0)),
-                                                                     cv::Size2f(float(o.u_box.width), float(o.u_box.height)), 0);
-    const cv::Moments m = cv::moments(c);
-    o.centroid = m.m00 > 0 ? cv::Point2f(float(m.m10 / m.m00), float(m.m01 / m.m00)) : o.ellipse.center;
-    int y0 = H, y1 = -1;
-    for (int y = top; y < H; ++y) {
-      const float* d = disp.ptr<float>(y);
-      const uint8_t* v = valid.ptr<uint8_t>(y);
-      for (int x = o.u_box.x; x < o.u_box.x + o.u_box.width; ++x) {
-        if (!v[x]) continue;
-        const int di = int(std::lround(d[x]));
-        if (di >= o.u_box.y && di < o.u_box.y + o.u_box.height && is_obstacle_px(y, di)) {
-          y0 = std::min(y0, y);
-          y1 = std::max(y1, y);
-        }
-      }
-    }
-    if (y1 < y0) continue;
-    o.v_box = cv::Rect(o.u_box.y, y0, o.u_box.height, y1 - y0 + 1);
-    o.reaches_roi_top = y0 <= top + 1;
-    const double d_near = std::max(double(p.min_disparity_px), double(o.u_box.y + o.u_box.height - 1));
-    const double z = rig.focal_px * rig.baseline_m / d_near;
-    const double xc = o.u_box.x + o.u_box.width / 2.0, yc = y0 + (y1 - y0 + 1) / 2.0;
-    o.centre_m = Eigen::Vector3d((xc - rig.cx_px) * z / rig.focal_px, (yc - rig.cy_px) * z / rig.focal_px, z);
-    o.range_m = z;
-    o.lateral_m = o.centre_m.x();
-    o.width_m = double(o.u_box.width) * z / rig.focal_px;
-    o.height_m = double(y1 - y0 + 1) * z / rig.focal_px;
-    res.obstacles.push_back(o);
+    if (obstacle_of(c, disp, valid, top, is_obstacle_px, rig, p, o)) obstacles.push_back(o);
   }
-  std::sort(res.obstacles.begin(), res.obstacles.end(), [](const Obstacle& a, const Obstacle& b) { return a.range_m < b.range_m; });
-  res.timings.contours_ms += ms_since(t0);
-  // Reactive planner: the nearest obstacle inside the corridor within the critical distance is
-  // passed on the side that needs the shortest displacement.
-  t0 = Clock::now();
+  std::sort(obstacles.begin(), obstacles.end(), [](const Obstacle& a, const Obstacle& b) { return a.range_m < b.range_m; });
+  return obstacles;
+}
+
+// Reactive planner: the nearest obstacle inside the corridor within the critical distance is
+// passed on the side that needs the shortest displacement. Sets res.velocity_mps, manoeuvre, target.
+void plan(AvoidResult& res, const AvoidParams& p) {
   const double clear = p.vehicle_radius_m + p.safety_margin_m;
   res.velocity_mps = Eigen::Vector3d(p.cruise_mps, 0, 0);
   for (std::size_t i = 0; i < res.obstacles.size(); ++i) {
@@ -244,6 +257,32 @@ AvoidResult avoid(const cv::Mat& disp, const cv::Mat& valid, int max_d, const Ri
     if (best->m == Manoeuvre::down) res.velocity_mps.z() = p.sidestep_mps;
     break;
   }
+}
+
+}  // namespace
+
+AvoidResult avoid(const cv::Mat& disp, const cv::Mat& valid, int max_d, const Rig& rig, const AvoidParams& p) {
+  CV_Assert(disp.type() == CV_32FC1 && valid.type() == CV_8UC1 && disp.size() == valid.size() && max_d > 0);
+  AvoidResult res;
+  const int top = disp.rows * p.horizon_rows_pct / 100;
+  auto t0 = Clock::now();
+  res.v_map = v_map_of(disp, valid, max_d, top, p);
+  res.timings.uv_maps_ms += ms_since(t0);
+  t0 = Clock::now();
+  fit_ground(res, max_d, top, p);
+  const ObstacleTest is_obstacle_px{res, p, max_d, top};
+  res.timings.filtering_ms += ms_since(t0);
+  t0 = Clock::now();
+  res.u_map = u_map_of(disp, valid, max_d, top, is_obstacle_px);
+  res.timings.uv_maps_ms += ms_since(t0);
+  t0 = Clock::now();
+  res.u_binary = u_binary_of(res.u_map, p);
+  res.timings.filtering_ms += ms_since(t0);
+  t0 = Clock::now();
+  res.obstacles = find_obstacles(res.u_binary, disp, valid, top, is_obstacle_px, rig, p);
+  res.timings.contours_ms += ms_since(t0);
+  t0 = Clock::now();
+  plan(res, p);
   res.timings.planning_ms += ms_since(t0);
   return res;
 }
