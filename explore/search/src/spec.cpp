@@ -1,0 +1,241 @@
+// Sweep files (docs/explorer.md): parsing, the canonical YAML, --grid axes, the metric names
+// objectives may use, and the checks made before any design runs.
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <iomanip>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "parallax/config/config.hpp"
+#include "parallax/eval/input_error.hpp"
+#include "parallax/eval/metrics.hpp"
+#include "parallax/resources/devices.hpp"
+#include "parallax/search/sweep.hpp"
+#include "parallax/uav/scene.hpp"
+
+namespace parallax::explore {
+
+namespace {
+SweepSpec parse_sweep_fields(const std::string& text, const std::string& source);
+}
+
+SweepSpec parse_sweep(const std::string& text, const std::string& source) {
+  try {
+    return parse_sweep_fields(text, source);
+  } catch (const YAML::Exception& e) {  // a field of the wrong shape (a list or mapping for a value)
+    throw InputError(source + ": line " + std::to_string(e.mark.line + 1) + ": a field has the wrong shape (" + e.msg +
+                     "): names and values are scalars, axes map a field to a list of values");
+  }
+}
+
+namespace {
+SweepSpec parse_sweep_fields(const std::string& text, const std::string& source) {
+  YAML::Node n;
+  try {
+    n = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source + ": not YAML: " + e.what());
+  }
+  if (!n.IsMap()) throw InputError(source + ": expected a mapping of sweep fields");
+  SweepSpec s;
+  static const std::set<std::string> known = {"name", "base", "strategy", "samples", "seed", "generations", "avoidance", "flight", "axes",
+                                              "constraints", "objectives", "frames", "gt"};
+  for (const auto& kv : n) {
+    const std::string key = kv.first.as<std::string>();
+    if (!known.count(key)) throw InputError(source + ": unknown field '" + key + "'");
+  }
+  auto str = [&](const char* k, std::string& out) {
+    if (n[k]) out = n[k].as<std::string>();
+  };
+  try {
+    str("name", s.name);
+    str("base", s.base);
+    str("strategy", s.strategy);
+    str("frames", s.frames);
+    str("gt", s.gt);
+    if (n["samples"]) s.samples = n["samples"].as<int>();
+    if (n["seed"]) s.seed = n["seed"].as<uint32_t>();
+    if (n["generations"]) s.generations = n["generations"].as<int>();
+    if (n["avoidance"]) s.avoidance = n["avoidance"].as<bool>();
+    if (n["flight"]) {
+      const YAML::Node f = n["flight"];
+      if (!f.IsMap()) throw InputError(source + ": field 'flight' must map scenario, seeds, speed_mps, size_px to values");
+      for (const auto& kv : f) {
+        const std::string k = kv.first.as<std::string>();
+        if (k != "scenario" && k != "seeds" && k != "speed_mps" && k != "size_px")
+          throw InputError(source + ": flight: unknown field '" + k + "' (known: scenario, seeds, speed_mps, size_px)");
+      }
+      if (!f["scenario"]) throw InputError(source + ": field 'flight' needs 'scenario' (a file in configs/scenarios)");
+      s.flight_scenario = f["scenario"].as<std::string>();
+      if (f["seeds"]) s.flight_seeds = f["seeds"].as<int>();
+      if (f["speed_mps"]) s.flight_speed_mps = f["speed_mps"].as<double>();
+      if (f["size_px"]) s.flight_size_px = f["size_px"].as<int>();
+    }
+  } catch (const YAML::Exception&) {
+    throw InputError(source + ": a scalar field has the wrong type (samples and seed are integers)");
+  }
+  if (s.strategy != "grid" && s.strategy != "random" && s.strategy != "lhs" && s.strategy != "nsga2")
+    throw InputError(source + ": field 'strategy': '" + s.strategy + "' is not grid, random, lhs or nsga2");
+  if (s.generations < 1) throw InputError(source + ": field 'generations' must be at least 1");
+  if (s.samples < 1) throw InputError(source + ": field 'samples' must be at least 1");
+  if (s.gt != "noc" && s.gt != "occ") throw InputError(source + ": field 'gt' must be noc or occ");
+  if (n["axes"]) {
+    if (!n["axes"].IsMap()) throw InputError(source + ": field 'axes' must map configuration fields to lists");
+    for (const auto& kv : n["axes"]) {
+      std::vector<std::string> values;
+      if (kv.second.IsSequence())
+        for (const auto& v : kv.second) values.push_back(v.as<std::string>());
+      else
+        values.push_back(kv.second.as<std::string>());
+      if (values.empty()) throw InputError(source + ": axis '" + kv.first.as<std::string>() + "' has no values");
+      s.axes.emplace_back(kv.first.as<std::string>(), values);
+    }
+  }
+  if (n["constraints"]) {
+    const YAML::Node c = n["constraints"];
+    if (!c.IsMap()) throw InputError(source + ": field 'constraints' must map constraint names to values");
+    for (const auto& kv : c) {
+      const std::string k = kv.first.as<std::string>();
+      if (k != "device" && k != "fits_device" && k != "min_fps" && k != "max_latency_ms")
+        throw InputError(source + ": constraints: unknown constraint '" + k +
+                         "' (known: device, fits_device, min_fps, max_latency_ms)");
+    }
+    try {
+      if (c["device"]) s.device = c["device"].as<std::string>();
+      if (c["fits_device"]) s.require_fit = c["fits_device"].as<bool>();
+      if (c["min_fps"]) s.min_fps = c["min_fps"].as<double>();
+      if (c["max_latency_ms"]) s.max_latency_ms = c["max_latency_ms"].as<double>();
+    } catch (const YAML::Exception&) {
+      throw InputError(source + ": field 'constraints': device is a name, fits_device a bool, min_fps and "
+                                "max_latency_ms numbers");
+    }
+    if (!res::find_device(s.device))
+      throw InputError(source + ": constraints.device '" + s.device + "' is unknown; known: " + res::device_names());
+  }
+  if (n["objectives"]) {
+    s.objectives.clear();
+    for (const auto& o : n["objectives"]) {
+      const std::string t = o.as<std::string>();
+      const auto sp = t.find(' ');
+      const std::string goal = t.substr(0, sp);
+      if (sp == std::string::npos || (goal != "max" && goal != "min"))
+        throw InputError(source + ": objective '" + t + "': write 'max KEY' or 'min KEY'");
+      s.objectives.push_back({t.substr(sp + 1), goal == "max"});
+    }
+    if (s.objectives.empty()) throw InputError(source + ": field 'objectives' is empty");
+  }
+  return s;
+}
+}  // namespace
+
+SweepSpec load_sweep(const std::string& path) {
+  std::string text;
+  try {
+    text = config::read_text_file(path, "sweep file");
+  } catch (const config::ConfigError& e) {
+    throw InputError(e.what());
+  }
+  SweepSpec s = parse_sweep(text, path);
+  // A relative base is relative to the working directory (as on the command line).
+  return s;
+}
+
+std::string sweep_to_yaml(const SweepSpec& s) {
+  YAML::Emitter e;
+  e << YAML::BeginMap << YAML::Key << "name" << YAML::Value << s.name << YAML::Key << "base" << YAML::Value << s.base
+    << YAML::Key << "strategy" << YAML::Value << s.strategy << YAML::Key << "samples" << YAML::Value << s.samples
+    << YAML::Key << "seed" << YAML::Value << s.seed << YAML::Key << "generations" << YAML::Value << s.generations
+    << YAML::Key << "axes" << YAML::Value << YAML::BeginMap;
+  for (const auto& a : s.axes) e << YAML::Key << a.first << YAML::Value << YAML::Flow << a.second;
+  e << YAML::EndMap << YAML::Key << "constraints" << YAML::Value << YAML::BeginMap << YAML::Key << "device"
+    << YAML::Value << s.device << YAML::Key << "fits_device" << YAML::Value << s.require_fit << YAML::Key << "min_fps"
+    << YAML::Value << s.min_fps << YAML::Key << "max_latency_ms" << YAML::Value << s.max_latency_ms << YAML::EndMap;
+  e << YAML::Key << "objectives" << YAML::Value << YAML::BeginSeq;
+  for (const auto& o : s.objectives) e << (std::string(o.maximise ? "max " : "min ") + o.key);
+  e << YAML::EndSeq << YAML::Key << "frames" << YAML::Value << s.frames << YAML::Key << "gt" << YAML::Value << s.gt
+    << YAML::Key << "avoidance" << YAML::Value << s.avoidance;
+  if (!s.flight_scenario.empty())
+    e << YAML::Key << "flight" << YAML::Value << YAML::BeginMap << YAML::Key << "scenario" << YAML::Value << s.flight_scenario
+      << YAML::Key << "seeds" << YAML::Value << s.flight_seeds << YAML::Key << "speed_mps" << YAML::Value
+      << s.flight_speed_mps << YAML::Key << "size_px" << YAML::Value << s.flight_size_px << YAML::EndMap;
+  e << YAML::EndMap;
+  return e.c_str();
+}
+
+void add_axis(SweepSpec& s, const std::string& kv) {
+  const auto eq = kv.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 >= kv.size())
+    throw InputError("--grid '" + kv + "': expected KEY=V1,V2,...");
+  const std::string key = kv.substr(0, eq);
+  std::vector<std::string> values;
+  std::stringstream ss(kv.substr(eq + 1));
+  std::string v;
+  while (std::getline(ss, v, ','))
+    if (!v.empty()) values.push_back(v);
+  if (values.empty()) throw InputError("--grid '" + kv + "': no values");
+  for (auto& a : s.axes)
+    if (a.first == key) {
+      a.second = values;
+      return;
+    }
+  s.axes.emplace_back(key, values);
+}
+
+std::vector<std::string> metric_names(const SweepSpec& s) {
+  std::vector<std::string> out;
+  for (const auto& kv : named_metrics(DerivedMetrics{})) out.push_back(kv.first);
+  for (const char* k : {"frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "bram18k", "lut", "ff", "dsp",
+                        "fits_device", "power_w", "energy_mj_per_frame"})
+    out.emplace_back(k);
+  if (s.avoidance)
+    for (const auto& kv : AvoidAccumulator{}.metrics()) out.push_back(kv.first);
+  if (!s.flight_scenario.empty())
+    for (const char* k : {"flight_success_rate", "flight_collisions", "flight_min_clearance_m", "flight_time_to_goal_s"})
+      out.emplace_back(k);
+  return out;
+}
+
+double requested_designs(const SweepSpec& s) {
+  if (s.strategy == "random" || s.strategy == "lhs") return double(s.samples);
+  if (s.strategy == "nsga2") return double(std::max(4, s.samples)) * double(s.generations + 1);
+  double n = 1;
+  for (const auto& a : s.axes) n *= double(a.second.size());
+  return n;
+}
+
+void check_sweep_spec(const SweepSpec& s, const config::PipelineConfig& base, bool allow_large) {
+  const auto& fields = config::field_names();
+  for (const auto& a : s.axes) {
+    if (std::find(fields.begin(), fields.end(), a.first) == fields.end()) {
+      std::string known;
+      for (const auto& f : fields) known += (known.empty() ? "" : ", ") + f;
+      throw InputError("sweep '" + s.name + "': axis '" + a.first + "' is not a configuration field (known: " + known + ")");
+    }
+    for (const auto& v : a.second) {
+      config::PipelineConfig c = base;
+      try {
+        config::set_field(c, a.first, v);
+      } catch (const config::ConfigError& e) {
+        throw InputError("sweep '" + s.name + "': axis '" + a.first + "', value '" + v + "': " + e.what());
+      }
+    }
+  }
+  const std::vector<std::string> metrics = metric_names(s);
+  for (const auto& o : s.objectives)
+    if (std::find(metrics.begin(), metrics.end(), o.key) == metrics.end()) {
+      std::string known;
+      for (const auto& m : metrics) known += (known.empty() ? "" : ", ") + m;
+      throw InputError("sweep '" + s.name + "': objective '" + o.key + "' is not a metric of this sweep (known: " + known + ")");
+    }
+  const double n = requested_designs(s);
+  if (n > kLargeSweepDesigns && !allow_large) {
+    std::ostringstream m;
+    m << "sweep '" << s.name << "': the " << s.strategy << " strategy asks for " << std::fixed << std::setprecision(0) << n
+      << " designs (more than " << kLargeSweepDesigns
+      << "); confirm with --yes, or draw a sample (--strategy lhs --samples N, or nsga2)";
+    throw InputError(m.str());
+  }
+}
+}  // namespace parallax::explore
