@@ -417,7 +417,7 @@ ResultStore::ResultStore(const std::string& path, Access access) : impl_(new Imp
   im.started = process_start(im.pid);
   static std::atomic<int> instances{0};
   im.owner = im.host + ":" + std::to_string(im.pid) + ":" + std::to_string(im.started) + ":" + std::to_string(++instances);
-  guard.release();
+  (void)guard.release();  // constructed: the store owns impl_ from here on
 }
 
 ResultStore::~ResultStore() {

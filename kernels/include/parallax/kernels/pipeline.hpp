@@ -109,7 +109,7 @@ inline const PipelineFifo* pipeline_fifo(const char* name, unsigned conditions) 
     while (*a != 0 && *a == *b) ++a, ++b;
     if (*a == *b && pipeline_has(f.when, conditions)) return &f;
   }
-  return 0;
+  return nullptr;
 }
 
 }  // namespace kern
