@@ -53,11 +53,11 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
   std::error_code ec;
   for (const char* sub : {dst.left, dst.right}) {
     fs::create_directories(out_frames / sub, ec);
-    if (ec) throw std::runtime_error((out_frames / sub).string() + ": " + ec.message());
+    if (ec) throw InputError((out_frames / sub).string() + ": " + ec.message());
   }
   for (GtKind kind : kinds) {
     fs::create_directories(out_frames / gt_dir_name(DatasetLayout::kitti2015, kind), ec);
-    if (ec) throw std::runtime_error(out_frames.string() + ": " + ec.message());
+    if (ec) throw InputError(out_frames.string() + ": " + ec.message());
   }
 
   CropSummary summary;
@@ -114,7 +114,7 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
     out << in.rdbuf();
     out.close();
     if (!out)
-      throw std::runtime_error(target.string() + ": cannot write a copy of " + licence.string());
+      throw InputError(target.string() + ": cannot write a copy of " + licence.string());
     summary.files_written.push_back(target);
   }
   return summary;

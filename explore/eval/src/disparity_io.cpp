@@ -82,9 +82,9 @@ void write_png(const std::filesystem::path& file, const cv::Mat& image) {
   try {
     ok = cv::imwrite(file.string(), image, params);
   } catch (const cv::Exception& e) {
-    throw std::runtime_error(file.string() + ": cannot write PNG: " + e.what());
+    throw InputError(file.string() + ": cannot write PNG: " + e.what());
   }
-  if (!ok) throw std::runtime_error(file.string() + ": cannot write PNG");
+  if (!ok) throw InputError(file.string() + ": cannot write PNG");
 }
 
 void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& disparity_px,

@@ -85,7 +85,11 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
   if (refs.empty())
     throw InputError(dataset.root.string() + ": no frame with " + to_string(opt.gt_kind) + " ground truth" +
                      (opt.frames.empty() ? std::string() : " matches '" + opt.frames + "'"));
-  if (!opt.save_dir.empty()) fs::create_directories(opt.save_dir);
+  if (!opt.save_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(opt.save_dir, ec);
+    if (ec) throw InputError(opt.save_dir.string() + ": cannot create the folder: " + ec.message());
+  }
   EvalResult result;
   result.frames.resize(refs.size());
   std::vector<std::vector<std::string>> notes(refs.size());

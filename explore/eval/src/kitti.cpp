@@ -56,10 +56,13 @@ std::vector<std::string> kitti_gt_ids(const Dataset& dataset, GtKind kind) {
   const fs::path dir = dataset.frames_dir / gt_dir_name(dataset.layout, kind);
   std::vector<std::string> ids;
   if (!is_dir(dir)) return ids;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
-    const std::string id = kitti_id_of(e.path().filename().string());
-    if (!id.empty() && e.is_regular_file()) ids.push_back(id);
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string id = kitti_id_of(it->path().filename().string());
+    std::error_code type_ec;
+    if (!id.empty() && it->is_regular_file(type_ec)) ids.push_back(id);
   }
+  if (ec) throw InputError(dir.string() + ": cannot list the folder: " + ec.message());
   std::sort(ids.begin(), ids.end());
   return ids;
 }

@@ -32,14 +32,18 @@ Rig load_rig(const std::string& path, int x0, int y0) {
   Rig r;
   const std::string ext = path.size() > 4 ? path.substr(path.size() - 4) : "";
   if (ext == ".yml" || ext == "yaml") {
-    cv::FileStorage fs(path, cv::FileStorage::READ);
-    if (!fs.isOpened()) throw InputError(path + ": not an OpenCV YAML file");
-    for (const char* k : {"focal_px", "baseline_m", "cx_px", "cy_px"})
-      if (fs[k].empty()) throw InputError(path + ": missing field '" + k + "'");
-    r.focal_px = double(fs["focal_px"]);
-    r.baseline_m = double(fs["baseline_m"]);
-    r.cx_px = double(fs["cx_px"]) - x0;
-    r.cy_px = double(fs["cy_px"]) - y0;
+    try {
+      cv::FileStorage fs(path, cv::FileStorage::READ);
+      if (!fs.isOpened()) throw InputError(path + ": not an OpenCV YAML file");
+      for (const char* k : {"focal_px", "baseline_m", "cx_px", "cy_px"})
+        if (fs[k].empty()) throw InputError(path + ": missing field '" + k + "'");
+      r.focal_px = double(fs["focal_px"]);
+      r.baseline_m = double(fs["baseline_m"]);
+      r.cx_px = double(fs["cx_px"]) - x0;
+      r.cy_px = double(fs["cy_px"]) - y0;
+    } catch (const cv::Exception& e) {
+      throw InputError(path + ": not a readable OpenCV YAML file: " + e.what());
+    }
     return r;
   }
   // KITTI: "P_rect_02: 12 numbers" (cam_to_cam) or "P2: 12 numbers" (object calib).

@@ -171,9 +171,13 @@ void write_rectification_maps(const Rig& rig, int w, int h, double k1, const std
   const cv::Mat dist = (cv::Mat_<double>(1, 5) << k1, 0, 0, 0, 0);
   cv::Mat mx, my;
   cv::initUndistortRectifyMap(K, dist, cv::Mat::eye(3, 3, CV_64F), K, cv::Size(w, h), CV_32FC1, mx, my);
-  cv::FileStorage fs(path, cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw InputError(path + ": cannot write");
-  fs << "map_x" << mx << "map_y" << my;
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::WRITE);
+    if (!fs.isOpened()) throw InputError(path + ": cannot write");
+    fs << "map_x" << mx << "map_y" << my;
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": cannot write the remap tables: " + e.what());
+  }
 }
 
 StereoFrame render(const Scene& sc, const Rig& rig, int w, int hgt, const Eigen::Vector3d& cam, double k1) {
@@ -237,13 +241,17 @@ StereoFrame render(const Scene& sc, const Rig& rig, int w, int hgt, const Eigen:
 void export_kitti(const std::vector<StereoFrame>& frames, const std::string& dir) {
   namespace fs = std::filesystem;
   const fs::path root = fs::path(dir) / "training";
-  for (const char* sub : {"image_2", "image_3", "disp_noc_0", "disp_occ_0"}) fs::create_directories(root / sub);
+  for (const char* sub : {"image_2", "image_3", "disp_noc_0", "disp_occ_0"}) {
+    std::error_code ec;
+    fs::create_directories(root / sub, ec);
+    if (ec) throw InputError((root / sub).string() + ": cannot create the folder: " + ec.message());
+  }
   for (std::size_t i = 0; i < frames.size(); ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "%06zu_10.png", i);
     const StereoFrame& f = frames[i];
-    if (!cv::imwrite((root / "image_2" / name).string(), f.left) || !cv::imwrite((root / "image_3" / name).string(), f.right))
-      throw InputError(dir + ": cannot write images");
+    write_png(root / "image_2" / name, f.left);
+    write_png(root / "image_3" / name, f.right);
     write_kitti_disparity(root / "disp_occ_0" / name, f.disparity_px, f.valid_mask);
     write_kitti_disparity(root / "disp_noc_0" / name, f.disparity_px, f.noc_mask);
   }

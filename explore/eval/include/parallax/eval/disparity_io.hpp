@@ -27,7 +27,7 @@ cv::Mat decode_image_file(const std::filesystem::path& file, const std::string& 
 
 // Writes a KITTI disparity PNG. Valid pixels must hold a finite d in [0, 65535/256] (after
 // rounding): anything else throws std::invalid_argument naming the file and the pixel. Throws
-// std::runtime_error naming the file if it cannot be written.
+// InputError naming the file if it cannot be written.
 void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& disparity_px,
                            const cv::Mat& valid_mask);
 
@@ -55,7 +55,7 @@ cv::Mat colourize_disparity(const cv::Mat& disparity_px, const cv::Mat& valid_ma
                             double max_disparity_px);
 
 // Writes any 8- or 16-bit image as PNG (compression level fixed, so runs are reproducible).
-// Throws std::runtime_error naming the file if it cannot be written.
+// Throws InputError naming the file if it cannot be written.
 void write_png(const std::filesystem::path& file, const cv::Mat& image);
 
 }  // namespace parallax::explore
