@@ -196,7 +196,7 @@ void require_scene_file(const fs::path& file, const char* role, const char* layo
 fs::path optional_scene_file(const fs::path& dir, std::initializer_list<const char*> names,
                              const char* role) {
   for (const char* name : names) {
-    const fs::path file = dir / name;
+    fs::path file = dir / name;
     if (!path_exists(file)) continue;
     if (is_dir(file)) {
       throw InputError(file.string() + ": " + role + " path is a folder, expected a file");

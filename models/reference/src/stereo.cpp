@@ -498,7 +498,7 @@ std::vector<uint16_t> median_filter(const std::vector<uint16_t>& codes, int widt
   const std::size_t rank = static_cast<std::size_t>((k * k - 1) / 2);
   std::vector<uint16_t> out(codes.size(), 0);
   std::vector<uint16_t> window;
-  window.reserve(static_cast<std::size_t>(k * k));
+  window.reserve(static_cast<std::size_t>(k) * static_cast<std::size_t>(k));
   for (int y = 0; y < height_px; ++y) {
     for (int x = 0; x < width_px; ++x) {
       window.clear();
