@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "fast_forward.hpp"
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/frame_buffer.hpp"
@@ -382,7 +383,7 @@ class Engine {
         ++got;
         fired = true;
         if constexpr (kTimed && !kData)
-          if (ff_.enabled && got % p_.width_px == 0) fast_forward();
+          if (ff_.enabled() && got % p_.width_px == 0) ff_.row_done(*this);
       }
       return fired;
     };
@@ -740,67 +741,31 @@ class Engine {
     };
   }
 
-  // --- periodic fast-forward (the timing run of one-pass designs) ------------------------------
-  //
-  // Between the first and the last rows every stage runs the same plans row after row, so once
-  // the pipeline has settled, the whole timed state (every stage's next cycle and statistics,
-  // every FIFO's counters and the slot times future firings can read, every kernel's counters,
-  // the source and sink positions) advances by the same amount per output row: times by one
-  // period, counts by one row's worth. The evaluation is deterministic (which stage fires and
-  // what it plans depend on counts and counters only), so when three snapshots taken as the
-  // sink completes consecutive rows show the same differences twice, the next rows repeat them
-  // exactly, and K rows can be applied at once: state + K x difference. Conditions that keep it
-  // exact: the rows skipped stay clear of the frame's last rows (and the first rows are past);
-  // the source's arrivals either never set a firing's cycle and come no faster than one period
-  // per row, or repeat with exactly the period over the skipped rows (checked pixel by pixel;
-  // the skip ends before the first row that does not).
-  // Off for the coupled run, two-pass designs, rectification and VCD traces. Tested against the
-  // coupled run, which never skips.
+  // --- periodic fast-forward hooks (fast_forward.hpp) ------------------------------------------
 
-  struct StateIO {
-    std::vector<int64_t>* out = nullptr;  // read mode: append every field
-    const std::vector<int64_t>* in = nullptr;  // write mode: assign every field in order
-    std::size_t pos = 0;
-    template <class T>
-    void operator()(T& field) {
-      if (out)
-        out->push_back(int64_t(field));
-      else
-        field = T((*in)[pos++]);
-    }
-  };
-  struct Snapshot {
-    std::vector<int64_t> values, slots, shape;
-    int64_t source_bound = 0;
-  };
-  struct FastForward {
-    bool enabled = false;
-    int64_t* next_src = nullptr;
-    int64_t* got = nullptr;
-    int64_t source_total = 0;
-    NodeT* source = nullptr;
-    std::vector<FifoBase*> fifos;
-    std::vector<Snapshot> history;  // the last three, oldest first
-  };
-
+  // Arms the fast-forward where it is exact: the timing run of a one-pass design, without
+  // rectification or VCD trace (the coupled run never skips).
   void start_fast_forward(int64_t& next_src, int64_t& got, int64_t source_pixels) {
-    ff_ = FastForward{};
     const bool tracing = trace_ && trace_->active();
-    ff_.enabled = kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
-    if (!ff_.enabled) return;
-    ff_.next_src = &next_src;
-    ff_.got = &got;
-    ff_.source_total = source_pixels;
-    if (setup_.opt->truncate_input_px >= 0) ff_.source_total = std::min(ff_.source_total, setup_.opt->truncate_input_px);
-    ff_.fifos = graph_->fifo_list();
-    for (const auto& n : graph_->nodes())
-      if (n->name() == "source") ff_.source = n.get();
+    const bool enabled = kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
+    FastForwardRun run;
+    if (enabled) {
+      run.next_src = &next_src;
+      run.got = &got;
+      run.last_pixel_cycle = &rep_->last_pixel_cycle;
+      run.rows_fast_forwarded = &rep_->rows_fast_forwarded;
+      run.source_total = source_pixels;
+      if (setup_.opt->truncate_input_px >= 0) run.source_total = std::min(run.source_total, setup_.opt->truncate_input_px);
+      run.width = p_.width_px;
+      run.settle_rows = p_.window_h / 2 + p_.median / 2 + 2;
+      const double stride = setup_.opt->input == InputKind::camera ? double(p_.width_px + setup_.opt->camera_h_blank_px)
+                                                                    : double(p_.width_px);
+      run.row_input_cycles = stride * input_rate_.cycles_per_token;
+    }
+    ff_.start(enabled, *graph_, run);
   }
-
   template <class IO>
-  void visit_state(IO& io) {
-    for (const auto& n : graph_->nodes()) n->visit(io);
-    for (FifoBase* f : ff_.fifos) f->visit(io);
+  void visit_kernels(IO& io) {
     if (p_.cost == kern::kCostCensus)
       census_.visit(io);
     else
@@ -808,78 +773,15 @@ class Engine {
     agg_.visit(io);
     wta_.visit(io);
     median_.visit(io);
-    io(*ff_.next_src);
-    io(*ff_.got);
-    io(rep_->last_pixel_cycle);  // last, the period is read from it
   }
-
-  void fast_forward() {
-    const int64_t w = p_.width_px;
-    const int64_t rows_done = *ff_.got / w;
-    if (rows_done < p_.window_h / 2 + p_.median / 2 + 2) return;  // past the first rows' plans
-    Snapshot s;
-    StateIO reader;
-    reader.out = &s.values;
-    visit_state(reader);
-    for (FifoBase* f : ff_.fifos) {
-      const std::size_t before = s.slots.size();
-      f->slot_times(s.slots);
-      s.shape.push_back(int64_t(s.slots.size() - before));
-    }
-    for (const auto& n : graph_->nodes()) {
-      const auto it = std::find(ff_.fifos.begin(), ff_.fifos.end(), n->blocked_fifo());
-      s.shape.push_back(it == ff_.fifos.end() ? -1 : int64_t(it - ff_.fifos.begin()));
-    }
-    s.source_bound = ff_.source->earliest_bound();
-    ff_.history.push_back(std::move(s));
-    if (ff_.history.size() > 3) ff_.history.erase(ff_.history.begin());
-    if (ff_.history.size() < 3) return;
-    const Snapshot &a = ff_.history[0], &b = ff_.history[1], &c = ff_.history[2];
-    if (a.shape != b.shape || b.shape != c.shape || a.values.size() != c.values.size() ||
-        a.slots.size() != c.slots.size())
-      return;
-    for (std::size_t i = 0; i < c.values.size(); ++i)
-      if (c.values[i] - b.values[i] != b.values[i] - a.values[i]) return;
-    const int64_t period = c.values.back() - b.values.back();
-    if (period <= 0) return;
-    for (std::size_t i = 0; i < c.slots.size(); ++i)
-      if (c.slots[i] - b.slots[i] != period || b.slots[i] - a.slots[i] != period) return;
-    const std::size_t next_at = c.values.size() - 3;  // visit_state's order: next_src, got, last pixel
-    if (c.values[next_at] - b.values[next_at] != w) return;
-    const int64_t next = *ff_.next_src;
-    int64_t rows = (ff_.source_total - next) / w - 3;  // stay clear of the last rows
-    if (rows < 1) return;
-    const bool arrival_bound = c.source_bound != b.source_bound || b.source_bound != a.source_bound;
-    if (!arrival_bound) {
-      // Never bound: it stays so if the input delivers a row in at most one period.
-      if (input_arrival(next + w) - input_arrival(next) > period - 1 ||
-          input_arrival(next + rows * w) - input_arrival(next) > rows * period - 1)
-        return;
-      const double stride = setup_.opt->input == InputKind::camera ? double(w + setup_.opt->camera_h_blank_px)
-                                                                    : double(w);
-      if (stride * input_rate_.cycles_per_token > double(period) - 1.0) return;
-    } else {  // skip the rows up to the first whose arrivals do not repeat with the period
-      for (int64_t j = next; j < next + rows * w; ++j)
-        if (input_arrival(j) - input_arrival(j - w) != period) {
-          rows = (j - next) / w;
-          break;
-        }
-      if (rows < 1) return;
-    }
-    std::vector<int64_t> target(c.values.size());
-    for (std::size_t i = 0; i < target.size(); ++i) target[i] = c.values[i] + rows * (c.values[i] - b.values[i]);
-    StateIO writer;
-    writer.in = &target;
-    visit_state(writer);
-    for (FifoBase* f : ff_.fifos) f->shift_slot_times(rows * period);
+  void resync_kernels() {
     census_.resync();
     sad_.resync();
     agg_.resync();
     wta_.resync();
     median_.resync();
-    rep_->rows_fast_forwarded += rows;
-    ff_.history.clear();
   }
+  friend class FastForward<kTimed>;
 
   // One frame-buffer word (kernels/frame_buffer.hpp: the packed power-of-two word) per token of
   // this rate.
@@ -933,7 +835,7 @@ class Engine {
 
   kern::StereoParams p_{};
   RunSetup setup_;
-  FastForward ff_;
+  FastForward<kTimed> ff_;
   Rate input_rate_;  // of this run's source, computed once
   CycleReport* rep_ = nullptr;
   TimingModel timing_;
