@@ -32,26 +32,18 @@
 #include "parallax/sim/cycle.hpp"
 #include "parallax/sim/fifo.hpp"
 #include "parallax/sim/func.hpp"
+#include "pipeline_run.hpp"
 #include "scheduler.hpp"
 
 namespace parallax::sim::detail {
 
-// Rate of a source that delivers `bytes_per_token` at `bytes_per_s`: token i is available at
-// cycle floor(i * cycles_per_token) after `start`.
-struct Rate {
-  double cycles_per_token = 0.0;
-  int64_t start = 0;
-  int64_t at(int64_t i) const { return start + int64_t(std::floor(double(i) * cycles_per_token)); }
-};
-
-// Everything one run of the graph needs besides the kernels.
-struct RunSetup {
-  const CycleOptions* opt = nullptr;  // null: func run
-  bool unbounded = false;             // timed: every FIFO unbounded (sizing run)
-};
-
 template <class Caps, class Word, bool kTimed, bool kData = true>
-class Engine {
+class Engine : private PipelineRun<kTimed> {
+  using Run = PipelineRun<kTimed>;
+  using Run::p_, Run::setup_, Run::rep_, Run::timing_, Run::trace_, Run::graph_, Run::conditions_, Run::input_rate_;
+  using Run::begin, Run::frame_pixels, Run::depth_of, Run::rectifying, Run::input_arrival, Run::ddr_rate,
+      Run::ddr_latency_cycles, Run::schedule, Run::mark_done, Run::collect, Run::finish_report;
+
  public:
   using CostTok = kern::Lanes<uint16_t, Caps::lanes>;
   using SumTok = kern::Lanes<Word, Caps::lanes>;
@@ -59,24 +51,11 @@ class Engine {
 
   void run(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p, const RunSetup& setup,
            DisparityCodes& out, CycleReport* rep) {
-    p_ = p;
-    setup_ = setup;
-    rep_ = rep;
+    begin(p, setup, rep);
     out.width_px = p.width_px;
     out.height_px = p.height_px;
     out.disparities = p.disparities;
     if (kData) out.code.assign(std::size_t(p.width_px) * p.height_px, 0);
-    timing_ = default_timing(p, !setup.opt ? 200e6
-                                : setup.opt->synthesis_clock_hz > 0 ? setup.opt->synthesis_clock_hz
-                                                                    : setup.opt->clock_hz);
-    if (setup.opt)
-      for (const auto& kv : setup.opt->timing) timing_[kv.first] = kv.second;
-    conditions_ = kern::pipeline_conditions(p, rectifying());
-    trace_.reset();
-    if (kTimed && setup.opt && !setup.opt->vcd_path.empty())
-      trace_ = std::make_unique<Trace>(setup.opt->vcd_from, setup.opt->vcd_to);
-    graph_ = std::make_unique<Graph<kTimed>>(trace_.get());
-    input_rate_ = input_rate();
     const bool two_pass = (p.path_mask & kern::kBackwardPaths) != 0;
     if (p.cost == kern::kCostCensus)
       two_pass ? run_two_pass(census_, left, right, out) : run_one_pass(census_, left, right, out);
@@ -92,7 +71,7 @@ class Engine {
   void record_costs(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                     std::vector<CostTok>& tokens) {
     static_assert(!kTimed && kData, "cost recording belongs to the func run");
-    begin_untimed(p);
+    begin(p, RunSetup{}, nullptr);
     tokens.clear();
     tokens.reserve(std::size_t(frame_pixels()) * std::size_t(p.disparities / p.parallel_units));
     if (p.cost == kern::kCostCensus)
@@ -102,7 +81,7 @@ class Engine {
   }
   void run_from_costs(const std::vector<CostTok>& tokens, const kern::StereoParams& p, DisparityCodes& out) {
     static_assert(!kTimed && kData, "cost replay belongs to the func run");
-    begin_untimed(p);
+    begin(p, RunSetup{}, nullptr);
     out.width_px = p.width_px;
     out.height_px = p.height_px;
     out.disparities = p.disparities;
@@ -131,16 +110,6 @@ class Engine {
   }
 
  private:
-  void begin_untimed(const kern::StereoParams& p) {
-    p_ = p;
-    setup_ = RunSetup{};
-    rep_ = nullptr;
-    timing_ = default_timing(p);
-    conditions_ = kern::pipeline_conditions(p, false);
-    trace_.reset();
-    graph_ = std::make_unique<Graph<kTimed>>(nullptr);
-    input_rate_ = Rate{};
-  }
   template <class CostStage>
   void record_with(CostStage& cost, const GreyImage& left, const GreyImage& right, std::vector<CostTok>& tokens) {
     cost.configure(p_);
@@ -161,13 +130,6 @@ class Engine {
     schedule(pumps, [&] { return cost.done() && costs->empty(); });
   }
 
-  int64_t frame_pixels() const { return int64_t(p_.width_px) * p_.height_px; }
-  std::size_t depth_of(const std::string& name, std::size_t func_depth) const {
-    if (!kTimed || !setup_.opt) return func_depth;
-    if (setup_.unbounded) return 0;
-    const auto it = setup_.opt->fifo_depths.find(name);
-    return it != setup_.opt->fifo_depths.end() ? it->second : setup_.opt->fifo_depth;
-  }
   // A FIFO of the pipeline (kernels/pipeline.hpp): producer and consumer come from the table.
   template <class T>
   std::unique_ptr<Fifo<T>> make_fifo(const std::string& name, std::size_t func_depth) {
@@ -193,43 +155,7 @@ class Engine {
     return graph_->add_node(name, it != timing_.end() ? it->second : StageTiming{});
   }
 
-  Rate input_rate() const {
-    Rate r;
-    if (!kTimed || !setup_.opt) return r;
-    const CycleOptions& o = *setup_.opt;
-    if (o.input == InputKind::memory)
-      r.cycles_per_token = 2.0 * o.clock_hz / o.input_bytes_per_s;  // one left + one right byte
-    else
-      r.cycles_per_token = o.clock_hz / o.camera_pixel_hz;
-    return r;
-  }
-  // Cycle at which input pixel i (raster order) arrives.
-  int64_t input_arrival(int64_t i) const {
-    if (!kTimed || !setup_.opt) return 0;
-    const Rate& r = input_rate_;
-    if (setup_.opt->input == InputKind::camera) {
-      const int64_t row = i / p_.width_px, col = i % p_.width_px;
-      return r.at(row * (p_.width_px + setup_.opt->camera_h_blank_px) + col);
-    }
-    return r.at(i);
-  }
-  int64_t input_period() const {
-    if (!kTimed || !setup_.opt) return 0;
-    if (setup_.opt->input == InputKind::camera)
-      return input_rate().at(int64_t(p_.width_px + setup_.opt->camera_h_blank_px) *
-                             (p_.height_px + setup_.opt->camera_v_blank_rows));
-    return input_rate().at(int64_t(p_.width_px) * p_.height_px);
-  }
 
-  bool schedule(const std::vector<std::function<bool()>>& pumps, const std::function<bool()>& finished) {
-    if (graph_->schedule(pumps, finished)) return true;
-    if (rep_) {
-      rep_->deadlock = true;
-      rep_->deadlock_cycle = graph_->deadlock_cycle();
-      rep_->deadlock_message = graph_->deadlock_message();
-    }
-    return false;
-  }
 
   // --- pumps: fire a stage while it can ---------------------------------------------------
 
@@ -389,7 +315,6 @@ class Engine {
     };
   }
 
-  void mark_done(const std::string& name) { graph_->mark_done(name); }
 
   // The input of the graph: the source, and with rectification a map source and a rectify stage
   // per camera. Returns the pumps; out_l / out_r feed the cost stage.
@@ -402,10 +327,6 @@ class Engine {
   static constexpr int kRectifyRows = 256;
   using RectifyStage = kern::Rectify<kern::kMaxWidthPx, kRectifyRows>;
 
-  bool rectifying() const {
-    return kTimed && setup_.opt && setup_.opt->rectify.mode != kern::kRectifyNone && setup_.opt->rectify_map_left &&
-           setup_.opt->rectify_map_right;
-  }
 
   std::unique_ptr<FrontEnd> front_end(const GreyImage& left, const GreyImage& right) {
     auto fe = std::make_unique<FrontEnd>();
@@ -783,65 +704,10 @@ class Engine {
   }
   friend class FastForward<kTimed>;
 
-  // One frame-buffer word (kernels/frame_buffer.hpp: the packed power-of-two word) per token of
-  // this rate.
-  Rate ddr_rate() const {
-    Rate r;
-    if (!kTimed || !setup_.opt) return r;
-    r.cycles_per_token = double(kern::frame_word_bytes(p_)) * setup_.opt->clock_hz / setup_.opt->ddr_bytes_per_s;
-    return r;
-  }
-  int64_t ddr_latency_cycles() const {
-    if (!kTimed || !setup_.opt) return 0;
-    return int64_t(std::ceil(setup_.opt->ddr_latency_s * setup_.opt->clock_hz));
-  }
 
-  // Moves the frame's FIFO statistics into the report (the FIFOs die with the run).
-  template <class... F>
-  void collect(F&&... fifos) {
-    if (!rep_) return;
-    auto one = [&](const FifoBase& f) {
-      FifoReport r;
-      r.name = f.name();
-      r.producer = graph_->producer_of(&f);
-      r.consumer = graph_->consumer_of(&f);
-      r.depth = int64_t(f.depth());
-      r.tokens = f.writes();
-      r.high_water = int64_t(f.high_water());
-      rep_->fifos.push_back(r);
-    };
-    (one(*fifos), ...);
-  }
 
-  void finish_report() {
-    if (trace_ && setup_.opt) trace_->write(setup_.opt->vcd_path, "parallax");
-    rep_->stages.clear();
-    int64_t busiest = 0;
-    for (const auto& n : graph_->nodes()) {
-      rep_->stages.push_back(n->report());
-      if (n->name() == "source") continue;  // its occupancy is the input's, counted below
-      if (n->report().busy_cycles > busiest) {
-        busiest = n->report().busy_cycles;
-        rep_->bottleneck = n->name();
-      }
-    }
-    rep_->input_period_cycles = input_period();
-    rep_->cycles_per_frame = busiest;
-    if (rep_->input_period_cycles > busiest) {
-      rep_->cycles_per_frame = rep_->input_period_cycles;
-      rep_->bottleneck = "input";
-    }
-  }
 
-  kern::StereoParams p_{};
-  RunSetup setup_;
   FastForward<kTimed> ff_;
-  Rate input_rate_;  // of this run's source, computed once
-  CycleReport* rep_ = nullptr;
-  TimingModel timing_;
-  std::unique_ptr<Trace> trace_;
-  std::unique_ptr<Graph<kTimed>> graph_;
-  unsigned conditions_ = 0;  // the pipeline variant (kernels/pipeline.hpp) of the current run
   kern::CensusCostStage<Caps> census_;
   kern::SadCostStage<Caps> sad_;
   kern::SgmAggregate<Caps, Word> agg_;
