@@ -463,25 +463,15 @@ class Engine : private PipelineRun<kTimed> {
   // writer (the sink) reverses the codes the same way.
   template <class CostStage>
   void run_two_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
-    const int64_t pixels = frame_pixels();
-    const int chunks = kern::frame_chunks(p_);
-    const int beats = kern::frame_beats(p_);
-    const int word_limbs = kern::frame_word_bits(p_) / 32;
-    const int pair_limbs = kern::frame_limbs_of(kern::frame_pair_bits(p_));
-    const int64_t words = kern::frame_words(p_);
-    const int64_t seg_pixels = kern::frame_segment_pixels(p_);
-    const int64_t seg_tokens = seg_pixels * chunks, seg_words = seg_tokens * beats;
-    const int64_t segments = pixels / seg_pixels;
-    const int cost_w = kern::cost_bits(p_), sum_w = kern::aggregate_bits(p_);
+    const FrameLayout fl = frame_layout();
     if (kData) {
-      frame_.assign(std::size_t(words) * std::size_t(word_limbs), 0u);
-      segment_.assign(2 * std::size_t(seg_tokens) * std::size_t(pair_limbs), 0u);
+      frame_.assign(std::size_t(fl.words) * std::size_t(fl.word_limbs), 0u);
+      segment_.assign(2 * std::size_t(fl.seg_tokens) * std::size_t(fl.pair_limbs), 0u);
     }
     if (rep_) {
       rep_->ddr_word_bits = kern::frame_word_bits(p_);
       rep_->ddr_bytes_written = rep_->ddr_bytes_read = rep_->map_bytes_written = 0;
     }
-    const int word_bytes = kern::frame_word_bytes(p_);
     const Rate ddr = ddr_rate();
     cost.configure(p_);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
@@ -494,63 +484,19 @@ class Engine : private PipelineRun<kTimed> {
     NodeT& n_cost = node("cost");
     NodeT& n_agg = node("aggregate");
     NodeT& n_wr = node("ddr_write");
-    const int64_t write_firings = seg_tokens + words;
+    const int64_t write_firings = fl.seg_tokens + fl.words;
     int64_t wr_step = 0, stored = 0;
-    auto write_pump = [&]() -> bool {
-      bool fired = false;
-      if (n_wr.still_blocked()) return false;
-      while (wr_step < write_firings) {
-        const int64_t t = wr_step;
-        const bool writes = t >= seg_tokens;
-        const int64_t w = t - seg_tokens;  // the word written (writes)
-        const bool reads = !writes || (w < words - seg_words && w % beats == 0);
-        if (!n_wr.attempt({Port{tee.get(), reads}, Port{fwd.get(), reads}}, {},
-                          [&] {
-                            if constexpr (kData) {
-                              if (writes) {  // before the fill: the two halves differ
-                                const int64_t seg = w / seg_words, k = w % seg_words;
-                                const int64_t slot = (seg % 2) * seg_tokens + kern::reversed_slot(k / beats, chunks, seg_pixels);
-                                uint32_t pair[kPairLimbs] = {};
-                                const uint32_t* from = &segment_[std::size_t(slot) * std::size_t(pair_limbs)];
-                                for (int i = 0; i < pair_limbs; ++i) pair[i] = from[i];
-                                uint32_t word[kern::kFrameWordMaxBits / 32];
-                                kern::frame_beat_of(pair, int(k % beats), word_limbs, word);
-                                const int64_t address = kern::reversed_block_base(segments, seg_words, seg) + k;
-                                for (int i = 0; i < word_limbs; ++i)
-                                  frame_[std::size_t(address) * std::size_t(word_limbs) + std::size_t(i)] = word[i];
-                              }
-                              if (reads) {
-                                const int64_t token = writes ? seg_tokens + w / beats : t;
-                                const int64_t slot = ((token / seg_tokens) % 2) * seg_tokens + token % seg_tokens;
-                                uint32_t pair[kPairLimbs];
-                                kern::frame_pack(tee->read(), fwd->read(), p_.parallel_units, cost_w, sum_w, pair);
-                                uint32_t* to = &segment_[std::size_t(slot) * std::size_t(pair_limbs)];
-                                for (int i = 0; i < pair_limbs; ++i) to[i] = pair[i];
-                              }
-                            } else if (reads) {
-                              tee->skip_read();
-                              fwd->skip_read();
-                            }
-                          },
-                          writes ? ddr.at(w) : 0))
-          break;
-        if (writes) ++stored;
-        ++wr_step;
-        fired = true;
-      }
-      return fired;
-    };
     std::vector<std::function<bool()>> pass1 = fe->pumps;
     pass1.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
     pass1.push_back(
         agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *fwd, tee.get()));
-    pass1.push_back(write_pump);
+    pass1.push_back(ddr_write_pump(n_wr, fl, *tee, *fwd, ddr, wr_step, stored));
     if (!schedule(pass1, [&] { return wr_step >= write_firings; })) {
       collect_front_end(*fe);
       collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd));
       return;
     }
-    if (rep_) rep_->ddr_bytes_written = stored * word_bytes;
+    if (rep_) rep_->ddr_bytes_written = stored * fl.word_bytes;
     const int64_t pass2_start = n_wr.t_next() + ddr_latency_cycles();
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, true), true, false);
     wta_.configure(p_, true);
@@ -569,50 +515,132 @@ class Engine : private PipelineRun<kTimed> {
     rd.start = pass2_start;
     int64_t read_word = 0, got = 0;
     uint32_t pair[kPairLimbs] = {};  // the pair being collected from its beats
-    auto read_pump = [&]() -> bool {
+    const int64_t total = fl.pixels;
+    schedule({ddr_read_pump(n_rd, fl, *back_c, *back_f, rd, read_word, pair),
+              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums, nullptr),
+              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered), map_sink_pump(n_sink, *filtered, out, got)},
+             [&] { return got >= total; });
+    if (rep_) {
+      rep_->ddr_bytes_read = read_word * fl.word_bytes;
+      rep_->map_bytes_written = got * kern::kMapCodeBytes;
+    }
+    collect_front_end(*fe);
+    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd), std::move(back_c),
+            std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
+  }
+
+  // The frame buffer's layout (kernels/frame_buffer.hpp) in the units the two passes count in;
+  // kPairLimbs holds the widest pair of tokens these lanes carry.
+  static constexpr int kPairLimbs = kern::frame_limbs_of(Caps::lanes * (16 + 32));
+  struct FrameLayout {
+    int64_t pixels, words, seg_pixels, seg_tokens, seg_words, segments;
+    int chunks, beats, word_limbs, pair_limbs, cost_w, sum_w, word_bytes;
+  };
+  FrameLayout frame_layout() const {
+    FrameLayout f{};
+    f.pixels = frame_pixels();
+    f.chunks = kern::frame_chunks(p_);
+    f.beats = kern::frame_beats(p_);
+    f.word_limbs = kern::frame_word_bits(p_) / 32;
+    f.pair_limbs = kern::frame_limbs_of(kern::frame_pair_bits(p_));
+    f.words = kern::frame_words(p_);
+    f.seg_pixels = kern::frame_segment_pixels(p_);
+    f.seg_tokens = f.seg_pixels * f.chunks;
+    f.seg_words = f.seg_tokens * f.beats;
+    f.segments = f.pixels / f.seg_pixels;
+    f.cost_w = kern::cost_bits(p_);
+    f.sum_w = kern::aggregate_bits(p_);
+    f.word_bytes = kern::frame_word_bytes(p_);
+    return f;
+  }
+
+  // ddr_write's loop (see run_two_pass): step counts its firings, stored the words written.
+  std::function<bool()> ddr_write_pump(NodeT& n, const FrameLayout& fl, Fifo<CostTok>& tee, Fifo<SumTok>& fwd, Rate ddr,
+                                       int64_t& step, int64_t& stored) {
+    return [this, &n, fl, &tee, &fwd, ddr, &step, &stored] {
       bool fired = false;
-      if (n_rd.still_blocked()) return false;
-      while (read_word < words) {
+      if (n.still_blocked()) return false;
+      const int64_t firings = fl.seg_tokens + fl.words;
+      while (step < firings) {
+        const int64_t t = step;
+        const bool writes = t >= fl.seg_tokens;
+        const int64_t w = t - fl.seg_tokens;  // the word written (writes)
+        const bool reads = !writes || (w < fl.words - fl.seg_words && w % fl.beats == 0);
+        if (!n.attempt({Port{&tee, reads}, Port{&fwd, reads}}, {},
+                       [&] {
+                         if constexpr (kData) {
+                           if (writes) {  // before the fill: the two halves differ
+                             const int64_t seg = w / fl.seg_words, k = w % fl.seg_words;
+                             const int64_t slot =
+                                 (seg % 2) * fl.seg_tokens + kern::reversed_slot(k / fl.beats, fl.chunks, fl.seg_pixels);
+                             uint32_t pair[kPairLimbs] = {};
+                             const uint32_t* from = &segment_[std::size_t(slot) * std::size_t(fl.pair_limbs)];
+                             for (int i = 0; i < fl.pair_limbs; ++i) pair[i] = from[i];
+                             uint32_t word[kern::kFrameWordMaxBits / 32];
+                             kern::frame_beat_of(pair, int(k % fl.beats), fl.word_limbs, word);
+                             const int64_t address = kern::reversed_block_base(fl.segments, fl.seg_words, seg) + k;
+                             for (int i = 0; i < fl.word_limbs; ++i)
+                               frame_[std::size_t(address) * std::size_t(fl.word_limbs) + std::size_t(i)] = word[i];
+                           }
+                           if (reads) {
+                             const int64_t token = writes ? fl.seg_tokens + w / fl.beats : t;
+                             const int64_t slot = ((token / fl.seg_tokens) % 2) * fl.seg_tokens + token % fl.seg_tokens;
+                             uint32_t pair[kPairLimbs];
+                             kern::frame_pack(tee.read(), fwd.read(), p_.parallel_units, fl.cost_w, fl.sum_w, pair);
+                             uint32_t* to = &segment_[std::size_t(slot) * std::size_t(fl.pair_limbs)];
+                             for (int i = 0; i < fl.pair_limbs; ++i) to[i] = pair[i];
+                           }
+                         } else if (reads) {
+                           tee.skip_read();
+                           fwd.skip_read();
+                         }
+                       },
+                       writes ? ddr.at(w) : 0))
+          break;
+        if (writes) ++stored;
+        ++step;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  // ddr_read's loop: one firing per word at ascending addresses, no earlier than rd.at(word);
+  // `pair` collects the beats of a pair, whose last beat sends its two tokens.
+  std::function<bool()> ddr_read_pump(NodeT& n, const FrameLayout& fl, Fifo<CostTok>& c_out, Fifo<SumTok>& f_out, Rate rd,
+                                      int64_t& read_word, uint32_t (&pair)[kPairLimbs]) {
+    return [this, &n, fl, &c_out, &f_out, rd, &read_word, &pair] {
+      bool fired = false;
+      if (n.still_blocked()) return false;
+      while (read_word < fl.words) {
         const int64_t i = read_word;  // ascending addresses
-        const bool last_beat = i % beats == beats - 1;
-        if (!n_rd.attempt({}, {Port{back_c.get(), last_beat}, Port{back_f.get(), last_beat}},
-                          [&] {
-                            if constexpr (kData) {
-                              uint32_t word[kern::kFrameWordMaxBits / 32];
-                              for (int k = 0; k < word_limbs; ++k)
-                                word[k] = frame_[std::size_t(i) * std::size_t(word_limbs) + std::size_t(k)];
-                              kern::frame_set_beat(pair, int(i % beats), word_limbs, word);
-                              if (last_beat) {
-                                CostTok c;
-                                SumTok f;
-                                kern::frame_unpack(pair, p_.parallel_units, cost_w, sum_w, c, f);
-                                back_c->write(c);
-                                back_f->write(f);
-                              }
-                            } else if (last_beat) {
-                              back_c->skip_write();
-                              back_f->skip_write();
-                            }
-                          },
-                          rd.at(i)))
+        const bool last_beat = i % fl.beats == fl.beats - 1;
+        if (!n.attempt({}, {Port{&c_out, last_beat}, Port{&f_out, last_beat}},
+                       [&] {
+                         if constexpr (kData) {
+                           uint32_t word[kern::kFrameWordMaxBits / 32];
+                           for (int k = 0; k < fl.word_limbs; ++k)
+                             word[k] = frame_[std::size_t(i) * std::size_t(fl.word_limbs) + std::size_t(k)];
+                           kern::frame_set_beat(pair, int(i % fl.beats), fl.word_limbs, word);
+                           if (last_beat) {
+                             CostTok c;
+                             SumTok f;
+                             kern::frame_unpack(pair, p_.parallel_units, fl.cost_w, fl.sum_w, c, f);
+                             c_out.write(c);
+                             f_out.write(f);
+                           }
+                         } else if (last_beat) {
+                           c_out.skip_write();
+                           f_out.skip_write();
+                         }
+                       },
+                       rd.at(i)))
           break;
         ++read_word;
         fired = true;
       }
       return fired;
     };
-    const int64_t total = pixels;
-    schedule({read_pump,
-              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums, nullptr),
-              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered), map_sink_pump(n_sink, *filtered, out, got)},
-             [&] { return got >= total; });
-    if (rep_) {
-      rep_->ddr_bytes_read = read_word * word_bytes;
-      rep_->map_bytes_written = got * kern::kMapCodeBytes;
-    }
-    collect_front_end(*fe);
-    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd), std::move(back_c),
-            std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
   }
 
   // The map writer of a two-pass design: the codes arrive in reverse raster order; the writer
@@ -716,7 +744,6 @@ class Engine : private PipelineRun<kTimed> {
   std::unique_ptr<RectifyStage> rect_l_, rect_r_;
   // The frame buffer standing for off-chip memory: words of 32-bit limbs (kernels/frame_buffer.hpp),
   // the on-chip reversal buffers of ddr_write (pairs) and of the map writer (codes).
-  static constexpr int kPairLimbs = kern::frame_limbs_of(Caps::lanes * (16 + 32));
   std::vector<uint32_t> frame_, segment_;
   std::vector<kern::DispCode> map_segment_;
 };
