@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "fast_forward.hpp"
+#include "frame_buffer_stages.hpp"
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/frame_buffer.hpp"
@@ -154,8 +155,6 @@ class Engine : private PipelineRun<kTimed> {
     const auto it = timing_.find(name);
     return graph_->add_node(name, it != timing_.end() ? it->second : StageTiming{});
   }
-
-
 
   // --- pumps: fire a stage while it can ---------------------------------------------------
 
@@ -315,7 +314,6 @@ class Engine : private PipelineRun<kTimed> {
     };
   }
 
-
   // The input of the graph: the source, and with rectification a map source and a rectify stage
   // per camera. Returns the pumps; out_l / out_r feed the cost stage.
   struct FrontEnd {
@@ -326,7 +324,6 @@ class Engine : private PipelineRun<kTimed> {
   };
   static constexpr int kRectifyRows = 256;
   using RectifyStage = kern::Rectify<kern::kMaxWidthPx, kRectifyRows>;
-
 
   std::unique_ptr<FrontEnd> front_end(const GreyImage& left, const GreyImage& right) {
     auto fe = std::make_unique<FrontEnd>();
@@ -454,20 +451,12 @@ class Engine : private PipelineRun<kTimed> {
   }
 
   // Pass 1 writes C and F to the frame buffer through `ddr_write`; pass 2 starts when the last
-  // word is written and reads them back in reverse pixel order through `ddr_read`. The layout is
-  // kernels/frame_buffer.hpp's: each firing's pair of tokens packed into `beats` power-of-two words;
-  // ddr_write reverses the pixels on chip in segments (a ping-pong buffer) and writes each segment
-  // at ascending addresses, so that ddr_read reads words 0 .. N-1 in order. Its loop, as exported:
-  // seg_tokens firings that only fill the first segment, then one firing per word written, which
-  // also takes in the next segment's tokens (one per `beats` words) while there are any. The map
-  // writer (the sink) reverses the codes the same way.
+  // word is written and reads them back in reverse pixel order through `ddr_read`; the map writer
+  // (the sink) restores raster order (frame_buffer_stages.hpp).
   template <class CostStage>
   void run_two_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
-    const FrameLayout fl = frame_layout();
-    if (kData) {
-      frame_.assign(std::size_t(fl.words) * std::size_t(fl.word_limbs), 0u);
-      segment_.assign(2 * std::size_t(fl.seg_tokens) * std::size_t(fl.pair_limbs), 0u);
-    }
+    fb_.configure(p_, rep_);
+    const FrameLayout& fl = fb_.layout();
     if (rep_) {
       rep_->ddr_word_bits = kern::frame_word_bits(p_);
       rep_->ddr_bytes_written = rep_->ddr_bytes_read = rep_->map_bytes_written = 0;
@@ -490,7 +479,7 @@ class Engine : private PipelineRun<kTimed> {
     pass1.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
     pass1.push_back(
         agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *fwd, tee.get()));
-    pass1.push_back(ddr_write_pump(n_wr, fl, *tee, *fwd, ddr, wr_step, stored));
+    pass1.push_back(fb_.write_pump(n_wr, *tee, *fwd, ddr, wr_step, stored));
     if (!schedule(pass1, [&] { return wr_step >= write_firings; })) {
       collect_front_end(*fe);
       collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd));
@@ -514,11 +503,10 @@ class Engine : private PipelineRun<kTimed> {
     Rate rd = ddr;
     rd.start = pass2_start;
     int64_t read_word = 0, got = 0;
-    uint32_t pair[kPairLimbs] = {};  // the pair being collected from its beats
     const int64_t total = fl.pixels;
-    schedule({ddr_read_pump(n_rd, fl, *back_c, *back_f, rd, read_word, pair),
+    schedule({fb_.read_pump(n_rd, *back_c, *back_f, rd, read_word),
               agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums, nullptr),
-              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered), map_sink_pump(n_sink, *filtered, out, got)},
+              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered), fb_.map_writer_pump(n_sink, *filtered, out, got)},
              [&] { return got >= total; });
     if (rep_) {
       rep_->ddr_bytes_read = read_word * fl.word_bytes;
@@ -527,167 +515,6 @@ class Engine : private PipelineRun<kTimed> {
     collect_front_end(*fe);
     collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd), std::move(back_c),
             std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
-  }
-
-  // The frame buffer's layout (kernels/frame_buffer.hpp) in the units the two passes count in;
-  // kPairLimbs holds the widest pair of tokens these lanes carry.
-  static constexpr int kPairLimbs = kern::frame_limbs_of(Caps::lanes * (16 + 32));
-  struct FrameLayout {
-    int64_t pixels, words, seg_pixels, seg_tokens, seg_words, segments;
-    int chunks, beats, word_limbs, pair_limbs, cost_w, sum_w, word_bytes;
-  };
-  FrameLayout frame_layout() const {
-    FrameLayout f{};
-    f.pixels = frame_pixels();
-    f.chunks = kern::frame_chunks(p_);
-    f.beats = kern::frame_beats(p_);
-    f.word_limbs = kern::frame_word_bits(p_) / 32;
-    f.pair_limbs = kern::frame_limbs_of(kern::frame_pair_bits(p_));
-    f.words = kern::frame_words(p_);
-    f.seg_pixels = kern::frame_segment_pixels(p_);
-    f.seg_tokens = f.seg_pixels * f.chunks;
-    f.seg_words = f.seg_tokens * f.beats;
-    f.segments = f.pixels / f.seg_pixels;
-    f.cost_w = kern::cost_bits(p_);
-    f.sum_w = kern::aggregate_bits(p_);
-    f.word_bytes = kern::frame_word_bytes(p_);
-    return f;
-  }
-
-  // ddr_write's loop (see run_two_pass): step counts its firings, stored the words written.
-  std::function<bool()> ddr_write_pump(NodeT& n, const FrameLayout& fl, Fifo<CostTok>& tee, Fifo<SumTok>& fwd, Rate ddr,
-                                       int64_t& step, int64_t& stored) {
-    return [this, &n, fl, &tee, &fwd, ddr, &step, &stored] {
-      bool fired = false;
-      if (n.still_blocked()) return false;
-      const int64_t firings = fl.seg_tokens + fl.words;
-      while (step < firings) {
-        const int64_t t = step;
-        const bool writes = t >= fl.seg_tokens;
-        const int64_t w = t - fl.seg_tokens;  // the word written (writes)
-        const bool reads = !writes || (w < fl.words - fl.seg_words && w % fl.beats == 0);
-        if (!n.attempt({Port{&tee, reads}, Port{&fwd, reads}}, {},
-                       [&] {
-                         if constexpr (kData) {
-                           if (writes) {  // before the fill: the two halves differ
-                             const int64_t seg = w / fl.seg_words, k = w % fl.seg_words;
-                             const int64_t slot =
-                                 (seg % 2) * fl.seg_tokens + kern::reversed_slot(k / fl.beats, fl.chunks, fl.seg_pixels);
-                             uint32_t pair[kPairLimbs] = {};
-                             const uint32_t* from = &segment_[std::size_t(slot) * std::size_t(fl.pair_limbs)];
-                             for (int i = 0; i < fl.pair_limbs; ++i) pair[i] = from[i];
-                             uint32_t word[kern::kFrameWordMaxBits / 32];
-                             kern::frame_beat_of(pair, int(k % fl.beats), fl.word_limbs, word);
-                             const int64_t address = kern::reversed_block_base(fl.segments, fl.seg_words, seg) + k;
-                             for (int i = 0; i < fl.word_limbs; ++i)
-                               frame_[std::size_t(address) * std::size_t(fl.word_limbs) + std::size_t(i)] = word[i];
-                           }
-                           if (reads) {
-                             const int64_t token = writes ? fl.seg_tokens + w / fl.beats : t;
-                             const int64_t slot = ((token / fl.seg_tokens) % 2) * fl.seg_tokens + token % fl.seg_tokens;
-                             uint32_t pair[kPairLimbs];
-                             kern::frame_pack(tee.read(), fwd.read(), p_.parallel_units, fl.cost_w, fl.sum_w, pair);
-                             uint32_t* to = &segment_[std::size_t(slot) * std::size_t(fl.pair_limbs)];
-                             for (int i = 0; i < fl.pair_limbs; ++i) to[i] = pair[i];
-                           }
-                         } else if (reads) {
-                           tee.skip_read();
-                           fwd.skip_read();
-                         }
-                       },
-                       writes ? ddr.at(w) : 0))
-          break;
-        if (writes) ++stored;
-        ++step;
-        fired = true;
-      }
-      return fired;
-    };
-  }
-
-  // ddr_read's loop: one firing per word at ascending addresses, no earlier than rd.at(word);
-  // `pair` collects the beats of a pair, whose last beat sends its two tokens.
-  std::function<bool()> ddr_read_pump(NodeT& n, const FrameLayout& fl, Fifo<CostTok>& c_out, Fifo<SumTok>& f_out, Rate rd,
-                                      int64_t& read_word, uint32_t (&pair)[kPairLimbs]) {
-    return [this, &n, fl, &c_out, &f_out, rd, &read_word, &pair] {
-      bool fired = false;
-      if (n.still_blocked()) return false;
-      while (read_word < fl.words) {
-        const int64_t i = read_word;  // ascending addresses
-        const bool last_beat = i % fl.beats == fl.beats - 1;
-        if (!n.attempt({}, {Port{&c_out, last_beat}, Port{&f_out, last_beat}},
-                       [&] {
-                         if constexpr (kData) {
-                           uint32_t word[kern::kFrameWordMaxBits / 32];
-                           for (int k = 0; k < fl.word_limbs; ++k)
-                             word[k] = frame_[std::size_t(i) * std::size_t(fl.word_limbs) + std::size_t(k)];
-                           kern::frame_set_beat(pair, int(i % fl.beats), fl.word_limbs, word);
-                           if (last_beat) {
-                             CostTok c;
-                             SumTok f;
-                             kern::frame_unpack(pair, p_.parallel_units, fl.cost_w, fl.sum_w, c, f);
-                             c_out.write(c);
-                             f_out.write(f);
-                           }
-                         } else if (last_beat) {
-                           c_out.skip_write();
-                           f_out.skip_write();
-                         }
-                       },
-                       rd.at(i)))
-          break;
-        ++read_word;
-        fired = true;
-      }
-      return fired;
-    };
-  }
-
-  // The map writer of a two-pass design: the codes arrive in reverse raster order; the writer
-  // buffers segments of them (ping-pong, kernels/frame_buffer.hpp) and writes each segment
-  // reversed at ascending addresses, so that the map lands in raster order. Its loop: seg firings
-  // that only fill the first segment, then one firing per code written, which also takes in the
-  // next code while there are any. A code leaves when it is written to memory.
-  std::function<bool()> map_sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got) {
-    const int64_t total = frame_pixels();
-    const int64_t seg = kern::map_segment_pixels(p_);
-    if (kData) map_segment_.assign(2 * std::size_t(seg), 0);
-    auto step = std::make_shared<int64_t>(0);
-    return [this, &n, &in, &out, &got, total, seg, step] {
-      bool fired = false;
-      if (n.still_blocked()) return false;
-      while (*step < seg + total) {
-        const int64_t t = *step;
-        const bool writes = t >= seg;
-        const int64_t w = t - seg;
-        const bool reads = !writes || w < total - seg;
-        if (!n.attempt({Port{&in, reads}}, {}, [&] {
-              if constexpr (kData) {
-                if (writes) {
-                  const int64_t s = w / seg, k = w % seg;
-                  out.code[std::size_t(kern::reversed_block_base(total / seg, seg, s) + k)] =
-                      map_segment_[std::size_t((s % 2) * seg + kern::reversed_slot(k, 1, seg))];
-                }
-                if (reads) {
-                  const int64_t code = writes ? seg + w : t;
-                  map_segment_[std::size_t(((code / seg) % 2) * seg + code % seg)] = in.read();
-                }
-              } else if (reads) {
-                in.skip_read();
-              }
-            }))
-          break;
-        ++*step;
-        fired = true;
-        if (!writes) continue;
-        if (rep_) {
-          if (w == 0) rep_->first_pixel_cycle = n.report().last_fire_cycle;
-          rep_->last_pixel_cycle = n.report().last_fire_cycle;
-        }
-        ++got;
-      }
-      return fired;
-    };
   }
 
   // --- periodic fast-forward hooks (fast_forward.hpp) ------------------------------------------
@@ -732,9 +559,6 @@ class Engine : private PipelineRun<kTimed> {
   }
   friend class FastForward<kTimed>;
 
-
-
-
   FastForward<kTimed> ff_;
   kern::CensusCostStage<Caps> census_;
   kern::SadCostStage<Caps> sad_;
@@ -742,10 +566,7 @@ class Engine : private PipelineRun<kTimed> {
   kern::WtaLr<Caps, Word> wta_;
   kern::Median<Caps> median_;
   std::unique_ptr<RectifyStage> rect_l_, rect_r_;
-  // The frame buffer standing for off-chip memory: words of 32-bit limbs (kernels/frame_buffer.hpp),
-  // the on-chip reversal buffers of ddr_write (pairs) and of the map writer (codes).
-  std::vector<uint32_t> frame_, segment_;
-  std::vector<kern::DispCode> map_segment_;
+  FrameBufferStages<Caps, Word, kTimed, kData> fb_;
 };
 
 using TinyCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 8>;  // PU <= 8: 16-byte tokens
