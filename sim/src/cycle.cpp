@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 
+#include "design_dispatch.hpp"
 #include "engine.hpp"
 #include "parallax/sim/schedule.hpp"
 
@@ -66,35 +67,35 @@ int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int
 
 namespace {
 
-template <class Caps, class Word>
+void require_valid(const kern::StereoParams& p) {
+  const auto errors = func_param_errors(p);
+  if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
+}
+
+template <class Caps, class Word, bool kData>
 void run_timed(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                const detail::RunSetup& setup, CycleReport& rep) {
-  auto engine = std::make_unique<detail::Engine<Caps, Word, true>>();
+  auto engine = std::make_unique<detail::Engine<Caps, Word, true, kData>>();
   engine->run(left, right, p, setup, rep.codes, &rep);
 }
 
-void dispatch(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
-              const detail::RunSetup& setup, CycleReport& rep) {
-  const auto errors = func_param_errors(p);
-  if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
-  const bool wide = p.parallel_units > 64;
-  const bool word32 = kern::aggregate_bits(p) > 16;
+// The kernels' datapath inside the schedule, at the design's PU.
+void run_coupled(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                 const detail::RunSetup& setup, CycleReport& rep) {
+  require_valid(p);
   // Tokens no longer than the design's PU needs: every firing copies one through a FIFO.
-  if (p.parallel_units <= 8 && !word32) run_timed<detail::TinyCaps, uint16_t>(left, right, p, setup, rep);
-  else if (p.parallel_units <= 8) run_timed<detail::TinyCaps, uint32_t>(left, right, p, setup, rep);
-  else if (!wide && !word32) run_timed<detail::NarrowCaps, uint16_t>(left, right, p, setup, rep);
-  else if (!wide) run_timed<detail::NarrowCaps, uint32_t>(left, right, p, setup, rep);
-  else if (!word32) run_timed<detail::WideCaps, uint16_t>(left, right, p, setup, rep);
-  else run_timed<detail::WideCaps, uint32_t>(left, right, p, setup, rep);
+  detail::dispatch_design<detail::TinyCaps, detail::NarrowCaps, detail::WideCaps>(
+      p.parallel_units, kern::aggregate_bits(p), [&](auto design) {
+        using D = decltype(design);
+        run_timed<typename D::Caps, typename D::Word, true>(left, right, p, setup, rep);
+      });
 }
 
 // The schedule of the kernels' control path at the design's PU.
 void run_control(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                  const detail::RunSetup& setup, CycleReport& rep) {
-  const auto errors = func_param_errors(p);
-  if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
-  auto engine = std::make_unique<detail::Engine<detail::ControlCaps, uint16_t, true, false>>();
-  engine->run(left, right, p, setup, rep.codes, &rep);
+  require_valid(p);
+  run_timed<detail::ControlCaps, uint16_t, false>(left, right, p, setup, rep);
 }
 
 }  // namespace
@@ -105,7 +106,7 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
   detail::RunSetup setup;
   setup.opt = &opt;
   if (opt.coupled) {
-    dispatch(left, right, p, setup, rep);
+    run_coupled(left, right, p, setup, rep);
     return rep;
   }
   run_control(left, right, p, setup, rep);
@@ -147,7 +148,7 @@ FifoSizing stall_free_depths(const GreyImage& left, const GreyImage& right, cons
   setup.opt = &o;
   setup.unbounded = true;
   if (o.coupled)
-    dispatch(left, right, p, setup, rep);
+    run_coupled(left, right, p, setup, rep);
   else
     run_control(left, right, p, setup, rep);
   FifoSizing sizing;

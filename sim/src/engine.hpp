@@ -569,10 +569,4 @@ class Engine : private PipelineRun<kTimed> {
   FrameBufferStages<Caps, Word, kTimed, kData> fb_;
 };
 
-using TinyCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 8>;  // PU <= 8: 16-byte tokens
-// The timing run's tokens carry no payload; one lane keeps the FIFOs' rings small.
-using ControlCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 1>;
-using NarrowCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 64>;
-using WideCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 256>;
-
 }  // namespace parallax::sim::detail
