@@ -1,27 +1,29 @@
-// Internal: the pipeline graph both runs share. Engine<Caps, Word, kTimed, kData> builds the
-// dataflow graph of one design (source -> cost -> aggregate -> WTA/LR -> median -> sink, or the
-// two passes of the 8-path variant through a frame buffer) over sim::Fifo and fires the kernels
-// of kernels/. kTimed = false is the func run (fire whenever the plan can be met); kTimed = true
-// is the cycle model (fire at the earliest cycle the plan, II, token visibility and FIFO space
-// allow). kData = false is the timing run: the disparity stages execute their control path only
-// (plan() and step(), never the datapath) and the FIFOs carry tokens without payload; the
-// front end (source, maps, rectification) still moves pixels. Plans depend on counters only,
-// never on values, so the timing run's schedule equals the full run's (tested).
+// Internal: the pipeline assembly both runs share. Engine<Caps, Word, kTimed, kData> owns the
+// kernels of kernels/ and wires them into the dataflow graph of one design (source -> cost ->
+// aggregate -> WTA/LR -> median -> sink, or the two passes of the 8-path variant through the
+// frame buffer of frame_buffer_stages.hpp), with the FIFOs and stages the pipeline table
+// (kernels/pipeline.hpp) names, in its order; each stage's pump fires its kernel while the
+// kernel's plan can be met. The run around it (options, report, input timing) is
+// pipeline_run.hpp's, the scheduling scheduler.hpp's. kTimed = false is the func run (fire
+// whenever the plan can be met); kTimed = true is the cycle model (fire at the earliest cycle
+// the plan, II, token visibility and FIFO space allow). kData = false is the timing run: the
+// disparity stages execute their control path only (plan() and step(), never the datapath) and
+// the FIFOs carry tokens without payload; the front end (source, maps, rectification) still
+// moves pixels. Plans depend on counters only, never on values, so the timing run's schedule
+// equals the full run's (tested). Which Caps and Word run a design: design_dispatch.hpp.
 #pragma once
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
+#include <cstddef>
+#include <cstdint>
 #include <functional>
-#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "fast_forward.hpp"
 #include "frame_buffer_stages.hpp"
-#include "parallax/kernels/caps.hpp"
+#include "internal_error.hpp"
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/kernels/median.hpp"
@@ -158,7 +160,9 @@ class Engine : private PipelineRun<kTimed> {
 
   // --- pumps: fire a stage while it can ---------------------------------------------------
 
-  // The source streams the left and right images in raster order (or, with `reverse`, ...).
+  // The source streams the left and right images in raster order, pixel i no earlier than it
+  // arrives (input_arrival); a camera pixel that finds no room is an overrun (the first one is
+  // reported). It stops after truncate_input_px pixels when that is set.
   std::function<bool()> source_pump(NodeT& n, const GreyImage& left, const GreyImage& right, Fifo<uint8_t>& l,
                                     Fifo<uint8_t>& r, int64_t& next) {
     int64_t total = int64_t(left.px.size());
@@ -286,7 +290,8 @@ class Engine : private PipelineRun<kTimed> {
     return io_pump(n, median_, in, out);
   }
 
-  // The sink takes one code per cycle; `reverse` restores raster order after the backward pass.
+  // The sink of a one-pass design takes the codes in raster order, one per firing; in the timing
+  // run each completed row goes to the fast-forward.
   std::function<bool()> sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got) {
     const int64_t total = frame_pixels();
     return [this, &n, &in, &out, &got, total] {
@@ -314,6 +319,47 @@ class Engine : private PipelineRun<kTimed> {
     };
   }
 
+  // A map source streams one camera's rectification map, entry i no earlier than maps.at(i).
+  std::function<bool()> map_pump(NodeT& n, const std::vector<kern::MapEntry>& table, Fifo<kern::MapEntry>& out,
+                                 int64_t& next, Rate maps) {
+    return [&n, &table, &out, &next, maps] {
+      bool fired = false;
+      if (n.still_blocked()) return false;
+      while (next < int64_t(table.size())) {
+        const int64_t i = next;
+        if (!n.attempt({}, {Port{&out, true}}, [&] { out.write(table[std::size_t(i)]); }, maps.at(i))) break;
+        ++next;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  static constexpr int kRectifyRows = 256;
+  using RectifyStage = kern::Rectify<kern::kMaxWidthPx, kRectifyRows>;
+  // A rectify stage (one camera): raw pixels and map entries in, rectified pixels out.
+  std::function<bool()> rect_pump(NodeT& n, RectifyStage& st, Fifo<uint8_t>& raw, Fifo<kern::MapEntry>& map,
+                                  Fifo<uint8_t>& out) {
+    return [&n, &st, &raw, &map, &out] {
+      bool fired = false;
+      if (n.still_blocked()) return false;
+      while (!st.done()) {
+        const kern::RectifyPlan pl = st.plan();
+        if (!pl.read_pixel && !pl.write) break;
+        if (!n.attempt({Port{&raw, pl.read_pixel}, Port{&map, pl.write}}, {Port{&out, pl.write}},
+                       [&] { st.fire(pl, raw, map, out); }))
+          break;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  // --- graphs ------------------------------------------------------------------------------
+
+  static constexpr std::size_t kPixelDepth = 2048;
+  static constexpr std::size_t kTokenDepth = 128;
+
   // The input of the graph: the source, and with rectification a map source and a rectify stage
   // per camera. Returns the pumps; out_l / out_r feed the cost stage.
   struct FrontEnd {
@@ -322,8 +368,6 @@ class Engine : private PipelineRun<kTimed> {
     int64_t next_src = 0, next_map_l = 0, next_map_r = 0;
     std::vector<std::function<bool()>> pumps;
   };
-  static constexpr int kRectifyRows = 256;
-  using RectifyStage = kern::Rectify<kern::kMaxWidthPx, kRectifyRows>;
 
   std::unique_ptr<FrontEnd> front_end(const GreyImage& left, const GreyImage& right) {
     auto fe = std::make_unique<FrontEnd>();
@@ -349,42 +393,12 @@ class Engine : private PipelineRun<kTimed> {
     rect_r_->configure(rp);
     Rate maps;
     maps.cycles_per_token = 8.0 * setup_.opt->clock_hz / setup_.opt->input_bytes_per_s;
-    auto map_pump = [this, maps](NodeT& n, const std::vector<kern::MapEntry>& table, Fifo<kern::MapEntry>& out,
-                                 int64_t& next) -> std::function<bool()> {
-      return [&n, &table, &out, &next, maps] {
-        bool fired = false;
-      if (n.still_blocked()) return false;
-        while (next < int64_t(table.size())) {
-          const int64_t i = next;
-          if (!n.attempt({}, {Port{&out, true}}, [&] { out.write(table[std::size_t(i)]); }, maps.at(i))) break;
-          ++next;
-          fired = true;
-        }
-        return fired;
-      };
-    };
-    auto rect_pump = [](NodeT& n, RectifyStage& st, Fifo<uint8_t>& raw, Fifo<kern::MapEntry>& map,
-                        Fifo<uint8_t>& out) -> std::function<bool()> {
-      return [&n, &st, &raw, &map, &out] {
-        bool fired = false;
-      if (n.still_blocked()) return false;
-        while (!st.done()) {
-          const kern::RectifyPlan pl = st.plan();
-          if (!pl.read_pixel && !pl.write) break;
-          if (!n.attempt({Port{&raw, pl.read_pixel}, Port{&map, pl.write}}, {Port{&out, pl.write}},
-                         [&] { st.fire(pl, raw, map, out); }))
-            break;
-          fired = true;
-        }
-        return fired;
-      };
-    };
     NodeT& n_ml = node("map_left");
     NodeT& n_mr = node("map_right");
     NodeT& n_rl = node("rectify_left");
     NodeT& n_rr = node("rectify_right");
-    f.pumps.push_back(map_pump(n_ml, *setup_.opt->rectify_map_left, *f.map_l, f.next_map_l));
-    f.pumps.push_back(map_pump(n_mr, *setup_.opt->rectify_map_right, *f.map_r, f.next_map_r));
+    f.pumps.push_back(map_pump(n_ml, *setup_.opt->rectify_map_left, *f.map_l, f.next_map_l, maps));
+    f.pumps.push_back(map_pump(n_mr, *setup_.opt->rectify_map_right, *f.map_r, f.next_map_r, maps));
     f.pumps.push_back(rect_pump(n_rl, *rect_l_, *f.raw_l, *f.map_l, *f.out_l));
     f.pumps.push_back(rect_pump(n_rr, *rect_r_, *f.raw_r, *f.map_r, *f.out_r));
     return fe;
@@ -394,11 +408,6 @@ class Engine : private PipelineRun<kTimed> {
     if (f.raw_l) collect(std::move(f.raw_l), std::move(f.raw_r), std::move(f.map_l), std::move(f.map_r));
     if (rep_ && rectifying()) rep_->rectify_window_misses = rect_l_->window_misses() + rect_r_->window_misses();
   }
-
-  // --- graphs ------------------------------------------------------------------------------
-
-  static constexpr std::size_t kPixelDepth = 2048;
-  static constexpr std::size_t kTokenDepth = 128;
 
   // The one-pass graph after the cost FIFO: aggregate -> sum -> wta_lr -> disp_lr -> median ->
   // disp_out -> sink. Configures the stages, makes the FIFOs and nodes (after the caller's, so
