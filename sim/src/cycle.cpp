@@ -1,12 +1,12 @@
 // The cycle model: the engine of engine.hpp in timed mode, default timing derived from the kernel
-// structure, FIFO sizing and the VCD writer.
+// structure, and FIFO sizing.
 #include "parallax/sim/cycle.hpp"
 
 #include <algorithm>
-#include <fstream>
 #include <map>
 #include <memory>
 
+#include "design_dispatch.hpp"
 #include "engine.hpp"
 #include "parallax/sim/schedule.hpp"
 
@@ -67,35 +67,35 @@ int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int
 
 namespace {
 
-template <class Caps, class Word>
+void require_valid(const kern::StereoParams& p) {
+  const auto errors = func_param_errors(p);
+  if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
+}
+
+template <class Caps, class Word, bool kData>
 void run_timed(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                const detail::RunSetup& setup, CycleReport& rep) {
-  auto engine = std::make_unique<detail::Engine<Caps, Word, true>>();
+  auto engine = std::make_unique<detail::Engine<Caps, Word, true, kData>>();
   engine->run(left, right, p, setup, rep.codes, &rep);
 }
 
-void dispatch(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
-              const detail::RunSetup& setup, CycleReport& rep) {
-  const auto errors = func_param_errors(p);
-  if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
-  const bool wide = p.parallel_units > 64;
-  const bool word32 = kern::aggregate_bits(p) > 16;
+// The kernels' datapath inside the schedule, at the design's PU.
+void run_coupled(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                 const detail::RunSetup& setup, CycleReport& rep) {
+  require_valid(p);
   // Tokens no longer than the design's PU needs: every firing copies one through a FIFO.
-  if (p.parallel_units <= 8 && !word32) run_timed<detail::TinyCaps, uint16_t>(left, right, p, setup, rep);
-  else if (p.parallel_units <= 8) run_timed<detail::TinyCaps, uint32_t>(left, right, p, setup, rep);
-  else if (!wide && !word32) run_timed<detail::NarrowCaps, uint16_t>(left, right, p, setup, rep);
-  else if (!wide) run_timed<detail::NarrowCaps, uint32_t>(left, right, p, setup, rep);
-  else if (!word32) run_timed<detail::WideCaps, uint16_t>(left, right, p, setup, rep);
-  else run_timed<detail::WideCaps, uint32_t>(left, right, p, setup, rep);
+  detail::dispatch_design<detail::TinyCaps, detail::NarrowCaps, detail::WideCaps>(
+      p.parallel_units, kern::aggregate_bits(p), [&](auto design) {
+        using D = decltype(design);
+        run_timed<typename D::Caps, typename D::Word, true>(left, right, p, setup, rep);
+      });
 }
 
 // The schedule of the kernels' control path at the design's PU.
 void run_control(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                  const detail::RunSetup& setup, CycleReport& rep) {
-  const auto errors = func_param_errors(p);
-  if (!errors.empty()) detail::internal_error("invalid parameters reached the cycle run: " + errors.front());
-  auto engine = std::make_unique<detail::Engine<detail::ControlCaps, uint16_t, true, false>>();
-  engine->run(left, right, p, setup, rep.codes, &rep);
+  require_valid(p);
+  run_timed<detail::ControlCaps, uint16_t, false>(left, right, p, setup, rep);
 }
 
 }  // namespace
@@ -106,7 +106,7 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
   detail::RunSetup setup;
   setup.opt = &opt;
   if (opt.coupled) {
-    dispatch(left, right, p, setup, rep);
+    run_coupled(left, right, p, setup, rep);
     return rep;
   }
   run_control(left, right, p, setup, rep);
@@ -148,7 +148,7 @@ FifoSizing stall_free_depths(const GreyImage& left, const GreyImage& right, cons
   setup.opt = &o;
   setup.unbounded = true;
   if (o.coupled)
-    dispatch(left, right, p, setup, rep);
+    run_coupled(left, right, p, setup, rep);
   else
     run_control(left, right, p, setup, rep);
   FifoSizing sizing;
@@ -157,59 +157,4 @@ FifoSizing stall_free_depths(const GreyImage& left, const GreyImage& right, cons
   return sizing;
 }
 
-namespace detail {
-
-namespace {
-std::string vcd_id(int index) {
-  std::string id;
-  do {
-    id += char(33 + index % 94);
-    index /= 94;
-  } while (index > 0);
-  return id;
-}
-std::string vcd_value(int64_t v, int width, const std::string& id) {
-  if (width == 1) return std::string(v ? "1" : "0") + id;
-  std::string bits;
-  for (int b = width - 1; b >= 0; --b) bits += ((v >> b) & 1) ? '1' : '0';
-  const auto first = bits.find('1');
-  return "b" + (first == std::string::npos ? std::string("0") : bits.substr(first)) + " " + id;
-}
-}  // namespace
-
-void Trace::write(const std::string& path, const std::string& scope) const {
-  std::ofstream out(path);
-  if (!out) internal_error("cannot write VCD file " + path);
-  std::vector<Event> ev = events_;
-  std::stable_sort(ev.begin(), ev.end(), [](const Event& a, const Event& b) { return a.cycle < b.cycle; });
-  std::vector<int64_t> level(names_.size(), 0);
-  for (std::size_t i = 0; i < pre_level_.size() && i < level.size(); ++i) level[i] = pre_level_[i];
-  out << "$comment parallax cycle model: one time unit = one processing-clock cycle $end\n";
-  out << "$timescale 1ns $end\n$scope module " << scope << " $end\n";
-  for (std::size_t i = 0; i < names_.size(); ++i)
-    out << "$var wire " << widths_[i] << " " << vcd_id(int(i)) << " " << names_[i] << " $end\n";
-  out << "$upscope $end\n$enddefinitions $end\n";
-  std::size_t k = 0;
-  for (; k < ev.size() && ev[k].cycle <= from_; ++k) level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
-  out << "#" << from_ << "\n$dumpvars\n";
-  for (std::size_t i = 0; i < names_.size(); ++i) out << vcd_value(level[i], widths_[i], vcd_id(int(i))) << "\n";
-  out << "$end\n";
-  while (k < ev.size() && ev[k].cycle < to_) {
-    const int64_t c = ev[k].cycle;
-    std::vector<int64_t> before = level;
-    for (; k < ev.size() && ev[k].cycle == c; ++k) level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
-    bool header = false;
-    for (std::size_t i = 0; i < names_.size(); ++i) {
-      if (level[i] == before[i]) continue;
-      if (!header) {
-        out << "#" << c << "\n";
-        header = true;
-      }
-      out << vcd_value(level[i], widths_[i], vcd_id(int(i))) << "\n";
-    }
-  }
-  out << "#" << to_ << "\n";
-}
-
-}  // namespace detail
 }  // namespace parallax::sim

@@ -1,26 +1,29 @@
-// Internal: the pipeline graph both runs share. Engine<Caps, Word, kTimed, kData> builds the
-// dataflow graph of one design (source -> cost -> aggregate -> WTA/LR -> median -> sink, or the
-// two passes of the 8-path variant through a frame buffer) over sim::Fifo and fires the kernels
-// of kernels/. kTimed = false is the func run (fire whenever the plan can be met); kTimed = true
-// is the cycle model (fire at the earliest cycle the plan, II, token visibility and FIFO space
-// allow). kData = false is the timing run: the disparity stages execute their control path only
-// (plan() and step(), never the datapath) and the FIFOs carry tokens without payload; the
-// front end (source, maps, rectification) still moves pixels. Plans depend on counters only,
-// never on values, so the timing run's schedule equals the full run's (tested).
+// Internal: the pipeline assembly both runs share. Engine<Caps, Word, kTimed, kData> owns the
+// kernels of kernels/ and wires them into the dataflow graph of one design (source -> cost ->
+// aggregate -> WTA/LR -> median -> sink, or the two passes of the 8-path variant through the
+// frame buffer of frame_buffer_stages.hpp), with the FIFOs and stages the pipeline table
+// (kernels/pipeline.hpp) names, in its order; each stage's pump fires its kernel while the
+// kernel's plan can be met. The run around it (options, report, input timing) is
+// pipeline_run.hpp's, the scheduling scheduler.hpp's. kTimed = false is the func run (fire
+// whenever the plan can be met); kTimed = true is the cycle model (fire at the earliest cycle
+// the plan, II, token visibility and FIFO space allow). kData = false is the timing run: the
+// disparity stages execute their control path only (plan() and step(), never the datapath) and
+// the FIFOs carry tokens without payload; the front end (source, maps, rectification) still
+// moves pixels. Plans depend on counters only, never on values, so the timing run's schedule
+// equals the full run's (tested). Which Caps and Word run a design: design_dispatch.hpp.
 #pragma once
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <fstream>
+#include <cstddef>
+#include <cstdint>
 #include <functional>
-#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "parallax/kernels/caps.hpp"
+#include "fast_forward.hpp"
+#include "frame_buffer_stages.hpp"
+#include "internal_error.hpp"
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/kernels/median.hpp"
@@ -32,325 +35,18 @@
 #include "parallax/sim/cycle.hpp"
 #include "parallax/sim/fifo.hpp"
 #include "parallax/sim/func.hpp"
+#include "pipeline_run.hpp"
+#include "scheduler.hpp"
 
 namespace parallax::sim::detail {
 
-[[noreturn]] inline void internal_error(const std::string& what) {
-  std::fprintf(stderr, "parallax: internal error: %s\n", what.c_str());
-  std::abort();
-}
-
-struct Port {
-  FifoBase* fifo;
-  bool used;
-};
-
-// VCD events inside a window of cycles.
-class Trace {
- public:
-  Trace(int64_t from, int64_t to) : from_(from), to_(to) {}
-  bool active() const { return to_ > from_; }
-  int signal(const std::string& name, int width) {
-    names_.push_back(name);
-    widths_.push_back(width);
-    return int(names_.size()) - 1;
-  }
-  // The occupancy signal of a FIFO (registered on first use).
-  int fifo_signal(const FifoBase* f) {
-    for (std::size_t i = 0; i < fifo_keys_.size(); ++i)
-      if (fifo_keys_[i] == f) return fifo_sigs_[i];
-    int width = 1;
-    while (width < 31 && (int64_t(1) << width) <= int64_t(f->depth() == 0 ? 1 << 20 : f->depth())) ++width;
-    const int sig = signal("fifo_" + f->name(), width);
-    fifo_keys_.push_back(f);
-    fifo_sigs_.push_back(sig);
-    return sig;
-  }
-  // Events after the window are dropped; events up to its start are folded into the levels at
-  // the start, so memory stays proportional to the window.
-  void change(int64_t cycle, int sig, int64_t delta_or_value, bool is_delta) {
-    if (!active() || cycle >= to_) return;
-    if (cycle <= from_) {
-      if (pre_level_.size() < names_.size()) {
-        pre_level_.resize(names_.size(), 0);
-        pre_cycle_.resize(names_.size(), -1);
-      }
-      if (is_delta) {
-        pre_level_[std::size_t(sig)] += delta_or_value;
-      } else if (cycle >= pre_cycle_[std::size_t(sig)]) {
-        pre_level_[std::size_t(sig)] = delta_or_value;
-        pre_cycle_[std::size_t(sig)] = cycle;
-      }
-      return;
-    }
-    events_.push_back({cycle, sig, delta_or_value, is_delta});
-  }
-  // Writes the window as VCD (one timestep = one cycle), levels reconstructed from the events.
-  void write(const std::string& path, const std::string& scope) const;
-
- private:
-  struct Event {
-    int64_t cycle;
-    int sig;
-    int64_t v;
-    bool delta;
-  };
-  int64_t from_, to_;
-  std::vector<std::string> names_;
-  std::vector<int> widths_;
-  std::vector<Event> events_;
-  std::vector<const FifoBase*> fifo_keys_;
-  std::vector<int> fifo_sigs_;
-  std::vector<int64_t> pre_level_;  // levels at the window's start
-  std::vector<int64_t> pre_cycle_;  // cycle of the last absolute value folded in, per signal
-};
-
-// One stage of the graph: timing, statistics and the firing rule.
-template <bool kTimed>
-class Node {
- public:
-  Node(std::string name, StageTiming t, Trace* trace)
-      : timing_(t), trace_(trace), tracing_(trace != nullptr && trace->active()), t_next_(t.setup_cycles) {
-    report_.name = std::move(name);
-    report_.ii_cycles = t.ii_cycles;
-    report_.latency_cycles = t.latency_cycles;
-    if (tracing_) {
-      valid_sig_ = trace_->signal(report_.name + "_valid", 1);
-      stall_sig_ = trace_->signal(report_.name + "_stall", 1);
-    }
-  }
-
-  // Fires once if the plan's ports allow it (and, timed, no earlier than `earliest`): inputs
-  // non-empty, outputs not full; timed: at max(t_next, visible inputs, free output slots).
-  template <class Fire>
-  // conflict_cycles: extra cycles this firing holds the stage because its memory accesses exceed
-  // the memories' ports within one II (see memory_conflict_cycles()).
-  [[gnu::always_inline]] bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire, int64_t earliest = 0,
-               int conflict_cycles = 0) {
-    if constexpr (!kTimed) {  // func run: only the plan's ports, no statistics
-      for (const Port& p : in)
-        if (p.used && p.fifo->empty()) return false;
-      for (const Port& p : out)
-        if (p.used && p.fifo->full()) return false;
-      fire();
-      return true;
-    }
-    for (const Port& p : in)
-      if (p.used && p.fifo->empty()) return block(p.fifo, true);
-    for (const Port& p : out)
-      if (p.used && p.fifo->full()) return block(p.fifo, false);
-    blocked_ = nullptr;
-    if constexpr (kTimed) {
-      const int64_t t_next = t_next_;
-      int64_t t_in = t_next, t_out = t_next;
-      for (const Port& p : in)
-        if (p.used) t_in = std::max(t_in, p.fifo->head_visible());
-      // Results enter the output FIFO at the end of the pipeline, L cycles after the firing.
-      for (const Port& p : out)
-        if (p.used) t_out = std::max(t_out, p.fifo->next_write_free() - timing_.latency_cycles);
-      if (earliest > std::max(t_in, t_out)) ++earliest_bound_;  // the source's arrival set the cycle
-      t_in = std::max(t_in, earliest);
-      t_out = std::max(t_out, earliest);
-      const int64_t t = std::max(t_in, t_out);
-      {
-        // Waiting before the first firing counts as input stall (the pipeline fills).
-        const int64_t wait = t - t_next;
-        const bool output_bound = t_out > t_in;
-        report_.output_stall_cycles += output_bound ? wait : 0;
-        report_.input_stall_cycles += output_bound ? 0 : wait;
-      }
-      for (const Port& p : in)
-        if (p.used) p.fifo->stamp(t, 0);
-      for (const Port& p : out)
-        if (p.used) p.fifo->stamp(0, t + timing_.latency_cycles);
-      if (tracing_) {
-        if (t > t_next) {
-          trace_->change(t_next, stall_sig_, 1, false);
-          trace_->change(t, stall_sig_, 0, false);
-        }
-        trace_->change(t, valid_sig_, 1, false);
-        trace_->change(t + 1, valid_sig_, 0, false);
-        for (const Port& p : out)
-          if (p.used) trace_->change(t + timing_.latency_cycles, trace_->fifo_signal(p.fifo), +1, true);
-        for (const Port& p : in)
-          if (p.used) trace_->change(t + 1, trace_->fifo_signal(p.fifo), -1, true);
-      }
-      fire();
-      if (report_.fires == 0) report_.first_fire_cycle = t;
-      report_.last_fire_cycle = t;
-      t_next_ = t + timing_.ii_cycles + conflict_cycles;
-      report_.port_conflict_cycles += conflict_cycles;
-    } else {
-      fire();
-    }
-    ++report_.fires;
-    return true;
-  }
-
-  bool block(const FifoBase* f, bool on_input) {
-    blocked_ = f;
-    blocked_on_input_ = on_input;
-    blocked_at_ = on_input ? f->writes() : f->reads();
-    return false;
-  }
-  // True while the FIFO that blocked the last attempt has not changed since: the plan (a
-  // function of the stage's state) and so the same port would block again. Pumps return at
-  // once then, which spares the scheduler a plan and an attempt per stage and round.
-  [[gnu::always_inline]] bool still_blocked() const {
-    return blocked_ && (blocked_on_input_ ? blocked_->writes() : blocked_->reads()) == blocked_at_;
-  }
-
-  // Timed-state access for the periodic fast-forward (see FifoBase::visit).
-  template <class V>
-  void visit(V& v) {
-    v(t_next_);
-    v(report_.fires);
-    v(report_.input_stall_cycles);
-    v(report_.output_stall_cycles);
-    v(report_.port_conflict_cycles);
-    v(report_.first_fire_cycle);
-    v(report_.last_fire_cycle);
-    v(blocked_on_input_);
-    v(blocked_at_);
-    v(earliest_bound_);
-  }
-  // Firings whose cycle the `earliest` bound (a source's arrival) set, above every other bound.
-  int64_t earliest_bound() const { return earliest_bound_; }
-
-  // busy = fires x II + the cycles memory-port conflicts add.
-  const StageReport& report() const {
-    report_.busy_cycles = report_.fires * timing_.ii_cycles + report_.port_conflict_cycles;
-    return report_;
-  }
-  const FifoBase* blocked_fifo() const { return blocked_; }
-  bool blocked_on_input() const { return blocked_on_input_; }
-  int64_t t_next() const { return t_next_; }
-  void set_t_next(int64_t t) { t_next_ = t; }
-  const std::string& name() const { return report_.name; }
-
- private:
-  StageTiming timing_;
-  Trace* trace_;
-  bool tracing_;
-  mutable StageReport report_;  // busy_cycles is derived in report()
-  int64_t t_next_;
-  const FifoBase* blocked_ = nullptr;
-  bool blocked_on_input_ = false;
-  int64_t blocked_at_ = 0;  // the blocking FIFO's writes (input) or reads (output) at the block
-  int64_t earliest_bound_ = 0;
-  int valid_sig_ = -1, stall_sig_ = -1;
-};
-
-// The stages and FIFOs of one run, their scheduling and deadlock diagnosis. Stages are pumps:
-// each fires its kernel while it can and says whether it fired; a round in which no pump fires
-// while the run is unfinished is a deadlock (timed) or an internal error (func).
-template <bool kTimed>
-class Graph {
- public:
-  using NodeT = Node<kTimed>;
-  explicit Graph(Trace* trace) : trace_(trace) {}
-
-  NodeT& add_node(const std::string& name, StageTiming t) {
-    nodes_.push_back(std::make_unique<NodeT>(name, t, trace_));
-    return *nodes_.back();
-  }
-  void add_fifo(FifoBase* f, const std::string& producer, const std::string& consumer) {
-    fifos_.push_back({f, producer, consumer});
-  }
-  void mark_done(const std::string& name) {
-    if (!is_done(name)) done_.push_back(name);
-  }
-  bool is_done(const std::string& name) const { return std::find(done_.begin(), done_.end(), name) != done_.end(); }
-
-  // Runs the pumps round-robin until `finished`. Returns false on deadlock (timed), with the
-  // diagnosis in deadlock_message() / deadlock_cycle().
-  bool schedule(const std::vector<std::function<bool()>>& pumps, const std::function<bool()>& finished) {
-    while (!finished()) {
-      bool progress = false;
-      for (const auto& pump : pumps) progress |= pump();
-      if (!progress) {
-        if (!kTimed) internal_error("func scheduler made no progress");
-        diagnose();
-        return false;
-      }
-    }
-    return true;
-  }
-
-  const std::string& deadlock_message() const { return message_; }
-  int64_t deadlock_cycle() const { return cycle_; }
-  const std::vector<std::unique_ptr<NodeT>>& nodes() const { return nodes_; }
-  std::string producer_of(const FifoBase* f) const {
-    for (const auto& fi : fifos_)
-      if (fi.fifo == f) return fi.producer;
-    return "";
-  }
-  std::string consumer_of(const FifoBase* f) const {
-    for (const auto& fi : fifos_)
-      if (fi.fifo == f) return fi.consumer;
-    return "";
-  }
-  void clear_fifos() { fifos_.clear(); }
-  std::vector<FifoBase*> fifo_list() const {
-    std::vector<FifoBase*> list;
-    for (const auto& fi : fifos_) list.push_back(fi.fifo);
-    return list;
-  }
-
- private:
-  struct FifoInfo {
-    FifoBase* fifo;
-    std::string producer, consumer;
-  };
-
-  // Names every blocked stage with the FIFO it waits on; a full FIFO whose consumer waits
-  // elsewhere is the undersized one.
-  void diagnose() {
-    int64_t cycle = 0;
-    std::string msg;
-    for (const auto& n : nodes_) {
-      const FifoBase* f = n->blocked_fifo();
-      if (!f) continue;
-      cycle = std::max(cycle, n->t_next());
-      if (!msg.empty()) msg += "; ";
-      if (n->blocked_on_input()) {
-        const std::string prod = producer_of(f);
-        msg += "stage '" + n->name() + "' waits for a token on FIFO '" + f->name() + "' (empty, producer '" + prod +
-               "'" + (is_done(prod) ? " has finished" : "") + ")";
-      } else {
-        msg += "stage '" + n->name() + "' waits for space in FIFO '" + f->name() + "' (full at depth " +
-               std::to_string(f->depth()) + ", consumer '" + consumer_of(f) + "'): FIFO '" + f->name() +
-               "' is too shallow";
-      }
-    }
-    cycle_ = cycle;
-    message_ = "deadlock at cycle " + std::to_string(cycle) + ": " + msg;
-  }
-
-  Trace* trace_;
-  std::vector<std::unique_ptr<NodeT>> nodes_;
-  std::vector<FifoInfo> fifos_;
-  std::vector<std::string> done_;
-  std::string message_;
-  int64_t cycle_ = -1;
-};
-
-// Rate of a source that delivers `bytes_per_token` at `bytes_per_s`: token i is available at
-// cycle floor(i * cycles_per_token) after `start`.
-struct Rate {
-  double cycles_per_token = 0.0;
-  int64_t start = 0;
-  int64_t at(int64_t i) const { return start + int64_t(std::floor(double(i) * cycles_per_token)); }
-};
-
-// Everything one run of the graph needs besides the kernels.
-struct RunSetup {
-  const CycleOptions* opt = nullptr;  // null: func run
-  bool unbounded = false;             // timed: every FIFO unbounded (sizing run)
-};
-
 template <class Caps, class Word, bool kTimed, bool kData = true>
-class Engine {
+class Engine : private PipelineRun<kTimed> {
+  using Run = PipelineRun<kTimed>;
+  using Run::p_, Run::setup_, Run::rep_, Run::timing_, Run::trace_, Run::graph_, Run::conditions_, Run::input_rate_;
+  using Run::begin, Run::frame_pixels, Run::depth_of, Run::rectifying, Run::input_arrival, Run::ddr_rate,
+      Run::ddr_latency_cycles, Run::schedule, Run::mark_done, Run::collect, Run::finish_report;
+
  public:
   using CostTok = kern::Lanes<uint16_t, Caps::lanes>;
   using SumTok = kern::Lanes<Word, Caps::lanes>;
@@ -358,24 +54,11 @@ class Engine {
 
   void run(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p, const RunSetup& setup,
            DisparityCodes& out, CycleReport* rep) {
-    p_ = p;
-    setup_ = setup;
-    rep_ = rep;
+    begin(p, setup, rep);
     out.width_px = p.width_px;
     out.height_px = p.height_px;
     out.disparities = p.disparities;
     if (kData) out.code.assign(std::size_t(p.width_px) * p.height_px, 0);
-    timing_ = default_timing(p, !setup.opt ? 200e6
-                                : setup.opt->synthesis_clock_hz > 0 ? setup.opt->synthesis_clock_hz
-                                                                    : setup.opt->clock_hz);
-    if (setup.opt)
-      for (const auto& kv : setup.opt->timing) timing_[kv.first] = kv.second;
-    conditions_ = kern::pipeline_conditions(p, rectifying());
-    trace_.reset();
-    if (kTimed && setup.opt && !setup.opt->vcd_path.empty())
-      trace_ = std::make_unique<Trace>(setup.opt->vcd_from, setup.opt->vcd_to);
-    graph_ = std::make_unique<Graph<kTimed>>(trace_.get());
-    input_rate_ = input_rate();
     const bool two_pass = (p.path_mask & kern::kBackwardPaths) != 0;
     if (p.cost == kern::kCostCensus)
       two_pass ? run_two_pass(census_, left, right, out) : run_one_pass(census_, left, right, out);
@@ -391,7 +74,7 @@ class Engine {
   void record_costs(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                     std::vector<CostTok>& tokens) {
     static_assert(!kTimed && kData, "cost recording belongs to the func run");
-    begin_untimed(p);
+    begin(p, RunSetup{}, nullptr);
     tokens.clear();
     tokens.reserve(std::size_t(frame_pixels()) * std::size_t(p.disparities / p.parallel_units));
     if (p.cost == kern::kCostCensus)
@@ -401,7 +84,7 @@ class Engine {
   }
   void run_from_costs(const std::vector<CostTok>& tokens, const kern::StereoParams& p, DisparityCodes& out) {
     static_assert(!kTimed && kData, "cost replay belongs to the func run");
-    begin_untimed(p);
+    begin(p, RunSetup{}, nullptr);
     out.width_px = p.width_px;
     out.height_px = p.height_px;
     out.disparities = p.disparities;
@@ -430,16 +113,6 @@ class Engine {
   }
 
  private:
-  void begin_untimed(const kern::StereoParams& p) {
-    p_ = p;
-    setup_ = RunSetup{};
-    rep_ = nullptr;
-    timing_ = default_timing(p);
-    conditions_ = kern::pipeline_conditions(p, false);
-    trace_.reset();
-    graph_ = std::make_unique<Graph<kTimed>>(nullptr);
-    input_rate_ = Rate{};
-  }
   template <class CostStage>
   void record_with(CostStage& cost, const GreyImage& left, const GreyImage& right, std::vector<CostTok>& tokens) {
     cost.configure(p_);
@@ -460,13 +133,6 @@ class Engine {
     schedule(pumps, [&] { return cost.done() && costs->empty(); });
   }
 
-  int64_t frame_pixels() const { return int64_t(p_.width_px) * p_.height_px; }
-  std::size_t depth_of(const std::string& name, std::size_t func_depth) const {
-    if (!kTimed || !setup_.opt) return func_depth;
-    if (setup_.unbounded) return 0;
-    const auto it = setup_.opt->fifo_depths.find(name);
-    return it != setup_.opt->fifo_depths.end() ? it->second : setup_.opt->fifo_depth;
-  }
   // A FIFO of the pipeline (kernels/pipeline.hpp): producer and consumer come from the table.
   template <class T>
   std::unique_ptr<Fifo<T>> make_fifo(const std::string& name, std::size_t func_depth) {
@@ -492,47 +158,11 @@ class Engine {
     return graph_->add_node(name, it != timing_.end() ? it->second : StageTiming{});
   }
 
-  Rate input_rate() const {
-    Rate r;
-    if (!kTimed || !setup_.opt) return r;
-    const CycleOptions& o = *setup_.opt;
-    if (o.input == InputKind::memory)
-      r.cycles_per_token = 2.0 * o.clock_hz / o.input_bytes_per_s;  // one left + one right byte
-    else
-      r.cycles_per_token = o.clock_hz / o.camera_pixel_hz;
-    return r;
-  }
-  // Cycle at which input pixel i (raster order) arrives.
-  int64_t input_arrival(int64_t i) const {
-    if (!kTimed || !setup_.opt) return 0;
-    const Rate& r = input_rate_;
-    if (setup_.opt->input == InputKind::camera) {
-      const int64_t row = i / p_.width_px, col = i % p_.width_px;
-      return r.at(row * (p_.width_px + setup_.opt->camera_h_blank_px) + col);
-    }
-    return r.at(i);
-  }
-  int64_t input_period() const {
-    if (!kTimed || !setup_.opt) return 0;
-    if (setup_.opt->input == InputKind::camera)
-      return input_rate().at(int64_t(p_.width_px + setup_.opt->camera_h_blank_px) *
-                             (p_.height_px + setup_.opt->camera_v_blank_rows));
-    return input_rate().at(int64_t(p_.width_px) * p_.height_px);
-  }
-
-  bool schedule(const std::vector<std::function<bool()>>& pumps, const std::function<bool()>& finished) {
-    if (graph_->schedule(pumps, finished)) return true;
-    if (rep_) {
-      rep_->deadlock = true;
-      rep_->deadlock_cycle = graph_->deadlock_cycle();
-      rep_->deadlock_message = graph_->deadlock_message();
-    }
-    return false;
-  }
-
   // --- pumps: fire a stage while it can ---------------------------------------------------
 
-  // The source streams the left and right images in raster order (or, with `reverse`, ...).
+  // The source streams the left and right images in raster order, pixel i no earlier than it
+  // arrives (input_arrival); a camera pixel that finds no room is an overrun (the first one is
+  // reported). It stops after truncate_input_px pixels when that is set.
   std::function<bool()> source_pump(NodeT& n, const GreyImage& left, const GreyImage& right, Fifo<uint8_t>& l,
                                     Fifo<uint8_t>& r, int64_t& next) {
     int64_t total = int64_t(left.px.size());
@@ -660,7 +290,8 @@ class Engine {
     return io_pump(n, median_, in, out);
   }
 
-  // The sink takes one code per cycle; `reverse` restores raster order after the backward pass.
+  // The sink of a one-pass design takes the codes in raster order, one per firing; in the timing
+  // run each completed row goes to the fast-forward.
   std::function<bool()> sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got) {
     const int64_t total = frame_pixels();
     return [this, &n, &in, &out, &got, total] {
@@ -682,13 +313,52 @@ class Engine {
         ++got;
         fired = true;
         if constexpr (kTimed && !kData)
-          if (ff_.enabled && got % p_.width_px == 0) fast_forward();
+          if (ff_.enabled() && got % p_.width_px == 0) ff_.row_done(*this);
       }
       return fired;
     };
   }
 
-  void mark_done(const std::string& name) { graph_->mark_done(name); }
+  // A map source streams one camera's rectification map, entry i no earlier than maps.at(i).
+  std::function<bool()> map_pump(NodeT& n, const std::vector<kern::MapEntry>& table, Fifo<kern::MapEntry>& out,
+                                 int64_t& next, Rate maps) {
+    return [&n, &table, &out, &next, maps] {
+      bool fired = false;
+      if (n.still_blocked()) return false;
+      while (next < int64_t(table.size())) {
+        const int64_t i = next;
+        if (!n.attempt({}, {Port{&out, true}}, [&] { out.write(table[std::size_t(i)]); }, maps.at(i))) break;
+        ++next;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  static constexpr int kRectifyRows = 256;
+  using RectifyStage = kern::Rectify<kern::kMaxWidthPx, kRectifyRows>;
+  // A rectify stage (one camera): raw pixels and map entries in, rectified pixels out.
+  std::function<bool()> rect_pump(NodeT& n, RectifyStage& st, Fifo<uint8_t>& raw, Fifo<kern::MapEntry>& map,
+                                  Fifo<uint8_t>& out) {
+    return [&n, &st, &raw, &map, &out] {
+      bool fired = false;
+      if (n.still_blocked()) return false;
+      while (!st.done()) {
+        const kern::RectifyPlan pl = st.plan();
+        if (!pl.read_pixel && !pl.write) break;
+        if (!n.attempt({Port{&raw, pl.read_pixel}, Port{&map, pl.write}}, {Port{&out, pl.write}},
+                       [&] { st.fire(pl, raw, map, out); }))
+          break;
+        fired = true;
+      }
+      return fired;
+    };
+  }
+
+  // --- graphs ------------------------------------------------------------------------------
+
+  static constexpr std::size_t kPixelDepth = 2048;
+  static constexpr std::size_t kTokenDepth = 128;
 
   // The input of the graph: the source, and with rectification a map source and a rectify stage
   // per camera. Returns the pumps; out_l / out_r feed the cost stage.
@@ -698,13 +368,6 @@ class Engine {
     int64_t next_src = 0, next_map_l = 0, next_map_r = 0;
     std::vector<std::function<bool()>> pumps;
   };
-  static constexpr int kRectifyRows = 256;
-  using RectifyStage = kern::Rectify<kern::kMaxWidthPx, kRectifyRows>;
-
-  bool rectifying() const {
-    return kTimed && setup_.opt && setup_.opt->rectify.mode != kern::kRectifyNone && setup_.opt->rectify_map_left &&
-           setup_.opt->rectify_map_right;
-  }
 
   std::unique_ptr<FrontEnd> front_end(const GreyImage& left, const GreyImage& right) {
     auto fe = std::make_unique<FrontEnd>();
@@ -730,42 +393,12 @@ class Engine {
     rect_r_->configure(rp);
     Rate maps;
     maps.cycles_per_token = 8.0 * setup_.opt->clock_hz / setup_.opt->input_bytes_per_s;
-    auto map_pump = [this, maps](NodeT& n, const std::vector<kern::MapEntry>& table, Fifo<kern::MapEntry>& out,
-                                 int64_t& next) -> std::function<bool()> {
-      return [&n, &table, &out, &next, maps] {
-        bool fired = false;
-      if (n.still_blocked()) return false;
-        while (next < int64_t(table.size())) {
-          const int64_t i = next;
-          if (!n.attempt({}, {Port{&out, true}}, [&] { out.write(table[std::size_t(i)]); }, maps.at(i))) break;
-          ++next;
-          fired = true;
-        }
-        return fired;
-      };
-    };
-    auto rect_pump = [](NodeT& n, RectifyStage& st, Fifo<uint8_t>& raw, Fifo<kern::MapEntry>& map,
-                        Fifo<uint8_t>& out) -> std::function<bool()> {
-      return [&n, &st, &raw, &map, &out] {
-        bool fired = false;
-      if (n.still_blocked()) return false;
-        while (!st.done()) {
-          const kern::RectifyPlan pl = st.plan();
-          if (!pl.read_pixel && !pl.write) break;
-          if (!n.attempt({Port{&raw, pl.read_pixel}, Port{&map, pl.write}}, {Port{&out, pl.write}},
-                         [&] { st.fire(pl, raw, map, out); }))
-            break;
-          fired = true;
-        }
-        return fired;
-      };
-    };
     NodeT& n_ml = node("map_left");
     NodeT& n_mr = node("map_right");
     NodeT& n_rl = node("rectify_left");
     NodeT& n_rr = node("rectify_right");
-    f.pumps.push_back(map_pump(n_ml, *setup_.opt->rectify_map_left, *f.map_l, f.next_map_l));
-    f.pumps.push_back(map_pump(n_mr, *setup_.opt->rectify_map_right, *f.map_r, f.next_map_r));
+    f.pumps.push_back(map_pump(n_ml, *setup_.opt->rectify_map_left, *f.map_l, f.next_map_l, maps));
+    f.pumps.push_back(map_pump(n_mr, *setup_.opt->rectify_map_right, *f.map_r, f.next_map_r, maps));
     f.pumps.push_back(rect_pump(n_rl, *rect_l_, *f.raw_l, *f.map_l, *f.out_l));
     f.pumps.push_back(rect_pump(n_rr, *rect_r_, *f.raw_r, *f.map_r, *f.out_r));
     return fe;
@@ -775,11 +408,6 @@ class Engine {
     if (f.raw_l) collect(std::move(f.raw_l), std::move(f.raw_r), std::move(f.map_l), std::move(f.map_r));
     if (rep_ && rectifying()) rep_->rectify_window_misses = rect_l_->window_misses() + rect_r_->window_misses();
   }
-
-  // --- graphs ------------------------------------------------------------------------------
-
-  static constexpr std::size_t kPixelDepth = 2048;
-  static constexpr std::size_t kTokenDepth = 128;
 
   // The one-pass graph after the cost FIFO: aggregate -> sum -> wta_lr -> disp_lr -> median ->
   // disp_out -> sink. Configures the stages, makes the FIFOs and nodes (after the caller's, so
@@ -832,34 +460,16 @@ class Engine {
   }
 
   // Pass 1 writes C and F to the frame buffer through `ddr_write`; pass 2 starts when the last
-  // word is written and reads them back in reverse pixel order through `ddr_read`. The layout is
-  // kernels/frame_buffer.hpp's: each firing's pair of tokens packed into `beats` power-of-two words;
-  // ddr_write reverses the pixels on chip in segments (a ping-pong buffer) and writes each segment
-  // at ascending addresses, so that ddr_read reads words 0 .. N-1 in order. Its loop, as exported:
-  // seg_tokens firings that only fill the first segment, then one firing per word written, which
-  // also takes in the next segment's tokens (one per `beats` words) while there are any. The map
-  // writer (the sink) reverses the codes the same way.
+  // word is written and reads them back in reverse pixel order through `ddr_read`; the map writer
+  // (the sink) restores raster order (frame_buffer_stages.hpp).
   template <class CostStage>
   void run_two_pass(CostStage& cost, const GreyImage& left, const GreyImage& right, DisparityCodes& out) {
-    const int64_t pixels = frame_pixels();
-    const int chunks = kern::frame_chunks(p_);
-    const int beats = kern::frame_beats(p_);
-    const int word_limbs = kern::frame_word_bits(p_) / 32;
-    const int pair_limbs = kern::frame_limbs_of(kern::frame_pair_bits(p_));
-    const int64_t words = kern::frame_words(p_);
-    const int64_t seg_pixels = kern::frame_segment_pixels(p_);
-    const int64_t seg_tokens = seg_pixels * chunks, seg_words = seg_tokens * beats;
-    const int64_t segments = pixels / seg_pixels;
-    const int cost_w = kern::cost_bits(p_), sum_w = kern::aggregate_bits(p_);
-    if (kData) {
-      frame_.assign(std::size_t(words) * std::size_t(word_limbs), 0u);
-      segment_.assign(2 * std::size_t(seg_tokens) * std::size_t(pair_limbs), 0u);
-    }
+    fb_.configure(p_, rep_);
+    const FrameLayout& fl = fb_.layout();
     if (rep_) {
       rep_->ddr_word_bits = kern::frame_word_bits(p_);
       rep_->ddr_bytes_written = rep_->ddr_bytes_read = rep_->map_bytes_written = 0;
     }
-    const int word_bytes = kern::frame_word_bytes(p_);
     const Rate ddr = ddr_rate();
     cost.configure(p_);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
@@ -872,63 +482,19 @@ class Engine {
     NodeT& n_cost = node("cost");
     NodeT& n_agg = node("aggregate");
     NodeT& n_wr = node("ddr_write");
-    const int64_t write_firings = seg_tokens + words;
+    const int64_t write_firings = fl.seg_tokens + fl.words;
     int64_t wr_step = 0, stored = 0;
-    auto write_pump = [&]() -> bool {
-      bool fired = false;
-      if (n_wr.still_blocked()) return false;
-      while (wr_step < write_firings) {
-        const int64_t t = wr_step;
-        const bool writes = t >= seg_tokens;
-        const int64_t w = t - seg_tokens;  // the word written (writes)
-        const bool reads = !writes || (w < words - seg_words && w % beats == 0);
-        if (!n_wr.attempt({Port{tee.get(), reads}, Port{fwd.get(), reads}}, {},
-                          [&] {
-                            if constexpr (kData) {
-                              if (writes) {  // before the fill: the two halves differ
-                                const int64_t seg = w / seg_words, k = w % seg_words;
-                                const int64_t slot = (seg % 2) * seg_tokens + kern::reversed_slot(k / beats, chunks, seg_pixels);
-                                uint32_t pair[kPairLimbs] = {};
-                                const uint32_t* from = &segment_[std::size_t(slot) * std::size_t(pair_limbs)];
-                                for (int i = 0; i < pair_limbs; ++i) pair[i] = from[i];
-                                uint32_t word[kern::kFrameWordMaxBits / 32];
-                                kern::frame_beat_of(pair, int(k % beats), word_limbs, word);
-                                const int64_t address = kern::reversed_block_base(segments, seg_words, seg) + k;
-                                for (int i = 0; i < word_limbs; ++i)
-                                  frame_[std::size_t(address) * std::size_t(word_limbs) + std::size_t(i)] = word[i];
-                              }
-                              if (reads) {
-                                const int64_t token = writes ? seg_tokens + w / beats : t;
-                                const int64_t slot = ((token / seg_tokens) % 2) * seg_tokens + token % seg_tokens;
-                                uint32_t pair[kPairLimbs];
-                                kern::frame_pack(tee->read(), fwd->read(), p_.parallel_units, cost_w, sum_w, pair);
-                                uint32_t* to = &segment_[std::size_t(slot) * std::size_t(pair_limbs)];
-                                for (int i = 0; i < pair_limbs; ++i) to[i] = pair[i];
-                              }
-                            } else if (reads) {
-                              tee->skip_read();
-                              fwd->skip_read();
-                            }
-                          },
-                          writes ? ddr.at(w) : 0))
-          break;
-        if (writes) ++stored;
-        ++wr_step;
-        fired = true;
-      }
-      return fired;
-    };
     std::vector<std::function<bool()>> pass1 = fe->pumps;
     pass1.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
     pass1.push_back(
         agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *fwd, tee.get()));
-    pass1.push_back(write_pump);
+    pass1.push_back(fb_.write_pump(n_wr, *tee, *fwd, ddr, wr_step, stored));
     if (!schedule(pass1, [&] { return wr_step >= write_firings; })) {
       collect_front_end(*fe);
       collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd));
       return;
     }
-    if (rep_) rep_->ddr_bytes_written = stored * word_bytes;
+    if (rep_) rep_->ddr_bytes_written = stored * fl.word_bytes;
     const int64_t pass2_start = n_wr.t_next() + ddr_latency_cycles();
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, true), true, false);
     wta_.configure(p_, true);
@@ -946,46 +512,13 @@ class Engine {
     Rate rd = ddr;
     rd.start = pass2_start;
     int64_t read_word = 0, got = 0;
-    uint32_t pair[kPairLimbs] = {};  // the pair being collected from its beats
-    auto read_pump = [&]() -> bool {
-      bool fired = false;
-      if (n_rd.still_blocked()) return false;
-      while (read_word < words) {
-        const int64_t i = read_word;  // ascending addresses
-        const bool last_beat = i % beats == beats - 1;
-        if (!n_rd.attempt({}, {Port{back_c.get(), last_beat}, Port{back_f.get(), last_beat}},
-                          [&] {
-                            if constexpr (kData) {
-                              uint32_t word[kern::kFrameWordMaxBits / 32];
-                              for (int k = 0; k < word_limbs; ++k)
-                                word[k] = frame_[std::size_t(i) * std::size_t(word_limbs) + std::size_t(k)];
-                              kern::frame_set_beat(pair, int(i % beats), word_limbs, word);
-                              if (last_beat) {
-                                CostTok c;
-                                SumTok f;
-                                kern::frame_unpack(pair, p_.parallel_units, cost_w, sum_w, c, f);
-                                back_c->write(c);
-                                back_f->write(f);
-                              }
-                            } else if (last_beat) {
-                              back_c->skip_write();
-                              back_f->skip_write();
-                            }
-                          },
-                          rd.at(i)))
-          break;
-        ++read_word;
-        fired = true;
-      }
-      return fired;
-    };
-    const int64_t total = pixels;
-    schedule({read_pump,
+    const int64_t total = fl.pixels;
+    schedule({fb_.read_pump(n_rd, *back_c, *back_f, rd, read_word),
               agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums, nullptr),
-              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered), map_sink_pump(n_sink, *filtered, out, got)},
+              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered), fb_.map_writer_pump(n_sink, *filtered, out, got)},
              [&] { return got >= total; });
     if (rep_) {
-      rep_->ddr_bytes_read = read_word * word_bytes;
+      rep_->ddr_bytes_read = read_word * fl.word_bytes;
       rep_->map_bytes_written = got * kern::kMapCodeBytes;
     }
     collect_front_end(*fe);
@@ -993,114 +526,31 @@ class Engine {
             std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
   }
 
-  // The map writer of a two-pass design: the codes arrive in reverse raster order; the writer
-  // buffers segments of them (ping-pong, kernels/frame_buffer.hpp) and writes each segment
-  // reversed at ascending addresses, so that the map lands in raster order. Its loop: seg firings
-  // that only fill the first segment, then one firing per code written, which also takes in the
-  // next code while there are any. A code leaves when it is written to memory.
-  std::function<bool()> map_sink_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got) {
-    const int64_t total = frame_pixels();
-    const int64_t seg = kern::map_segment_pixels(p_);
-    if (kData) map_segment_.assign(2 * std::size_t(seg), 0);
-    auto step = std::make_shared<int64_t>(0);
-    return [this, &n, &in, &out, &got, total, seg, step] {
-      bool fired = false;
-      if (n.still_blocked()) return false;
-      while (*step < seg + total) {
-        const int64_t t = *step;
-        const bool writes = t >= seg;
-        const int64_t w = t - seg;
-        const bool reads = !writes || w < total - seg;
-        if (!n.attempt({Port{&in, reads}}, {}, [&] {
-              if constexpr (kData) {
-                if (writes) {
-                  const int64_t s = w / seg, k = w % seg;
-                  out.code[std::size_t(kern::reversed_block_base(total / seg, seg, s) + k)] =
-                      map_segment_[std::size_t((s % 2) * seg + kern::reversed_slot(k, 1, seg))];
-                }
-                if (reads) {
-                  const int64_t code = writes ? seg + w : t;
-                  map_segment_[std::size_t(((code / seg) % 2) * seg + code % seg)] = in.read();
-                }
-              } else if (reads) {
-                in.skip_read();
-              }
-            }))
-          break;
-        ++*step;
-        fired = true;
-        if (!writes) continue;
-        if (rep_) {
-          if (w == 0) rep_->first_pixel_cycle = n.report().last_fire_cycle;
-          rep_->last_pixel_cycle = n.report().last_fire_cycle;
-        }
-        ++got;
-      }
-      return fired;
-    };
-  }
+  // --- periodic fast-forward hooks (fast_forward.hpp) ------------------------------------------
 
-  // --- periodic fast-forward (the timing run of one-pass designs) ------------------------------
-  //
-  // Between the first and the last rows every stage runs the same plans row after row, so once
-  // the pipeline has settled, the whole timed state (every stage's next cycle and statistics,
-  // every FIFO's counters and the slot times future firings can read, every kernel's counters,
-  // the source and sink positions) advances by the same amount per output row: times by one
-  // period, counts by one row's worth. The evaluation is deterministic (which stage fires and
-  // what it plans depend on counts and counters only), so when three snapshots taken as the
-  // sink completes consecutive rows show the same differences twice, the next rows repeat them
-  // exactly, and K rows can be applied at once: state + K x difference. Conditions that keep it
-  // exact: the rows skipped stay clear of the frame's last rows (and the first rows are past);
-  // the source's arrivals either never set a firing's cycle and come no faster than one period
-  // per row, or repeat with exactly the period over the skipped rows (checked pixel by pixel;
-  // the skip ends before the first row that does not).
-  // Off for the coupled run, two-pass designs, rectification and VCD traces. Tested against the
-  // coupled run, which never skips.
-
-  struct StateIO {
-    std::vector<int64_t>* out = nullptr;  // read mode: append every field
-    const std::vector<int64_t>* in = nullptr;  // write mode: assign every field in order
-    std::size_t pos = 0;
-    template <class T>
-    void operator()(T& field) {
-      if (out)
-        out->push_back(int64_t(field));
-      else
-        field = T((*in)[pos++]);
-    }
-  };
-  struct Snapshot {
-    std::vector<int64_t> values, slots, shape;
-    int64_t source_bound = 0;
-  };
-  struct FastForward {
-    bool enabled = false;
-    int64_t* next_src = nullptr;
-    int64_t* got = nullptr;
-    int64_t source_total = 0;
-    NodeT* source = nullptr;
-    std::vector<FifoBase*> fifos;
-    std::vector<Snapshot> history;  // the last three, oldest first
-  };
-
+  // Arms the fast-forward where it is exact: the timing run of a one-pass design, without
+  // rectification or VCD trace (the coupled run never skips).
   void start_fast_forward(int64_t& next_src, int64_t& got, int64_t source_pixels) {
-    ff_ = FastForward{};
     const bool tracing = trace_ && trace_->active();
-    ff_.enabled = kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
-    if (!ff_.enabled) return;
-    ff_.next_src = &next_src;
-    ff_.got = &got;
-    ff_.source_total = source_pixels;
-    if (setup_.opt->truncate_input_px >= 0) ff_.source_total = std::min(ff_.source_total, setup_.opt->truncate_input_px);
-    ff_.fifos = graph_->fifo_list();
-    for (const auto& n : graph_->nodes())
-      if (n->name() == "source") ff_.source = n.get();
+    const bool enabled = kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
+    FastForwardRun run;
+    if (enabled) {
+      run.next_src = &next_src;
+      run.got = &got;
+      run.last_pixel_cycle = &rep_->last_pixel_cycle;
+      run.rows_fast_forwarded = &rep_->rows_fast_forwarded;
+      run.source_total = source_pixels;
+      if (setup_.opt->truncate_input_px >= 0) run.source_total = std::min(run.source_total, setup_.opt->truncate_input_px);
+      run.width = p_.width_px;
+      run.settle_rows = p_.window_h / 2 + p_.median / 2 + 2;
+      const double stride = setup_.opt->input == InputKind::camera ? double(p_.width_px + setup_.opt->camera_h_blank_px)
+                                                                    : double(p_.width_px);
+      run.row_input_cycles = stride * input_rate_.cycles_per_token;
+    }
+    ff_.start(enabled, *graph_, run);
   }
-
   template <class IO>
-  void visit_state(IO& io) {
-    for (const auto& n : graph_->nodes()) n->visit(io);
-    for (FifoBase* f : ff_.fifos) f->visit(io);
+  void visit_kernels(IO& io) {
     if (p_.cost == kern::kCostCensus)
       census_.visit(io);
     else
@@ -1108,155 +558,24 @@ class Engine {
     agg_.visit(io);
     wta_.visit(io);
     median_.visit(io);
-    io(*ff_.next_src);
-    io(*ff_.got);
-    io(rep_->last_pixel_cycle);  // last, the period is read from it
   }
-
-  void fast_forward() {
-    const int64_t w = p_.width_px;
-    const int64_t rows_done = *ff_.got / w;
-    if (rows_done < p_.window_h / 2 + p_.median / 2 + 2) return;  // past the first rows' plans
-    Snapshot s;
-    StateIO reader;
-    reader.out = &s.values;
-    visit_state(reader);
-    for (FifoBase* f : ff_.fifos) {
-      const std::size_t before = s.slots.size();
-      f->slot_times(s.slots);
-      s.shape.push_back(int64_t(s.slots.size() - before));
-    }
-    for (const auto& n : graph_->nodes()) {
-      const auto it = std::find(ff_.fifos.begin(), ff_.fifos.end(), n->blocked_fifo());
-      s.shape.push_back(it == ff_.fifos.end() ? -1 : int64_t(it - ff_.fifos.begin()));
-    }
-    s.source_bound = ff_.source->earliest_bound();
-    ff_.history.push_back(std::move(s));
-    if (ff_.history.size() > 3) ff_.history.erase(ff_.history.begin());
-    if (ff_.history.size() < 3) return;
-    const Snapshot &a = ff_.history[0], &b = ff_.history[1], &c = ff_.history[2];
-    if (a.shape != b.shape || b.shape != c.shape || a.values.size() != c.values.size() ||
-        a.slots.size() != c.slots.size())
-      return;
-    for (std::size_t i = 0; i < c.values.size(); ++i)
-      if (c.values[i] - b.values[i] != b.values[i] - a.values[i]) return;
-    const int64_t period = c.values.back() - b.values.back();
-    if (period <= 0) return;
-    for (std::size_t i = 0; i < c.slots.size(); ++i)
-      if (c.slots[i] - b.slots[i] != period || b.slots[i] - a.slots[i] != period) return;
-    const std::size_t next_at = c.values.size() - 3;  // visit_state's order: next_src, got, last pixel
-    if (c.values[next_at] - b.values[next_at] != w) return;
-    const int64_t next = *ff_.next_src;
-    int64_t rows = (ff_.source_total - next) / w - 3;  // stay clear of the last rows
-    if (rows < 1) return;
-    const bool arrival_bound = c.source_bound != b.source_bound || b.source_bound != a.source_bound;
-    if (!arrival_bound) {
-      // Never bound: it stays so if the input delivers a row in at most one period.
-      if (input_arrival(next + w) - input_arrival(next) > period - 1 ||
-          input_arrival(next + rows * w) - input_arrival(next) > rows * period - 1)
-        return;
-      const double stride = setup_.opt->input == InputKind::camera ? double(w + setup_.opt->camera_h_blank_px)
-                                                                    : double(w);
-      if (stride * input_rate_.cycles_per_token > double(period) - 1.0) return;
-    } else {  // skip the rows up to the first whose arrivals do not repeat with the period
-      for (int64_t j = next; j < next + rows * w; ++j)
-        if (input_arrival(j) - input_arrival(j - w) != period) {
-          rows = (j - next) / w;
-          break;
-        }
-      if (rows < 1) return;
-    }
-    std::vector<int64_t> target(c.values.size());
-    for (std::size_t i = 0; i < target.size(); ++i) target[i] = c.values[i] + rows * (c.values[i] - b.values[i]);
-    StateIO writer;
-    writer.in = &target;
-    visit_state(writer);
-    for (FifoBase* f : ff_.fifos) f->shift_slot_times(rows * period);
+  void resync_kernels() {
     census_.resync();
     sad_.resync();
     agg_.resync();
     wta_.resync();
     median_.resync();
-    rep_->rows_fast_forwarded += rows;
-    ff_.history.clear();
   }
+  friend class FastForward<kTimed>;
 
-  // One frame-buffer word (kernels/frame_buffer.hpp: the packed power-of-two word) per token of
-  // this rate.
-  Rate ddr_rate() const {
-    Rate r;
-    if (!kTimed || !setup_.opt) return r;
-    r.cycles_per_token = double(kern::frame_word_bytes(p_)) * setup_.opt->clock_hz / setup_.opt->ddr_bytes_per_s;
-    return r;
-  }
-  int64_t ddr_latency_cycles() const {
-    if (!kTimed || !setup_.opt) return 0;
-    return int64_t(std::ceil(setup_.opt->ddr_latency_s * setup_.opt->clock_hz));
-  }
-
-  // Moves the frame's FIFO statistics into the report (the FIFOs die with the run).
-  template <class... F>
-  void collect(F&&... fifos) {
-    if (!rep_) return;
-    auto one = [&](const FifoBase& f) {
-      FifoReport r;
-      r.name = f.name();
-      r.producer = graph_->producer_of(&f);
-      r.consumer = graph_->consumer_of(&f);
-      r.depth = int64_t(f.depth());
-      r.tokens = f.writes();
-      r.high_water = int64_t(f.high_water());
-      rep_->fifos.push_back(r);
-    };
-    (one(*fifos), ...);
-  }
-
-  void finish_report() {
-    if (trace_ && setup_.opt) trace_->write(setup_.opt->vcd_path, "parallax");
-    rep_->stages.clear();
-    int64_t busiest = 0;
-    for (const auto& n : graph_->nodes()) {
-      rep_->stages.push_back(n->report());
-      if (n->name() == "source") continue;  // its occupancy is the input's, counted below
-      if (n->report().busy_cycles > busiest) {
-        busiest = n->report().busy_cycles;
-        rep_->bottleneck = n->name();
-      }
-    }
-    rep_->input_period_cycles = input_period();
-    rep_->cycles_per_frame = busiest;
-    if (rep_->input_period_cycles > busiest) {
-      rep_->cycles_per_frame = rep_->input_period_cycles;
-      rep_->bottleneck = "input";
-    }
-  }
-
-  kern::StereoParams p_{};
-  RunSetup setup_;
-  FastForward ff_;
-  Rate input_rate_;  // of this run's source, computed once
-  CycleReport* rep_ = nullptr;
-  TimingModel timing_;
-  std::unique_ptr<Trace> trace_;
-  std::unique_ptr<Graph<kTimed>> graph_;
-  unsigned conditions_ = 0;  // the pipeline variant (kernels/pipeline.hpp) of the current run
+  FastForward<kTimed> ff_;
   kern::CensusCostStage<Caps> census_;
   kern::SadCostStage<Caps> sad_;
   kern::SgmAggregate<Caps, Word> agg_;
   kern::WtaLr<Caps, Word> wta_;
   kern::Median<Caps> median_;
   std::unique_ptr<RectifyStage> rect_l_, rect_r_;
-  // The frame buffer standing for off-chip memory: words of 32-bit limbs (kernels/frame_buffer.hpp),
-  // the on-chip reversal buffers of ddr_write (pairs) and of the map writer (codes).
-  static constexpr int kPairLimbs = kern::frame_limbs_of(Caps::lanes * (16 + 32));
-  std::vector<uint32_t> frame_, segment_;
-  std::vector<kern::DispCode> map_segment_;
+  FrameBufferStages<Caps, Word, kTimed, kData> fb_;
 };
-
-using TinyCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 8>;  // PU <= 8: 16-byte tokens
-// The timing run's tokens carry no payload; one lane keeps the FIFOs' rings small.
-using ControlCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 1>;
-using NarrowCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 64>;
-using WideCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, 256>;
 
 }  // namespace parallax::sim::detail

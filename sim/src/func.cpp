@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <tuple>
 
+#include "design_dispatch.hpp"
 #include "engine.hpp"
 #include "parallax/kernels/rectify.hpp"
 #include "parallax/sim/fifo.hpp"
@@ -81,11 +83,19 @@ std::string cost_sharing_key(const kern::StereoParams& p) {
          std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities);
 }
 
+// One engine per instantiation the func run uses, made on first use and kept (its stages are
+// large).
 struct FuncPipeline::Impl {
-  std::unique_ptr<Engine<Narrow, uint16_t>> n16;
-  std::unique_ptr<Engine<Narrow, uint32_t>> n32;
-  std::unique_ptr<Engine<Wide, uint16_t>> w16;
-  std::unique_ptr<Engine<Wide, uint32_t>> w32;
+  std::tuple<std::unique_ptr<Engine<Narrow, uint16_t>>, std::unique_ptr<Engine<Narrow, uint32_t>>,
+             std::unique_ptr<Engine<Wide, uint16_t>>, std::unique_ptr<Engine<Wide, uint32_t>>>
+      engines;
+  template <class Design>
+  Engine<typename Design::Caps, typename Design::Word>& engine(Design) {
+    using E = Engine<typename Design::Caps, typename Design::Word>;
+    std::unique_ptr<E>& e = std::get<std::unique_ptr<E>>(engines);
+    if (!e) e = std::make_unique<E>();
+    return *e;
+  }
 };
 
 FuncPipeline::FuncPipeline() : impl_(std::make_unique<Impl>()) {}
@@ -100,27 +110,10 @@ DisparityCodes FuncPipeline::run(const GreyImage& left, const GreyImage& right, 
     internal_error("image size differs from the parameters");
   kern::StereoParams p = p_in;
   if (!opt.use_design_pu) p.parallel_units = largest_divisor_at_most(p.disparities, 64);
-  const bool wide = p.parallel_units > 64;
-  const bool word32 = kern::aggregate_bits(p) > 16;
-  auto& i = *impl_;
   DisparityCodes out;
-  if (!wide && !word32) {
-    if (!i.n16) i.n16 = std::make_unique<Engine<Narrow, uint16_t>>();
-    i.n16->run(left, right, p, {}, out, nullptr);
-    return out;
-  }
-  if (!wide) {
-    if (!i.n32) i.n32 = std::make_unique<Engine<Narrow, uint32_t>>();
-    i.n32->run(left, right, p, {}, out, nullptr);
-    return out;
-  }
-  if (!word32) {
-    if (!i.w16) i.w16 = std::make_unique<Engine<Wide, uint16_t>>();
-    i.w16->run(left, right, p, {}, out, nullptr);
-    return out;
-  }
-  if (!i.w32) i.w32 = std::make_unique<Engine<Wide, uint32_t>>();
-  i.w32->run(left, right, p, {}, out, nullptr);
+  detail::dispatch_design<Narrow, Wide>(p.parallel_units, kern::aggregate_bits(p), [&](auto design) {
+    impl_->engine(design).run(left, right, p, detail::RunSetup{}, out, nullptr);
+  });
   return out;
 }
 
@@ -174,9 +167,7 @@ void FuncPipeline::record_costs(const GreyImage& left, const GreyImage& right, c
   p.parallel_units = largest_divisor_at_most(p.disparities, 64);
   rec.impl->key = cost_sharing_key(p_in);
   if (rec.impl->key.empty()) internal_error("record_costs: the 8-path variant cannot replay costs");
-  auto& i = *impl_;
-  if (!i.n16) i.n16 = std::make_unique<Engine<Narrow, uint16_t>>();
-  i.n16->record_costs(left, right, p, rec.impl->tokens);
+  impl_->engine(detail::Design<Narrow, uint16_t>{}).record_costs(left, right, p, rec.impl->tokens);
 }
 
 DisparityCodes FuncPipeline::run_from_costs(const CostRecording& rec, const kern::StereoParams& p_in) {
@@ -186,15 +177,10 @@ DisparityCodes FuncPipeline::run_from_costs(const CostRecording& rec, const kern
     internal_error("run_from_costs: the recording belongs to another cost stage");
   kern::StereoParams p = p_in;
   p.parallel_units = largest_divisor_at_most(p.disparities, 64);
-  auto& i = *impl_;
   DisparityCodes out;
-  if (kern::aggregate_bits(p) > 16) {
-    if (!i.n32) i.n32 = std::make_unique<Engine<Narrow, uint32_t>>();
-    i.n32->run_from_costs(rec.impl->tokens, p, out);
-  } else {
-    if (!i.n16) i.n16 = std::make_unique<Engine<Narrow, uint16_t>>();
-    i.n16->run_from_costs(rec.impl->tokens, p, out);
-  }
+  detail::dispatch_design<Narrow>(p.parallel_units, kern::aggregate_bits(p), [&](auto design) {
+    impl_->engine(design).run_from_costs(rec.impl->tokens, p, out);
+  });
   return out;
 }
 

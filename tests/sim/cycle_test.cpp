@@ -12,11 +12,11 @@
 #include <string>
 
 #include "../kernels/equiv_util.hpp"
-#include "engine.hpp"
 #include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/reference/stereo.hpp"
 #include "parallax/sim/cycle.hpp"
 #include "parallax/sim/func.hpp"
+#include "scheduler.hpp"
 
 namespace parallax::test {
 namespace {

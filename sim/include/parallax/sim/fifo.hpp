@@ -53,7 +53,7 @@ class FifoBase {
   int64_t last_write_visible() const { return last_visible_; }
   int64_t last_read_cycle() const { return last_read_; }
 
-  // Timed-state access for the periodic fast-forward of the cycle model (engine.hpp):
+  // Timed-state access for the periodic fast-forward of the cycle model (fast_forward.hpp):
   // visit(v) calls v(field) on every counter and scalar time by reference; slot_times() appends
   // the times that future firings can still read, in token order (the live tokens' visible
   // cycles, then the read cycles from the oldest token occupancy tracking or the next write's
