@@ -20,7 +20,7 @@ TimingModel default_timing(const kern::StereoParams& p, double clock_hz) {
                                                         : 2 + kern::bits_for(uint64_t(taps));
   const int agg_latency = 3 + 1 + kern::bits_for(uint64_t(std::max(1, kern::path_count(p))));
   const int wta_latency = 2 + kern::bits_for(uint64_t(p.parallel_units));
-  const int median_latency = p.median >= 3 ? 2 + kern::bits_for(uint64_t(p.median * p.median)) : 1;
+  const int median_latency = p.median >= 3 ? 2 + kern::bits_for(uint64_t(p.median) * uint64_t(p.median)) : 1;
   TimingModel t;
   t["source"] = {1, 1};
   t["cost"] = {1, cost_latency};
