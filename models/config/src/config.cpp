@@ -269,6 +269,8 @@ std::vector<FieldError> validate(const PipelineConfig& c) {
   return e;
 }
 
+kern::StereoRegisters PipelineConfig::registers() const { return {p1, p2, lr_tolerance}; }
+
 kern::StereoParams PipelineConfig::stereo_params(int width_px, int height_px) const {
   kern::StereoParams p{};
   p.width_px = width_px;
@@ -279,10 +281,8 @@ kern::StereoParams PipelineConfig::stereo_params(int width_px, int height_px) co
   p.disparities = disparities;
   p.parallel_units = parallel_units;
   p.path_mask = path_mask;
-  p.p1 = p1;
-  p.p2 = p2;
   p.lr_check = lr_check;
-  p.lr_tolerance = lr_tolerance;
+  kern::set_registers(p, registers());
   p.median = median;
   return p;
 }

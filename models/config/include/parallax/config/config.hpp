@@ -13,7 +13,9 @@
 
 namespace parallax::config {
 
-struct PipelineConfig {
+// The structure of a design: everything but its registers. The pipeline's shape and sizes (what
+// synthesis fixes) and the system around it, for the cycle model.
+struct Structure {
   std::string name = "unnamed";
   // Region of interest processed by the design: centred crop of the input (docs/evaluation.md);
   // roi_full = true processes the whole image.
@@ -26,10 +28,7 @@ struct PipelineConfig {
   int disparities = 64;
   int parallel_units = 1;
   unsigned path_mask = kern::kForwardPaths;
-  int p1 = 8;
-  int p2 = 32;
   bool lr_check = true;
-  int lr_tolerance = 1;
   int median = 5;              // 0 = off, 3, 5, 7
   int clock_mhz = 200;         // processing clock (used by the timing model)
   std::string rectify = "none";  // none | nearest | bilinear
@@ -65,8 +64,23 @@ struct PipelineConfig {
   double host_copy_gbps = 0.0;
   double host_latency_ms = 0.0;
   double host_frame_ms = 0.0;
+};
 
-  // The kernel parameters for an image (or ROI) of the given size.
+// The runtime registers of a design: the values a hardware register holds, which may change
+// between frames without resynthesis (the exported top's AXI4-Lite ports). p1 and p2 are read by
+// the SGM aggregation only, lr_tolerance by the WTA / left-right check only.
+struct Registers {
+  int p1 = 8;
+  int p2 = 32;
+  int lr_tolerance = 1;
+};
+
+// One design: its structure and its registers. Every field is a member under the name users
+// write (c.disparities, c.p1); registers() gives the registers alone.
+struct PipelineConfig : Structure, Registers {
+  // The register values, as the kernels take them.
+  kern::StereoRegisters registers() const;
+  // The kernel parameters for an image (or ROI) of the given size: the structure and the registers.
   kern::StereoParams stereo_params(int width_px, int height_px) const;
   // The rectification stage's parameters for frames of the given size: mode from `rectify`
   // (kRectifyNone when "none"), fraction bits only when bilinear, `rectify_rows` line-buffer rows.
