@@ -1,6 +1,7 @@
-// PipelineConfig: the single source of truth for one design. Every constraint on it is written
-// once, in validate(), which returns all violations with their field names and allowed ranges;
-// the CLI, the explorer and the HLS export all use it. Nothing is silently adjusted.
+// PipelineConfig: the single source of truth for one design. Its fields are rows of one table
+// (src/field_table.cpp): each row parses, checks, writes and documents its field, followed by the
+// few rules between fields. validate() returns all violations with their field names and allowed
+// values; the CLI, the explorer and the HLS export all use it. Nothing is silently adjusted.
 #pragma once
 
 #include <map>
@@ -118,8 +119,12 @@ PipelineConfig parse_config(const std::string& yaml_text, const std::string& sou
 // field. Call validate() afterwards.
 void set_field(PipelineConfig& c, const std::string& key, const std::string& value);
 
-// The field names accepted in files, in documentation order.
+// The field names accepted in files, in documentation order (a pattern as "ii_<stage>").
 const std::vector<std::string>& field_names();
+
+// The reference of the fields, one line each in documentation order: name, "(register)" for a
+// runtime register, what it means and the values it takes; then the rules between fields.
+std::string field_documentation();
 
 // Canonical text of the configuration (YAML), stable for hashing and for reports.
 std::string to_yaml(const PipelineConfig& c);
