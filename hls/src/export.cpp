@@ -248,9 +248,11 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["DISPARITY_BITS"] = std::to_string(kern::disparity_bits(p));
   v["OUT_BITS"] = std::to_string(((kern::disparity_bits(p) + 7) / 8) * 8);
   v["AGG_WORD"] = kern::aggregate_bits(p) <= 16 ? "uint16_t" : "uint32_t";
-  v["P1"] = std::to_string(p.p1);
-  v["P2"] = std::to_string(p.p2);
-  v["LR_TOLERANCE"] = std::to_string(p.lr_tolerance);
+  // The runtime registers: AXI4-Lite ports of the top; these values are the testbench's.
+  const kern::StereoRegisters regs = c.registers();
+  v["P1"] = std::to_string(regs.p1);
+  v["P2"] = std::to_string(regs.p2);
+  v["LR_TOLERANCE"] = std::to_string(regs.lr_tolerance);
   v["FRAMES"] = std::to_string(kTestbenchFrames);
   v["ROW_PACKING"] = std::to_string(c.row_packing);
 
@@ -407,11 +409,13 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                  "// each input stream carries exactly kWidthPx x kHeightPx beats in raster order; call k runs pass 1\n"
                  "// of its frame into `frame_write` and pass 2 of the previous frame from `frame_read` (the buffer\n"
                  "// call k - 1 wrote; kFrameWords words each; the host swaps them), writing that frame's map to\n"
-                 "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties) and\n"
-                 "// the left-right tolerance in pixels."
+                 "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties, read\n"
+                 "// by the aggregation only) and the left-right tolerance in pixels (read by the WTA / LR check\n"
+                 "// only)."
                : "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
                  "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
-                 "// registers hold P1 < P2 (the SGM penalties) and the left-right tolerance in pixels.";
+                 "// registers hold P1 < P2 (the SGM penalties, read by the aggregation only) and the left-right\n"
+                 "// tolerance in pixels (read by the WTA / LR check only).";
   const std::string ports = "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] + "\n";
   v["TOP_SIGNATURE"] =
       ports + (two_pass ? "                  parallax::kern::DispCode* disparity, frame_word_t* frame_write,\n"
