@@ -208,7 +208,9 @@ namespace {
 
 using Values = std::map<std::string, std::string>;
 
-bool is_two_pass(const config::PipelineConfig& c) { return (c.path_mask & kern::kBackwardPaths) != 0; }
+bool is_two_pass(const config::PipelineConfig& c) {
+  return (c.path_mask & kern::kBackwardPaths) != 0;
+}
 
 // The design's name, clock, sizes, structure constants, bit widths and register values.
 void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& v) {
@@ -418,17 +420,20 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
   const std::string input_kind = rectify ? "raw (unrectified)" : "rectified";
   v["INPUT_KIND"] = input_kind;
   v["TOP_CONTRACT"] =
-      two_pass ? "// Computes the disparity of " + input_kind + " stereo pairs in two passes, one frame behind. Contract:\n"
-                 "// each input stream carries exactly kWidthPx x kHeightPx beats in raster order; call k runs pass 1\n"
-                 "// of its frame into `frame_write` and pass 2 of the previous frame from `frame_read` (the buffer\n"
-                 "// call k - 1 wrote; kFrameWords words each; the host swaps them), writing that frame's map to\n"
-                 "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties, read\n"
-                 "// by the aggregation only) and the left-right tolerance in pixels (read by the WTA / LR check\n"
-                 "// only)."
-               : "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
-                 "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
-                 "// registers hold P1 < P2 (the SGM penalties, read by the aggregation only) and the left-right\n"
-                 "// tolerance in pixels (read by the WTA / LR check only).";
+      two_pass
+          ? "// Computes the disparity of " + input_kind +
+                " stereo pairs in two passes, one frame behind. Contract:\n"
+                "// each input stream carries exactly kWidthPx x kHeightPx beats in raster order; call k runs pass 1\n"
+                "// of its frame into `frame_write` and pass 2 of the previous frame from `frame_read` (the buffer\n"
+                "// call k - 1 wrote; kFrameWords words each; the host swaps them), writing that frame's map to\n"
+                "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties, read\n"
+                "// by the aggregation only) and the left-right tolerance in pixels (read by the WTA / LR check\n"
+                "// only)."
+          : "// Computes the disparity of one " + input_kind +
+                " stereo pair. Contract: each input stream carries exactly\n"
+                "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
+                "// registers hold P1 < P2 (the SGM penalties, read by the aggregation only) and the left-right\n"
+                "// tolerance in pixels (read by the WTA / LR check only).";
   const std::string ports = "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] + "\n";
   v["TOP_SIGNATURE"] =
       ports + (two_pass ? "                  parallax::kern::DispCode* disparity, frame_word_t* frame_write,\n"
@@ -506,15 +511,20 @@ void readme_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   const ExportPrediction& pr = r.prediction;
   const bool two_pass = is_two_pass(r.config);
   v["README_OUTPUT_PORTS"] =
-      two_pass ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
-                     " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
-                     " codes in raster order: 0.." + std::to_string(p.disparities - 1) + ", " + std::to_string(p.disparities) +
-                     " = invalid, of the previous call's frame (bundle `gmem_map`) |\n| `frame_write`, `frame_read` | AXI4 master (m_axi) | " +
-                     std::to_string(kern::frame_word_bits(p)) + " | two frame buffers of " + std::to_string(kern::frame_words(p)) +
-                     " words (" + std::to_string(kern::frame_bytes(p)) +
-                     " bytes) each, pass 1 writes one (bundle `gmem_wr`) while pass 2 reads the other (bundle `gmem_rd`); the host swaps them between calls; layout in `src/parallax/kernels/frame_buffer.hpp` |\n"
-               : "| `disparity_out` | AXI4-Stream | " + v["OUT_BITS"] + " | disparity codes 0.." + std::to_string(p.disparities - 1) +
-                     ", " + std::to_string(p.disparities) + " = invalid; same framing |\n";
+      two_pass
+          ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
+                " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
+                " codes in raster order: 0.." + std::to_string(p.disparities - 1) + ", " +
+                std::to_string(p.disparities) +
+                " = invalid, of the previous call's frame (bundle `gmem_map`) |\n| `frame_write`, `frame_read` | AXI4 "
+                "master (m_axi) | " +
+                std::to_string(kern::frame_word_bits(p)) + " | two frame buffers of " +
+                std::to_string(kern::frame_words(p)) + " words (" + std::to_string(kern::frame_bytes(p)) +
+                " bytes) each, pass 1 writes one (bundle `gmem_wr`) while pass 2 reads the other (bundle `gmem_rd`); "
+                "the host swaps them between calls; layout in `src/parallax/kernels/frame_buffer.hpp` |\n"
+          : "| `disparity_out` | AXI4-Stream | " + v["OUT_BITS"] + " | disparity codes 0.." +
+                std::to_string(p.disparities - 1) + ", " + std::to_string(p.disparities) +
+                " = invalid; same framing |\n";
 
   std::string headers;
   for (const auto& f : detail::copied_files())
@@ -636,7 +646,8 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   readme_values(r, p, v);
   // The functions filled from templates, once every value above is set.
   const bool two_pass = is_two_pass(c);
-  v["RECTIFY_FUNCTIONS"] = c.rectify != "none" ? fill("rectify_functions.cpp", template_text("rectify_functions.cpp"), v) : "";
+  v["RECTIFY_FUNCTIONS"] =
+      c.rectify != "none" ? fill("rectify_functions.cpp", template_text("rectify_functions.cpp"), v) : "";
   v["TOP_FUNCTIONS"] = fill(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp",
                             template_text(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp"), v);
   return project_files(r, v);

@@ -408,13 +408,12 @@ TEST(HlsExport, RegistersAreReadOutsideTheDataflowRegion) {
 // (kernels/sgm.hpp), the tolerance the WTA / left-right check (kernels/wta_lr.hpp), none the cost
 // and median stages; one pass or two.
 TEST(HlsExport, StagesTakeOnlyTheRegistersTheirKernelsRead) {
-  const std::map<std::string, std::set<std::string>> reads = {
-      {"cost_stage", {}},
-      {"aggregate_stage", {"p1", "p2"}},
-      {"aggregate_forward_stage", {"p1", "p2"}},
-      {"aggregate_back_stage", {"p1", "p2"}},
-      {"wta_lr_stage", {"lr_tolerance"}},
-      {"median_stage", {}}};
+  const std::map<std::string, std::set<std::string>> reads = {{"cost_stage", {}},
+                                                              {"aggregate_stage", {"p1", "p2"}},
+                                                              {"aggregate_forward_stage", {"p1", "p2"}},
+                                                              {"aggregate_back_stage", {"p1", "p2"}},
+                                                              {"wta_lr_stage", {"lr_tolerance"}},
+                                                              {"median_stage", {}}};
   for (const char* sets : {"", "--set paths=8"}) {
     const fs::path out = fresh_dir("stage_registers");
     ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out, sets).status, 0);
@@ -429,10 +428,11 @@ TEST(HlsExport, StagesTakeOnlyTheRegistersTheirKernelsRead) {
       for (auto v = std::sregex_iterator(params.begin(), params.end(), value); v != std::sregex_iterator(); ++v)
         names.insert((*v)[1]);
     }
-    const std::set<std::string> stages = std::string(sets).empty()
-                                             ? std::set<std::string>{"cost_stage", "aggregate_stage", "wta_lr_stage", "median_stage"}
-                                             : std::set<std::string>{"cost_stage", "aggregate_forward_stage", "aggregate_back_stage",
-                                                                     "wta_lr_stage", "median_stage"};
+    const std::set<std::string> stages =
+        std::string(sets).empty()
+            ? std::set<std::string>{"cost_stage", "aggregate_stage", "wta_lr_stage", "median_stage"}
+            : std::set<std::string>{"cost_stage", "aggregate_forward_stage", "aggregate_back_stage", "wta_lr_stage",
+                                    "median_stage"};
     for (const std::string& st : stages) {
       ASSERT_EQ(taken.count(st), 1u) << sets << ": no stage function " << st;
       EXPECT_EQ(taken.at(st), reads.at(st)) << sets << ": " << st;

@@ -38,10 +38,12 @@ const std::vector<std::string>& field_names() {
 std::string field_documentation() {
   std::string out;
   for (const auto& r : detail::field_table())
-    out += r.name + (r.is_register ? " (register)" : "") + ": " + r.doc + (r.values.empty() ? "" : "; " + r.values) + "\n";
+    out +=
+        r.name + (r.is_register ? " (register)" : "") + ": " + r.doc + (r.values.empty() ? "" : "; " + r.values) + "\n";
   out += "rules between fields:\n";
   for (const auto* rules : {&detail::cross_rules(), &detail::whole_design_rules()})
-    for (const auto& rule : *rules) out += std::string("  ") + rule.name + " (field " + rule.field + "): " + rule.doc + "\n";
+    for (const auto& rule : *rules)
+      out += std::string("  ") + rule.name + " (field " + rule.field + "): " + rule.doc + "\n";
   return out;
 }
 
@@ -80,7 +82,9 @@ std::string to_yaml(const PipelineConfig& c) {
   return o.str();
 }
 
-kern::StereoRegisters PipelineConfig::registers() const { return {p1, p2, lr_tolerance}; }
+kern::StereoRegisters PipelineConfig::registers() const {
+  return {p1, p2, lr_tolerance};
+}
 
 kern::StereoParams PipelineConfig::stereo_params(int width_px, int height_px) const {
   kern::StereoParams p{};

@@ -28,33 +28,46 @@ std::string either(const std::vector<std::string>& items) {
 
 bool Bound::holds(double v) const {
   switch (kind) {
-    case Kind::range: return v >= lo && v <= hi;
-    case Kind::at_least: return v >= lo;
-    case Kind::above: return v > lo;
-    case Kind::at_most: return v <= hi;
-    case Kind::one_of: return std::find(values.begin(), values.end(), v) != values.end();
-    case Kind::any: break;
+    case Kind::range:
+      return v >= lo && v <= hi;
+    case Kind::at_least:
+      return v >= lo;
+    case Kind::above:
+      return v > lo;
+    case Kind::at_most:
+      return v <= hi;
+    case Kind::one_of:
+      return std::find(values.begin(), values.end(), v) != values.end();
+    case Kind::any:
+      break;
   }
   return true;
 }
 
 std::string Bound::values_text() const {
   switch (kind) {
-    case Kind::range: return "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-    case Kind::at_least: return ">= " + std::to_string(lo);
-    case Kind::above: return "> " + std::to_string(lo);
-    case Kind::at_most: return "<= " + std::to_string(hi);
+    case Kind::range:
+      return "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    case Kind::at_least:
+      return ">= " + std::to_string(lo);
+    case Kind::above:
+      return "> " + std::to_string(lo);
+    case Kind::at_most:
+      return "<= " + std::to_string(hi);
     case Kind::one_of: {
       std::vector<std::string> items;
       for (int v : values) items.push_back(v == 0 && !zero_word.empty() ? zero_word + " (0)" : std::to_string(v));
       return either(items);
     }
-    case Kind::any: break;
+    case Kind::any:
+      break;
   }
   return "";
 }
 
-std::string Bound::described() const { return note.empty() ? values_text() : values_text() + " (" + note + ")"; }
+std::string Bound::described() const {
+  return note.empty() ? values_text() : values_text() + " (" + note + ")";
+}
 
 std::string Bound::message(double v) const {
   std::string m = "must be " + described();
@@ -86,10 +99,18 @@ Bound bound(Bound::Kind kind, int lo, int hi) {
 
 }  // namespace
 
-Bound in_range(int lo, int hi) { return bound(Bound::Kind::range, lo, hi); }
-Bound at_least(int lo) { return bound(Bound::Kind::at_least, lo, 0); }
-Bound above(int lo) { return bound(Bound::Kind::above, lo, 0); }
-Bound at_most(int hi) { return bound(Bound::Kind::at_most, 0, hi); }
+Bound in_range(int lo, int hi) {
+  return bound(Bound::Kind::range, lo, hi);
+}
+Bound at_least(int lo) {
+  return bound(Bound::Kind::at_least, lo, 0);
+}
+Bound above(int lo) {
+  return bound(Bound::Kind::above, lo, 0);
+}
+Bound at_most(int hi) {
+  return bound(Bound::Kind::at_most, 0, hi);
+}
 
 Bound one_of(std::vector<int> values, std::string zero_word) {
   Bound b = bound(Bound::Kind::one_of, 0, 0);
@@ -134,8 +155,12 @@ double parse_number(const std::string& key, const std::string& v, bool whole) {
   return x;
 }
 
-int parse_int(const std::string& key, const std::string& v) { return int(parse_number(key, v, true)); }
-double parse_double(const std::string& key, const std::string& v) { return parse_number(key, v, false); }
+int parse_int(const std::string& key, const std::string& v) {
+  return int(parse_number(key, v, true));
+}
+double parse_double(const std::string& key, const std::string& v) {
+  return parse_number(key, v, false);
+}
 
 bool parse_bool(const std::string& key, const std::string& v) {
   std::string l = v;
@@ -235,7 +260,8 @@ FieldRow text(const char* name, std::string PipelineConfig::*m, bool optional, c
 }
 
 // One word of `choices`, refused when parsed otherwise.
-FieldRow choice(const char* name, std::string PipelineConfig::*m, const std::vector<std::string>& choices, const char* doc) {
+FieldRow choice(const char* name, std::string PipelineConfig::*m, const std::vector<std::string>& choices,
+                const char* doc) {
   FieldRow r = row(name, doc, join(choices, " | "));
   r.parse = [m, choices](PipelineConfig& c, const std::string& key, const std::string& v) {
     if (std::find(choices.begin(), choices.end(), v) == choices.end())
@@ -280,7 +306,8 @@ FieldRow pattern(const std::string& prefix, const NameSet& known, std::map<std::
     for (const auto& kv : c.*m) {
       const std::string field = prefix + kv.first;
       if (std::find(known.names.begin(), known.names.end(), kv.first) == known.names.end())
-        e.push_back({field, "unknown " + std::string(known.what) + " '" + kv.first + "' (known: " + join(known.names, ", ") + ")"});
+        e.push_back({field, "unknown " + std::string(known.what) + " '" + kv.first +
+                                "' (known: " + join(known.names, ", ") + ")"});
       if (!b.holds(kv.second)) e.push_back({field, b.message(kv.second)});
     }
   };
@@ -319,13 +346,16 @@ FieldRow window_row() {
   const Bound side = in_range(1, kern::kMaxWindow);
   FieldRow r = row("window", "matching window of the cost, WxH (W wide, H high) or N for NxN",
                    "both sides odd, " + side.values_text());
-  r.parse = [](PipelineConfig& c, const std::string& key, const std::string& v) { parse_size(key, v, c.window_w, c.window_h); };
+  r.parse = [](PipelineConfig& c, const std::string& key, const std::string& v) {
+    parse_size(key, v, c.window_w, c.window_h);
+  };
   r.check = [side](const PipelineConfig& c, Errors& e) {
     if (!(side.holds(c.window_w) && side.holds(c.window_h) && c.window_w % 2 == 1 && c.window_h % 2 == 1))
       e.push_back({"window", "both sides odd, " + side.values_text() + " (got " + std::to_string(c.window_w) + "x" +
                                  std::to_string(c.window_h) + ")"});
   };
-  r.write = line("window", [](const PipelineConfig& c) { return std::to_string(c.window_w) + "x" + std::to_string(c.window_h); });
+  r.write = line("window",
+                 [](const PipelineConfig& c) { return std::to_string(c.window_w) + "x" + std::to_string(c.window_h); });
   return r;
 }
 
@@ -334,7 +364,8 @@ FieldRow paths_row() {
                    "a count 1, 2, 3, 4 or 8, or a list of angles of 0, 45, ..., 315 such as [0, 90, 180]");
   r.parse = [](PipelineConfig& c, const std::string&, const std::string& v) { c.path_mask = parse_paths(v); };
   r.check = [](const PipelineConfig& c, Errors& e) {
-    if (!(c.path_mask != 0 && (c.path_mask & ~kern::kAllPaths) == 0)) e.push_back({"paths", "at least one path of 0..315"});
+    if (!(c.path_mask != 0 && (c.path_mask & ~kern::kAllPaths) == 0))
+      e.push_back({"paths", "at least one path of 0..315"});
   };
   r.write = line("paths", [](const PipelineConfig& c) { return paths_to_string(c.path_mask); });
   return r;
@@ -359,13 +390,16 @@ std::vector<FieldRow> make_table() {
                    "largest left-right disagreement in pixels that the check accepts"),
       integer("median", &P::median, one_of({0, 3, 5, 7}, "off"), "k x k median filter of the disparity codes"),
       integer("clock_mhz", &P::clock_mhz, in_range(1, 1000), "processing clock in MHz (timing model)"),
-      choice("rectify", &P::rectify, {"none", "nearest", "bilinear"}, "rectification by remap tables before the ROI crop"),
+      choice("rectify", &P::rectify, {"none", "nearest", "bilinear"},
+             "rectification by remap tables before the ROI crop"),
       integer("rectify_rows", &P::rectify_rows, in_range(1, 256), "line-buffer rows of the rectification stage"),
-      integer("rectify_frac_bits", &P::rectify_frac_bits, in_range(0, 10), "fixed-point fraction bits of bilinear maps"),
+      integer("rectify_frac_bits", &P::rectify_frac_bits, in_range(0, 10),
+              "fixed-point fraction bits of bilinear maps"),
       text("rectify_maps_left", &P::rectify_maps_left, true,
            "left remap table (OpenCV FileStorage, float map_x, map_y; relative to the file's folder)"),
       text("rectify_maps_right", &P::rectify_maps_right, true, "right remap table, as rectify_maps_left"),
-      choice("input", &P::input, {"memory", "camera"}, "how pairs arrive: streamed from DDR, or a camera's pixel clock"),
+      choice("input", &P::input, {"memory", "camera"},
+             "how pairs arrive: streamed from DDR, or a camera's pixel clock"),
       number("input_gbps", &P::input_gbps, above(0), "memory input bandwidth, GB/s (left + right bytes)"),
       number("camera_pixel_mhz", &P::camera_pixel_mhz, above(0), "camera pixel clock, MHz"),
       integer("camera_h_blank_px", &P::camera_h_blank_px, at_least(0), "camera horizontal blanking, pixels per row"),
@@ -373,13 +407,15 @@ std::vector<FieldRow> make_table() {
       number("ddr_gbps", &P::ddr_gbps, above(0), "DDR bandwidth of the 8-path design's frame buffer, GB/s"),
       integer("ddr_latency_ns", &P::ddr_latency_ns, at_least(0), "DDR access latency, ns"),
       integer("fifo_depth", &P::fifo_depth, at_least(1), "default depth of every FIFO"),
-      integer("row_packing", &P::row_packing, in_range(1, 256), "disparities per word of the aggregation's row memories"),
+      integer("row_packing", &P::row_packing, in_range(1, 256),
+              "disparities per word of the aggregation's row memories"),
       integer("row_banks", &P::row_banks, at_least(0).with_note("0 = one memory per word"),
               "memories per path of the aggregation's row memories"),
       pattern("fifo_depth_", fifo_names(), &P::fifo_depths, at_least(1), "depth of one FIFO"),
       pattern("ii_", stage_names(), &P::stage_ii, at_least(1), "initiation interval of one stage (calibration)"),
       pattern("latency_", stage_names(), &P::stage_latency, at_least(0), "pipeline latency of one stage, cycles"),
-      pattern("setup_", stage_names(), &P::stage_setup, at_least(0), "cycles of per-frame set-up before a stage's first firing"),
+      pattern("setup_", stage_names(), &P::stage_setup, at_least(0),
+              "cycles of per-frame set-up before a stage's first firing"),
       number("host_copy_gbps", &P::host_copy_gbps, at_least(0).with_note("0 = no copies"),
              "the processor's copies of each pair in and map out, GB/s"),
       number("host_latency_ms", &P::host_latency_ms, at_least(0), "fixed host latency per frame, ms (calibration)"),
@@ -404,8 +440,9 @@ std::vector<CrossRule> make_rules() {
        }},
       {"p1_below_p2", "p2", "p1", "p1 < p2",
        [](const P& c) -> std::string {
-         return c.p1 < c.p2 ? ""
-                            : "must be greater than p1 (p1 = " + std::to_string(c.p1) + ", p2 = " + std::to_string(c.p2) + ")";
+         return c.p1 < c.p2
+                    ? ""
+                    : "must be greater than p1 (p1 = " + std::to_string(c.p1) + ", p2 = " + std::to_string(c.p2) + ")";
        }},
       {"bilinear_fraction", "rectify_frac_bits", "rectify_frac_bits", "rectify: bilinear needs rectify_frac_bits >= 1",
        [](const P& c) -> std::string {
@@ -413,8 +450,9 @@ std::vector<CrossRule> make_rules() {
        }},
       {"left_maps", "rectify_maps_left", "rectify_maps_left", "rectify other than none needs rectify_maps_left",
        [](const P& c) -> std::string {
-         return c.rectify == "none" || !c.rectify_maps_left.empty() ? ""
-                                                                    : "rectify: " + c.rectify + " needs the left camera's remap table";
+         return c.rectify == "none" || !c.rectify_maps_left.empty()
+                    ? ""
+                    : "rectify: " + c.rectify + " needs the left camera's remap table";
        }},
       {"right_maps", "rectify_maps_right", "rectify_maps_right", "rectify other than none needs rectify_maps_right",
        [](const P& c) -> std::string {
@@ -432,11 +470,16 @@ unsigned parse_paths(const std::string& text) {
   if (t.find(',') == std::string::npos && t.find('[') == std::string::npos) {
     const int n = parse_int("paths", t);
     switch (n) {
-      case 1: return kern::kPath0;
-      case 2: return kern::kPath0 | kern::kPath90;
-      case 3: return kern::kPath0 | kern::kPath45 | kern::kPath90;
-      case 4: return kern::kForwardPaths;
-      case 8: return kern::kAllPaths;
+      case 1:
+        return kern::kPath0;
+      case 2:
+        return kern::kPath0 | kern::kPath90;
+      case 3:
+        return kern::kPath0 | kern::kPath45 | kern::kPath90;
+      case 4:
+        return kern::kForwardPaths;
+      case 8:
+        return kern::kAllPaths;
       default:
         throw ConfigError("field 'paths': " + t +
                           " is not a path count (1, 2, 3, 4 or 8); give a list of angles such as 0,90 otherwise");

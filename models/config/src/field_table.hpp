@@ -33,8 +33,8 @@ struct Bound {
   // The message for the violating value v: "must be " + described(), then the value if shown.
   std::string message(double v) const;
 
-  Bound with_value() const;                   // a copy that names the value in its message
-  Bound with_note(std::string text) const;    // a copy with a note after its message
+  Bound with_value() const;                 // a copy that names the value in its message
+  Bound with_note(std::string text) const;  // a copy with a note after its message
 };
 Bound in_range(int lo, int hi);
 Bound at_least(int lo);

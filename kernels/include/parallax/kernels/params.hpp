@@ -57,7 +57,7 @@ struct StereoParams {
 // reader: p1 and p2 the SGM aggregation (sgm.hpp), lr_tolerance the WTA / left-right check
 // (wta_lr.hpp); no other kernel reads a register.
 struct StereoRegisters {
-  int p1;            // 0 <= p1 < p2
+  int p1;  // 0 <= p1 < p2
   int p2;
   int lr_tolerance;  // >= 0
 };
