@@ -204,14 +204,17 @@ std::vector<std::string> export_fifo_names(const config::PipelineConfig& c) {
 
 std::string clock_period_ns(double clock_mhz) { return fixed(1000.0 / clock_mhz, 3); }
 
-std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
-  check_request(r);
-  const config::PipelineConfig& c = r.config;
-  const kern::StereoParams p = c.stereo_params(r.width_px, r.height_px);
-  const ExportPrediction& pr = r.prediction;
-  const res::Inventory inv = res::design_inventory(c, r.width_px, r.height_px);
+namespace {
 
-  std::map<std::string, std::string> v;
+using Values = std::map<std::string, std::string>;
+
+bool is_two_pass(const config::PipelineConfig& c) {
+  return (c.path_mask & kern::kBackwardPaths) != 0;
+}
+
+// The design's name, clock, sizes, structure constants, bit widths and register values.
+void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& v) {
+  const config::PipelineConfig& c = r.config;
   v["NAME"] = c.name;
   v["NAME_ID"] = identifier(c.name);
   v["ORIGIN"] = r.origin;
@@ -248,13 +251,17 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["DISPARITY_BITS"] = std::to_string(kern::disparity_bits(p));
   v["OUT_BITS"] = std::to_string(((kern::disparity_bits(p) + 7) / 8) * 8);
   v["AGG_WORD"] = kern::aggregate_bits(p) <= 16 ? "uint16_t" : "uint32_t";
-  v["P1"] = std::to_string(p.p1);
-  v["P2"] = std::to_string(p.p2);
-  v["LR_TOLERANCE"] = std::to_string(p.lr_tolerance);
+  // The runtime registers: AXI4-Lite ports of the top; these values are the testbench's.
+  const kern::StereoRegisters regs = c.registers();
+  v["P1"] = std::to_string(regs.p1);
+  v["P2"] = std::to_string(regs.p2);
+  v["LR_TOLERANCE"] = std::to_string(regs.lr_tolerance);
   v["FRAMES"] = std::to_string(kTestbenchFrames);
   v["ROW_PACKING"] = std::to_string(c.row_packing);
+}
 
-  // Storage directives from the resource model's mapping.
+// Storage directives of the line buffers and the path-cost rows, from the resource model's mapping.
+void storage_values(const config::PipelineConfig& c, const res::Inventory& inv, Values& v) {
   const res::MemoryItem* lb = find_memory(inv, "cost", "left_line_buffer");
   v["LINE_BUFFER_IMPL"] = lb ? ram_impl(lb->per_copy.storage) : "bram";
   const res::MemoryItem* row = nullptr;
@@ -265,9 +272,11 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["ROW_RESHAPE"] = c.row_packing > 1 ? "#define PX_HLS_SGM_ROW_RESHAPE \"HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=" +
                                              std::to_string(c.row_packing) + " dim=3\"\n"
                                        : "";
+}
 
-  // Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera. Its row
-  // memories: true dual port for bilinear (a tap pair per row and firing), else simple dual port.
+// Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera. Its row
+// memories: true dual port for bilinear (a tap pair per row and firing), else simple dual port.
+void rectify_values(const config::PipelineConfig& c, const res::Inventory& inv, Values& v) {
   const bool rectify = c.rectify != "none";
   const res::MemoryItem* rlb = find_memory(inv, "rectify_left", "rectify_line_buffer");
   v["RECTIFY_STORAGE"] =
@@ -316,9 +325,12 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
                     "hold the remap tables (one entry per pixel, two little-endian int32: x, y in the kernels' fixed point), "
                     "fed through `map_left_in` / `map_right_in`.\n"
               : "";
+}
 
-  // FIFOs: depth constants, stream declarations (per pass for two-pass designs), README rows.
-  const bool two_pass = (c.path_mask & kern::kBackwardPaths) != 0;
+// FIFOs: depth constants, stream declarations (per pass for two-pass designs), README rows.
+void fifo_values(const ExportRequest& r, const res::Inventory& inv, Values& v) {
+  const config::PipelineConfig& c = r.config;
+  const bool two_pass = is_two_pass(c);
   std::string depths, streams, pass2_streams, fifo_rows;
   for (const kern::PipelineFifo* d : export_fifos(c)) {
     const std::string name = d->name;
@@ -347,9 +359,14 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["PASS1_STREAMS"] = streams;
   v["PASS2_STREAMS"] = pass2_streams;
   v["FIFO_ROWS"] = fifo_rows;
+}
 
-  // The top's interface: one pass streams the codes out; two passes go through a DDR frame buffer
-  // and write the map to memory (the second pass runs in reverse order).
+// The top's interface: one pass streams the codes out; two passes go through a DDR frame buffer
+// and write the map to memory (the second pass runs in reverse order). Needs rectify_values'.
+void interface_values(const ExportRequest& r, const kern::StereoParams& p, const res::Inventory& inv, Values& v) {
+  const config::PipelineConfig& c = r.config;
+  const bool two_pass = is_two_pass(c);
+  const bool rectify = c.rectify != "none";
   v["TWO_PASS"] = two_pass ? "true" : "false";
   v["TWO_PASS_01"] = two_pass ? "1" : "0";
   v["PIXELS"] = std::to_string(int64_t(r.width_px) * r.height_px);
@@ -403,15 +420,20 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   const std::string input_kind = rectify ? "raw (unrectified)" : "rectified";
   v["INPUT_KIND"] = input_kind;
   v["TOP_CONTRACT"] =
-      two_pass ? "// Computes the disparity of " + input_kind + " stereo pairs in two passes, one frame behind. Contract:\n"
-                 "// each input stream carries exactly kWidthPx x kHeightPx beats in raster order; call k runs pass 1\n"
-                 "// of its frame into `frame_write` and pass 2 of the previous frame from `frame_read` (the buffer\n"
-                 "// call k - 1 wrote; kFrameWords words each; the host swaps them), writing that frame's map to\n"
-                 "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties) and\n"
-                 "// the left-right tolerance in pixels."
-               : "// Computes the disparity of one " + input_kind + " stereo pair. Contract: each input stream carries exactly\n"
-                 "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
-                 "// registers hold P1 < P2 (the SGM penalties) and the left-right tolerance in pixels.";
+      two_pass
+          ? "// Computes the disparity of " + input_kind +
+                " stereo pairs in two passes, one frame behind. Contract:\n"
+                "// each input stream carries exactly kWidthPx x kHeightPx beats in raster order; call k runs pass 1\n"
+                "// of its frame into `frame_write` and pass 2 of the previous frame from `frame_read` (the buffer\n"
+                "// call k - 1 wrote; kFrameWords words each; the host swaps them), writing that frame's map to\n"
+                "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties, read\n"
+                "// by the aggregation only) and the left-right tolerance in pixels (read by the WTA / LR check\n"
+                "// only)."
+          : "// Computes the disparity of one " + input_kind +
+                " stereo pair. Contract: each input stream carries exactly\n"
+                "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
+                "// registers hold P1 < P2 (the SGM penalties, read by the aggregation only) and the left-right\n"
+                "// tolerance in pixels (read by the WTA / LR check only).";
   const std::string ports = "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] + "\n";
   v["TOP_SIGNATURE"] =
       ports + (two_pass ? "                  parallax::kern::DispCode* disparity, frame_word_t* frame_write,\n"
@@ -449,6 +471,11 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["FRAME_SEGMENT_IMPL"] = seg_mem ? ram_impl(seg_mem->per_copy.storage) : "bram";
   const res::MemoryItem* map_mem = find_memory(inv, "sink", "map_segment_buffer");
   v["MAP_SEGMENT_IMPL"] = map_mem ? ram_impl(map_mem->per_copy.storage) : "bram";
+}
+
+// LOOP_TRIPCOUNT and PIPELINE II of the loops that run until their stage is done.
+void loop_values(const ExportRequest& r, Values& v) {
+  const config::PipelineConfig& c = r.config;
   // LOOP_TRIPCOUNT of the loops that run until their stage is done: the cycle model's firings per
   // frame, of the full frame and of the reduced one.
   std::string trip_table;
@@ -477,19 +504,27 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["II_WTA_LR"] = ii_of({"wta_lr"});
   v["II_MEDIAN"] = ii_of({"median"});
   v["II_RECTIFY"] = ii_of({"rectify_left", "rectify_right"});
-  v["RECTIFY_FUNCTIONS"] = rectify ? fill("rectify_functions.cpp", template_text("rectify_functions.cpp"), v) : "";
+}
+
+// The README's output ports, kernel headers, provenance and predictions.
+void readme_values(const ExportRequest& r, const kern::StereoParams& p, Values& v) {
+  const ExportPrediction& pr = r.prediction;
+  const bool two_pass = is_two_pass(r.config);
   v["README_OUTPUT_PORTS"] =
-      two_pass ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
-                     " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
-                     " codes in raster order: 0.." + std::to_string(p.disparities - 1) + ", " + std::to_string(p.disparities) +
-                     " = invalid, of the previous call's frame (bundle `gmem_map`) |\n| `frame_write`, `frame_read` | AXI4 master (m_axi) | " +
-                     std::to_string(kern::frame_word_bits(p)) + " | two frame buffers of " + std::to_string(kern::frame_words(p)) +
-                     " words (" + std::to_string(kern::frame_bytes(p)) +
-                     " bytes) each, pass 1 writes one (bundle `gmem_wr`) while pass 2 reads the other (bundle `gmem_rd`); the host swaps them between calls; layout in `src/parallax/kernels/frame_buffer.hpp` |\n"
-               : "| `disparity_out` | AXI4-Stream | " + v["OUT_BITS"] + " | disparity codes 0.." + std::to_string(p.disparities - 1) +
-                     ", " + std::to_string(p.disparities) + " = invalid; same framing |\n";
-  v["TOP_FUNCTIONS"] = fill(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp",
-                            template_text(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp"), v);
+      two_pass
+          ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
+                " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
+                " codes in raster order: 0.." + std::to_string(p.disparities - 1) + ", " +
+                std::to_string(p.disparities) +
+                " = invalid, of the previous call's frame (bundle `gmem_map`) |\n| `frame_write`, `frame_read` | AXI4 "
+                "master (m_axi) | " +
+                std::to_string(kern::frame_word_bits(p)) + " | two frame buffers of " +
+                std::to_string(kern::frame_words(p)) + " words (" + std::to_string(kern::frame_bytes(p)) +
+                " bytes) each, pass 1 writes one (bundle `gmem_wr`) while pass 2 reads the other (bundle `gmem_rd`); "
+                "the host swaps them between calls; layout in `src/parallax/kernels/frame_buffer.hpp` |\n"
+          : "| `disparity_out` | AXI4-Stream | " + v["OUT_BITS"] + " | disparity codes 0.." +
+                std::to_string(p.disparities - 1) + ", " + std::to_string(p.disparities) +
+                " = invalid; same framing |\n";
 
   std::string headers;
   for (const auto& f : detail::copied_files())
@@ -520,7 +555,13 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   v["FF_PCT"] = fixed(pr.ff_pct, 1);
   v["DSP_PCT"] = fixed(pr.dsp_pct, 1);
   v["FITS"] = pr.fits ? "yes" : "no";
+}
 
+// The project's files: the templates filled with v (the two configurations of the unified flow
+// set their own values), stages.json, design.yaml, the kernels' copies and the testbench's data.
+std::vector<GeneratedFile> project_files(const ExportRequest& r, Values& v) {
+  const config::PipelineConfig& c = r.config;
+  const bool rectify = c.rectify != "none";
   std::vector<GeneratedFile> files;
   auto add = [&](const std::string& path, const std::string& tmpl) { files.push_back({path, fill(tmpl, template_text(tmpl), v), false}); };
   add("src/parallax_config.hpp", "parallax_config.hpp");
@@ -586,6 +627,30 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
     files.push_back({"tb/map_right.bin", table(r.map_right), true});
   }
   return files;
+}
+
+}  // namespace
+
+std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
+  check_request(r);
+  const config::PipelineConfig& c = r.config;
+  const kern::StereoParams p = c.stereo_params(r.width_px, r.height_px);
+  const res::Inventory inv = res::design_inventory(c, r.width_px, r.height_px);
+  Values v;
+  design_values(r, p, v);
+  storage_values(c, inv, v);
+  rectify_values(c, inv, v);
+  fifo_values(r, inv, v);
+  interface_values(r, p, inv, v);
+  loop_values(r, v);
+  readme_values(r, p, v);
+  // The functions filled from templates, once every value above is set.
+  const bool two_pass = is_two_pass(c);
+  v["RECTIFY_FUNCTIONS"] =
+      c.rectify != "none" ? fill("rectify_functions.cpp", template_text("rectify_functions.cpp"), v) : "";
+  v["TOP_FUNCTIONS"] = fill(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp",
+                            template_text(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp"), v);
+  return project_files(r, v);
 }
 
 void check_project_dir(const std::string& dir) {

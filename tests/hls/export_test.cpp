@@ -404,6 +404,43 @@ TEST(HlsExport, RegistersAreReadOutsideTheDataflowRegion) {
   }
 }
 
+// Each stage function takes only the registers its kernel reads: P1 and P2 the SGM aggregation
+// (kernels/sgm.hpp), the tolerance the WTA / left-right check (kernels/wta_lr.hpp), none the cost
+// and median stages; one pass or two.
+TEST(HlsExport, StagesTakeOnlyTheRegistersTheirKernelsRead) {
+  const std::map<std::string, std::set<std::string>> reads = {{"cost_stage", {}},
+                                                              {"aggregate_stage", {"p1", "p2"}},
+                                                              {"aggregate_forward_stage", {"p1", "p2"}},
+                                                              {"aggregate_back_stage", {"p1", "p2"}},
+                                                              {"wta_lr_stage", {"lr_tolerance"}},
+                                                              {"median_stage", {}}};
+  for (const char* sets : {"", "--set paths=8"}) {
+    const fs::path out = fresh_dir("stage_registers");
+    ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out, sets).status, 0);
+    const std::string src = read_file(out / "src/parallax_top.cpp");
+    static const std::regex def(R"(\nvoid (\w+)\(([^)]*)\) \{)");
+    static const std::regex value(R"(\bunsigned (\w+))");
+    std::map<std::string, std::set<std::string>> taken;
+    for (auto it = std::sregex_iterator(src.begin(), src.end(), def); it != std::sregex_iterator(); ++it) {
+      if (!reads.count((*it)[1])) continue;
+      const std::string params = (*it)[2];
+      std::set<std::string>& names = taken[(*it)[1]];
+      for (auto v = std::sregex_iterator(params.begin(), params.end(), value); v != std::sregex_iterator(); ++v)
+        names.insert((*v)[1]);
+    }
+    const std::set<std::string> stages =
+        std::string(sets).empty()
+            ? std::set<std::string>{"cost_stage", "aggregate_stage", "wta_lr_stage", "median_stage"}
+            : std::set<std::string>{"cost_stage", "aggregate_forward_stage", "aggregate_back_stage", "wta_lr_stage",
+                                    "median_stage"};
+    for (const std::string& st : stages) {
+      ASSERT_EQ(taken.count(st), 1u) << sets << ": no stage function " << st;
+      EXPECT_EQ(taken.at(st), reads.at(st)) << sets << ": " << st;
+    }
+    fs::remove_all(out);
+  }
+}
+
 // `make vitis` with either flow: the dry run (`make -n`) prints the commands; the configuration
 // files have the unified flow's keys and the reduced frame's define.
 TEST(HlsExport, MakeVitisRunsEitherFlow) {

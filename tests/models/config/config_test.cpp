@@ -1,7 +1,9 @@
 // unit + reject: configuration parsing, validation (every field named) and the paper presets.
 #include <gtest/gtest.h>
 
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "parallax/config/config.hpp"
 
@@ -112,6 +114,40 @@ TEST(Config, EveryViolationNamesItsField) {
     const std::string msg = e.what();
     for (const char* f : {"'window'", "'disparities'", "'median'"}) EXPECT_NE(msg.find(f), std::string::npos) << msg;
   }
+}
+
+// The documentation comes from the same table as parsing: each field once, in field_names()'s
+// order, with what it means; exactly the runtime registers are marked, and they are the values
+// registers() returns.
+TEST(Config, DocumentationListsEveryFieldOnce) {
+  std::istringstream doc(field_documentation());
+  std::vector<std::string> names, registers;
+  for (std::string line; std::getline(doc, line) && line != "rules between fields:";) {
+    const std::size_t colon = line.find(": ");
+    ASSERT_NE(colon, std::string::npos) << line;
+    EXPECT_GT(line.size(), colon + 2) << line;
+    std::string name = line.substr(0, colon);
+    const std::string mark = " (register)";
+    if (name.size() > mark.size() && name.compare(name.size() - mark.size(), mark.size(), mark) == 0) {
+      name.resize(name.size() - mark.size());
+      registers.push_back(name);
+    }
+    names.push_back(name);
+  }
+  EXPECT_EQ(names, field_names());
+  EXPECT_EQ(registers, (std::vector<std::string>{"p1", "p2", "lr_tolerance"}));
+  PipelineConfig c;
+  c.p1 = 3;
+  c.p2 = 17;
+  c.lr_tolerance = 2;
+  const kern::StereoRegisters r = c.registers();
+  EXPECT_EQ(r.p1, 3);
+  EXPECT_EQ(r.p2, 17);
+  EXPECT_EQ(r.lr_tolerance, 2);
+  const kern::StereoParams p = c.stereo_params(8, 8);
+  EXPECT_EQ(p.p1, 3);
+  EXPECT_EQ(p.p2, 17);
+  EXPECT_EQ(p.lr_tolerance, 2);
 }
 
 TEST(Config, NotYamlOrNotAMappingIsRejected) {

@@ -52,6 +52,23 @@ struct StereoParams {
   int median;          // 0 = off, 3, 5, 7
 };
 
+// The register fields of StereoParams on their own: the values a hardware register holds, which
+// may change between frames without resynthesis (the HLS top's AXI4-Lite ports). Each has one
+// reader: p1 and p2 the SGM aggregation (sgm.hpp), lr_tolerance the WTA / left-right check
+// (wta_lr.hpp); no other kernel reads a register.
+struct StereoRegisters {
+  int p1;  // 0 <= p1 < p2
+  int p2;
+  int lr_tolerance;  // >= 0
+};
+
+// p with its register fields set to r (the structure fields unchanged).
+inline void set_registers(StereoParams& p, const StereoRegisters& r) {
+  p.p1 = r.p1;
+  p.p2 = r.p2;
+  p.lr_tolerance = r.lr_tolerance;
+}
+
 enum RectifyMode : int { kRectifyNone = 0, kRectifyNearest = 1, kRectifyBilinear = 2 };
 
 // Rectification by remap tables (docs/algorithm.md §1).

@@ -1,6 +1,7 @@
-// PipelineConfig: the single source of truth for one design. Every constraint on it is written
-// once, in validate(), which returns all violations with their field names and allowed ranges;
-// the CLI, the explorer and the HLS export all use it. Nothing is silently adjusted.
+// PipelineConfig: the single source of truth for one design. Its fields are rows of one table
+// (src/field_table.cpp): each row parses, checks, writes and documents its field, followed by the
+// few rules between fields. validate() returns all violations with their field names and allowed
+// values; the CLI, the explorer and the HLS export all use it. Nothing is silently adjusted.
 #pragma once
 
 #include <map>
@@ -13,7 +14,9 @@
 
 namespace parallax::config {
 
-struct PipelineConfig {
+// The structure of a design: everything but its registers. The pipeline's shape and sizes (what
+// synthesis fixes) and the system around it, for the cycle model.
+struct Structure {
   std::string name = "unnamed";
   // Region of interest processed by the design: centred crop of the input (docs/evaluation.md);
   // roi_full = true processes the whole image.
@@ -26,10 +29,7 @@ struct PipelineConfig {
   int disparities = 64;
   int parallel_units = 1;
   unsigned path_mask = kern::kForwardPaths;
-  int p1 = 8;
-  int p2 = 32;
   bool lr_check = true;
-  int lr_tolerance = 1;
   int median = 5;              // 0 = off, 3, 5, 7
   int clock_mhz = 200;         // processing clock (used by the timing model)
   std::string rectify = "none";  // none | nearest | bilinear
@@ -65,8 +65,23 @@ struct PipelineConfig {
   double host_copy_gbps = 0.0;
   double host_latency_ms = 0.0;
   double host_frame_ms = 0.0;
+};
 
-  // The kernel parameters for an image (or ROI) of the given size.
+// The runtime registers of a design: the values a hardware register holds, which may change
+// between frames without resynthesis (the exported top's AXI4-Lite ports). p1 and p2 are read by
+// the SGM aggregation only, lr_tolerance by the WTA / left-right check only.
+struct Registers {
+  int p1 = 8;
+  int p2 = 32;
+  int lr_tolerance = 1;
+};
+
+// One design: its structure and its registers. Every field is a member under the name users
+// write (c.disparities, c.p1); registers() gives the registers alone.
+struct PipelineConfig : Structure, Registers {
+  // The register values, as the kernels take them.
+  kern::StereoRegisters registers() const;
+  // The kernel parameters for an image (or ROI) of the given size: the structure and the registers.
   kern::StereoParams stereo_params(int width_px, int height_px) const;
   // The rectification stage's parameters for frames of the given size: mode from `rectify`
   // (kRectifyNone when "none"), fraction bits only when bilinear, `rectify_rows` line-buffer rows.
@@ -104,8 +119,12 @@ PipelineConfig parse_config(const std::string& yaml_text, const std::string& sou
 // field. Call validate() afterwards.
 void set_field(PipelineConfig& c, const std::string& key, const std::string& value);
 
-// The field names accepted in files, in documentation order.
+// The field names accepted in files, in documentation order (a pattern as "ii_<stage>").
 const std::vector<std::string>& field_names();
+
+// The reference of the fields, one line each in documentation order: name, "(register)" for a
+// runtime register, what it means and the values it takes; then the rules between fields.
+std::string field_documentation();
 
 // Canonical text of the configuration (YAML), stable for hashing and for reports.
 std::string to_yaml(const PipelineConfig& c);

@@ -83,8 +83,11 @@ static_assert(parallax::kern::bits_for(uint64_t(kDisparities)) == kDisparityBits
 static_assert(kAggregateBits <= int(8 * sizeof(AggWord)), "aggregation word too narrow");
 static_assert(kOutBits % 8 == 0 && kOutBits >= kDisparityBits, "AXI4-Stream TDATA width");
 
-// The kernels' runtime parameters: the structure above plus the register values.
-inline parallax::kern::StereoParams design_params(unsigned p1, unsigned p2, unsigned lr_tolerance) {
+// The kernels' runtime parameters of a stage whose kernel reads no register (cost, median): the
+// structure above, every register field 0. The two stages that read registers are given only
+// those and set them on top (aggregate_params, wta_lr_params); a kernel that read a register its
+// stage was not given would see 0 and fail the C simulation's bit-exact comparison.
+inline parallax::kern::StereoParams structure_params() {
   parallax::kern::StereoParams p;
   p.width_px = kWidthPx;
   p.height_px = kHeightPx;
@@ -94,11 +97,26 @@ inline parallax::kern::StereoParams design_params(unsigned p1, unsigned p2, unsi
   p.disparities = kDisparities;
   p.parallel_units = kParallelUnits;
   p.path_mask = kPathMask;
+  p.lr_check = kLrCheck;
+  p.median = kMedian;
+  p.p1 = 0;
+  p.p2 = 0;
+  p.lr_tolerance = 0;
+  return p;
+}
+
+// The SGM aggregation's parameters: it reads the penalties P1 < P2 (kernels/sgm.hpp).
+inline parallax::kern::StereoParams aggregate_params(unsigned p1, unsigned p2) {
+  parallax::kern::StereoParams p = structure_params();
   p.p1 = int(p1);
   p.p2 = int(p2);
-  p.lr_check = kLrCheck;
+  return p;
+}
+
+// The WTA / left-right check's parameters: it reads the tolerance (kernels/wta_lr.hpp).
+inline parallax::kern::StereoParams wta_lr_params(unsigned lr_tolerance) {
+  parallax::kern::StereoParams p = structure_params();
   p.lr_tolerance = int(lr_tolerance);
-  p.median = kMedian;
   return p;
 }
 

@@ -108,11 +108,12 @@ read_pixels_loop:
   }
 }
 
-void cost_stage(hls::stream<uint8_t>& left_px, hls::stream<uint8_t>& right_px, hls::stream<CostBeat>& cost_beats,
-                unsigned p1, unsigned p2, unsigned lr_tolerance) {
+// The stages take only the registers their kernels read: none (cost, median), P1 and P2 (the
+// aggregation), the tolerance (the WTA / left-right check).
+void cost_stage(hls::stream<uint8_t>& left_px, hls::stream<uint8_t>& right_px, hls::stream<CostBeat>& cost_beats) {
   CostStageT stage;
   CostStream cost(cost_beats);
-  stage.configure(design_params(p1, p2, lr_tolerance));
+  stage.configure(structure_params());
 cost_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
@@ -127,12 +128,11 @@ cost_loop:
   }
 }
 
-void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_beats, unsigned p1, unsigned p2,
-                  unsigned lr_tolerance) {
+void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_beats, unsigned lr_tolerance) {
   WtaLrT stage;
   SumStream sum(sum_beats);
   CodeStream disp(disp_beats);
-  stage.configure(design_params(p1, p2, lr_tolerance), kTwoPass);  // two passes: the reversed stream
+  stage.configure(wta_lr_params(lr_tolerance), kTwoPass);  // two passes: the reversed stream
 wta_lr_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
@@ -147,12 +147,11 @@ wta_lr_loop:
   }
 }
 
-void median_stage(hls::stream<CodeBeat>& in_beats, hls::stream<CodeBeat>& out_beats, unsigned p1, unsigned p2,
-                  unsigned lr_tolerance) {
+void median_stage(hls::stream<CodeBeat>& in_beats, hls::stream<CodeBeat>& out_beats) {
   MedianT stage;
   CodeStream in(in_beats);
   CodeStream out(out_beats);
-  stage.configure(design_params(p1, p2, lr_tolerance));
+  stage.configure(structure_params());
 median_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
@@ -167,12 +166,11 @@ median_loop:
   }
 }
 
-void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& sum_beats, unsigned p1, unsigned p2,
-                     unsigned lr_tolerance) {
+void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& sum_beats, unsigned p1, unsigned p2) {
   AggregateT stage;
   CostStream cost(cost_beats);
   SumStream sum(sum_beats);
-  stage.configure(design_params(p1, p2, lr_tolerance), kern::stream_kinds(kPathMask, false), false, false);
+  stage.configure(aggregate_params(p1, p2), kern::stream_kinds(kPathMask, false), false, false);
   kern::NoStream<SumToken> no_forward;
   kern::NoStream<CostToken> no_tee;
 aggregate_loop:
@@ -208,7 +206,8 @@ write_disparity_loop:
 }
 
 // The DATAFLOW region: one process per stage, joined by the named streams. The registers come in
-// as plain values, read once by the top before the region starts: no AXI4-Lite access inside it.
+// as plain values, read once by the top before the region starts: no AXI4-Lite access inside it;
+// each goes on to the one stage that reads it.
 void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
                        hls::stream<disparity_beat_t>& disparity_out, unsigned p1_value, unsigned p2_value,
                        unsigned tolerance_value) {
@@ -235,10 +234,10 @@ void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_bea
 
   read_pixels(left_in, left_px);
   read_pixels(right_in, right_px);
-  cost_stage(left_px, right_px, cost, p1_value, p2_value, tolerance_value);
-  aggregate_stage(cost, sum, p1_value, p2_value, tolerance_value);
-  wta_lr_stage(sum, disp_lr, p1_value, p2_value, tolerance_value);
-  median_stage(disp_lr, disp_out, p1_value, p2_value, tolerance_value);
+  cost_stage(left_px, right_px, cost);
+  aggregate_stage(cost, sum, p1_value, p2_value);
+  wta_lr_stage(sum, disp_lr, tolerance_value);
+  median_stage(disp_lr, disp_out);
   write_disparity(disp_out, disparity_out);
 }
 
