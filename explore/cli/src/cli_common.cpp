@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <new>
 #include <thread>
 
@@ -196,8 +197,6 @@ json counts_json(const FrameCounts& c) {
   return j;
 }
 
-}  // namespace
-
 json result_json(const EvalResult& r) {
   json j = metrics_json(r.pooled.metrics);
   j["frames"] = int(r.frames.size());
@@ -223,6 +222,18 @@ void print_result_text(const EvalResult& r, const std::string& title) {
   for (const auto& f : r.frames) row(f);
   row(r.pooled);
   std::printf("%zu frames in %.2f s\n", r.frames.size(), r.seconds);
+}
+
+}  // namespace
+
+void print_evaluation(const EvalResult& r, bool as_json, const json& extra, const std::string& title) {
+  if (as_json) {
+    json j = result_json(r);
+    j.update(extra);
+    std::cout << j.dump(2) << "\n";
+  } else {
+    print_result_text(r, title);
+  }
 }
 
 cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<std::string>& notes) {

@@ -98,11 +98,11 @@ explore::EvalOptions eval_options(const std::string& gt, const std::string& fram
 // Named metrics as a JSON object.
 nlohmann::json metrics_json(const explore::DerivedMetrics& m);
 
-// An evaluation as JSON: pooled metrics, frame count, pooled counts, per-frame rows and seconds.
-nlohmann::json result_json(const explore::EvalResult& r);
-
-// An evaluation as a table on stdout under `title`: one row per frame, then the pooled row.
-void print_result_text(const explore::EvalResult& r, const std::string& title);
+// An evaluation on stdout. As JSON (`as_json`): pooled metrics, frame count, pooled counts,
+// per-frame rows and seconds, with the fields of `extra` added. As text: a table under `title`,
+// one row per frame, then the pooled row and the time.
+void print_evaluation(const explore::EvalResult& r, bool as_json, const nlohmann::json& extra,
+                      const std::string& title);
 
 // --- inputs ------------------------------------------------------------------------------------
 
