@@ -21,9 +21,9 @@
 
 namespace parallax::cli {
 
-// Exit statuses (listed in `parallax --help`): 0 success; 2 a user error (bad file, field, value
-// or option); 3 `sim` found a deadlock in the cycle model; 70 (EX_SOFTWARE) an internal error, a
-// defect of Parallax; 1 out of memory.
+// Exit statuses: 0 success; 2 a user error (bad file, field, value or option); 3 `sim` found a
+// deadlock in the cycle model; 70 (EX_SOFTWARE) an internal error, a defect of Parallax. These four
+// are listed in `parallax --help`; out of memory exits 1.
 constexpr int kExitUserError = 2;
 constexpr int kExitDeadlock = 3;
 constexpr int kExitInternalError = 70;

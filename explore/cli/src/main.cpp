@@ -21,6 +21,14 @@ namespace {
 
 constexpr long long kMaxImagePixels = 8192LL * 8192LL;  // 64 Mpx: KITTI is 0.5, Middlebury 2014 full size 6
 
+// The exit statuses (cli_common.hpp), at the end of `parallax --help` (and in the README).
+const char* const kExitStatusFooter =
+    "Exit status:\n"
+    "  0   success\n"
+    "  2   user error: a bad file, field, value or option (one \"parallax: error:\" line names it)\n"
+    "  3   parallax sim: the cycle model found a deadlock (the message names the FIFO or stage)\n"
+    "  70  internal error: a defect of Parallax (please report it)";
+
 // Parses the command line and runs the selected command; returns the exit status. A command's
 // exception propagates to the caller.
 int run_cli(int argc, char** argv) {
@@ -34,6 +42,9 @@ int run_cli(int argc, char** argv) {
 
   std::vector<Command> commands;
   for (const auto add : kCommands) commands.push_back(add(app));
+  // After the commands: a subcommand copies its parent's footer when it is created, and theirs
+  // stay as they were.
+  app.footer(kExitStatusFooter);
 
   if (argc > 1 && argv[1][0] != '-' &&
       std::none_of(commands.begin(), commands.end(), [&](const Command& c) { return c.app->get_name() == argv[1]; })) {
