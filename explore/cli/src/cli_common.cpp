@@ -13,6 +13,7 @@
 #include <iostream>
 #include <new>
 #include <thread>
+#include <utility>
 
 #include "parallax/config/user_error.hpp"
 #include "parallax/eval/dataset.hpp"
@@ -64,7 +65,8 @@ CLI::Validator OutputFolder() {
         while (!dir.empty() && !fs::exists(dir, ec)) dir = dir.parent_path();  // folders are created
         if (dir.empty()) dir = ".";
         if (!fs::is_directory(dir, ec)) return "'" + dir.string() + "' (of " + path + ") is not a folder";
-        if (access(dir.c_str(), W_OK) != 0) return "cannot create '" + path + "': folder '" + dir.string() + "' is not writable";
+        if (access(dir.c_str(), W_OK) != 0)
+          return "cannot create '" + path + "': folder '" + dir.string() + "' is not writable";
         return {};
       },
       "DIR");
@@ -213,7 +215,8 @@ json result_json(const EvalResult& r) {
 
 void print_result_text(const EvalResult& r, const std::string& title) {
   std::printf("%s\n", title.c_str());
-  std::printf("%-8s %9s %9s %9s %9s %9s %9s\n", "frame", "density", "dens_gt", "correct", "d1_all", "d1_fill", "mae_px");
+  std::printf("%-8s %9s %9s %9s %9s %9s %9s\n", "frame", "density", "dens_gt", "correct", "d1_all", "d1_fill",
+              "mae_px");
   auto row = [](const FrameRow& f) {
     const auto& m = f.metrics;
     std::printf("%-8s %8.2f%% %8.2f%% %8.2f%% %8.2f%% %8.2f%% %9.3f\n", f.frame_id.c_str(), m.density_pct,
@@ -239,7 +242,8 @@ void print_evaluation(const EvalResult& r, bool as_json, const json& extra, cons
 cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<std::string>& notes) {
   if (!fs::exists(path)) throw InputError(path + ": " + role + " image not found");
   const cv::Mat raw = decode_image_file(path, role);
-  if (raw.empty()) throw InputError(path + ": cannot read the " + std::string(role) + " image (not an image OpenCV can decode)");
+  if (raw.empty())
+    throw InputError(path + ": cannot read the " + std::string(role) + " image (not an image OpenCV can decode)");
   if (raw.depth() != CV_8U) throw InputError(path + ": " + role + " image must have 8-bit samples");
   cv::Mat grey;
   if (raw.channels() == 1) {
@@ -253,8 +257,9 @@ cv::Mat load_grey_file(const std::string& path, const char* role, std::vector<st
   return grey;
 }
 
-void load_pair_or_pattern(const config::PipelineConfig& cfg, const std::string& left_path, const std::string& right_path,
-                          std::vector<std::string>& notes, cv::Mat& l, cv::Mat& r, std::string& what) {
+void load_pair_or_pattern(const config::PipelineConfig& cfg, const std::string& left_path,
+                          const std::string& right_path, std::vector<std::string>& notes, cv::Mat& l, cv::Mat& r,
+                          std::string& what) {
   if (left_path.empty() != right_path.empty()) throw InputError("--left and --right go together");
   if (!left_path.empty()) {
     const cv::Mat left = load_grey_file(left_path, "left", notes), right = load_grey_file(right_path, "right", notes);
@@ -300,7 +305,7 @@ int report_exception(std::exception_ptr ep) {
     return kExitInternalError;
   };
   try {
-    std::rethrow_exception(ep);
+    std::rethrow_exception(std::move(ep));
   } catch (const UserError& e) {
     return user(e.what());
   } catch (const cv::Exception& e) {

@@ -94,12 +94,14 @@ void print_avoid_text(const config::PipelineConfig& cfg, const AvoidAccumulator&
                       std::map<std::string, double>& m) {
   const AvoidTimings& t = acc.timing_sum();
   const double n = double(acc.frames());
-  std::printf("%s on %d frames: obstacle_precision %.1f%%  obstacle_recall %.1f%%  range_error %.2f m  "
-              "decision_agreement %.1f%%\n",
-              cfg.name.c_str(), acc.frames(), m["obstacle_precision"], m["obstacle_recall"], m["range_error_m"],
-              m["decision_agreement_pct"]);
-  std::printf("avoidance stage: %.2f ms per frame (U/V maps %.2f, ground + filtering %.2f, contours %.2f, planning %.3f)\n",
-              m["mean_ms_per_frame"], t.uv_maps_ms / n, t.filtering_ms / n, t.contours_ms / n, t.planning_ms / n);
+  std::printf(
+      "%s on %d frames: obstacle_precision %.1f%%  obstacle_recall %.1f%%  range_error %.2f m  "
+      "decision_agreement %.1f%%\n",
+      cfg.name.c_str(), acc.frames(), m["obstacle_precision"], m["obstacle_recall"], m["range_error_m"],
+      m["decision_agreement_pct"]);
+  std::printf(
+      "avoidance stage: %.2f ms per frame (U/V maps %.2f, ground + filtering %.2f, contours %.2f, planning %.3f)\n",
+      m["mean_ms_per_frame"], t.uv_maps_ms / n, t.filtering_ms / n, t.contours_ms / n, t.planning_ms / n);
 }
 
 // The accumulated scores, the stage's time split and the per-frame rows as one JSON object.
@@ -111,8 +113,10 @@ json avoid_json(const config::PipelineConfig& cfg, const AvoidAccumulator& acc, 
   j["config"] = cfg.name;
   j["frames"] = acc.frames();
   for (const auto& kv : m) j[kv.first] = kv.second;
-  j["ms_split"] = {{"uv_maps", t.uv_maps_ms / n}, {"filtering", t.filtering_ms / n},
-                   {"contours", t.contours_ms / n}, {"planning", t.planning_ms / n}};
+  j["ms_split"] = {{"uv_maps", t.uv_maps_ms / n},
+                   {"filtering", t.filtering_ms / n},
+                   {"contours", t.contours_ms / n},
+                   {"planning", t.planning_ms / n}};
   j["per_frame"] = per_frame;
   return j;
 }
@@ -138,8 +142,11 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
     const AvoidResult& mine = acc.last_design();
     mav.send(mavlink_heartbeat(seq++, 1, 191));
     mav.send(mavlink_velocity_setpoint(seq++, 1, 191, uint32_t(acc.frames() * 100), mine.velocity_mps));
-    per_frame.push_back({{"frame", f.id}, {"obstacles", s.predicted}, {"reference_obstacles", s.reference},
-                         {"matched", s.matched}, {"decision", to_string(mine.manoeuvre)},
+    per_frame.push_back({{"frame", f.id},
+                         {"obstacles", s.predicted},
+                         {"reference_obstacles", s.reference},
+                         {"matched", s.matched},
+                         {"decision", to_string(mine.manoeuvre)},
                          {"reference_decision", to_string(acc.last_reference().manoeuvre)},
                          {"nearest_range_m", mine.obstacles.empty() ? 0.0 : mine.obstacles.front().range_m},
                          {"velocity_mps", {mine.velocity_mps.x(), mine.velocity_mps.y(), mine.velocity_mps.z()}}});
@@ -157,14 +164,20 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
 
 Command add_avoid(CLI::App& app) {
   auto o = std::make_shared<AvoidOptions>();
-  auto* avoidc = app.add_subcommand("avoid", "Obstacle detection and avoidance on the design's disparity maps, scored against the same stage on the ground truth");
+  auto* avoidc = app.add_subcommand("avoid",
+                                    "Obstacle detection and avoidance on the design's disparity maps, scored against "
+                                    "the same stage on the ground truth");
   add_config_options(avoidc, o->cfg, true);
   avoidc->add_option("--dataset", o->dataset, "Dataset folder (KITTI 2015/2012)")->required();
   avoidc->add_option("--frames", o->frames, "Frame filter, e.g. 0-9,15, or @FILE (default: all with ground truth)")
       ->transform(FrameList());
   avoidc->add_option("--gt", o->gt, "Ground truth: noc or occ")->capture_default_str();
-  avoidc->add_option("--calib", o->calib, "Rig calibration: KITTI calib file (P_rect_02/03 or P2/P3) or OpenCV YAML (default: KITTI 2015's)");
-  avoidc->add_option("--mavlink-out", o->mavlink, "Write MAVLink 2 (HEARTBEAT + velocity setpoint per frame) to a file or udp:HOST:PORT")
+  avoidc->add_option(
+      "--calib", o->calib,
+      "Rig calibration: KITTI calib file (P_rect_02/03 or P2/P3) or OpenCV YAML (default: KITTI 2015's)");
+  avoidc
+      ->add_option("--mavlink-out", o->mavlink,
+                   "Write MAVLink 2 (HEARTBEAT + velocity setpoint per frame) to a file or udp:HOST:PORT")
       ->check(OutputFile());
   avoidc->add_flag("--json", o->json, "Print JSON");
   return bind_command(avoidc, o, run_avoid);

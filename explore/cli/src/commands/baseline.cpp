@@ -45,21 +45,31 @@ int run_baseline_command(const BaselineOptions& o, const Invocation&) {
 Command add_baseline(CLI::App& app) {
   auto o = std::make_shared<BaselineOptions>();
   BaselineParams& p = o->params;
-  auto* baseline = app.add_subcommand("baseline", "Score OpenCV StereoSGBM (opencv-hh4 | opencv-sgbm) on the same crops");
-  baseline->add_option("method", o->name, "opencv-hh4 or opencv-sgbm")->required()->check(CLI::IsMember({"opencv-hh4", "opencv-sgbm"}));
+  auto* baseline =
+      app.add_subcommand("baseline", "Score OpenCV StereoSGBM (opencv-hh4 | opencv-sgbm) on the same crops");
+  baseline->add_option("method", o->name, "opencv-hh4 or opencv-sgbm")
+      ->required()
+      ->check(CLI::IsMember({"opencv-hh4", "opencv-sgbm"}));
   baseline->add_option("--dataset", o->dataset, "Dataset folder")->required();
-  baseline->add_option("--frames", o->frames, "Frames, e.g. 1-5,7, or @FILE (default: all with GT)")->transform(FrameList());
+  baseline->add_option("--frames", o->frames, "Frames, e.g. 1-5,7, or @FILE (default: all with GT)")
+      ->transform(FrameList());
   baseline->add_option("--gt", o->gt, "noc or occ")->check(CLI::IsMember({"noc", "occ"}));
   baseline->add_option("--roi", o->roi, "ROI WxH or full (default: the dataset's, 640x360 for KITTI)");
   baseline->add_option("--disparities", p.disparities, "Disparity count (rounded up to a multiple of 16)")
-      ->capture_default_str()->check(InRange(1, 1024));
+      ->capture_default_str()
+      ->check(InRange(1, 1024));
   baseline->add_option("--block-size", p.block_size, "Matching block size (odd)")
-      ->capture_default_str()->check(InRange(1, 255))->check(CLI::Validator(
-          [](std::string& v) { return std::atoi(v.c_str()) % 2 == 1 ? std::string() : "block size " + v + " is even; OpenCV needs it odd"; },
+      ->capture_default_str()
+      ->check(InRange(1, 255))
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            return std::atoi(v.c_str()) % 2 == 1 ? std::string() : "block size " + v + " is even; OpenCV needs it odd";
+          },
           "odd"));
   baseline->add_option("--p1", p.p1, "P1 (0 <= P1 < P2)")->capture_default_str()->check(InRange(0, 1 << 24));
   baseline->add_option("--p2", p.p2, "P2 (> P1)")->capture_default_str()->check(InRange(1, 1 << 24));
-  baseline->add_option("--save", o->save, "Write each frame's disparity and colour picture here")->check(OutputFolder());
+  baseline->add_option("--save", o->save, "Write each frame's disparity and colour picture here")
+      ->check(OutputFolder());
   baseline->add_option("--threads", o->threads, "Frames in parallel")->check(InRange(1, 256));
   baseline->add_flag("--json", o->json, "Print JSON");
   baseline->add_flag("--quiet", o->quiet, "No progress lines");

@@ -33,17 +33,21 @@ struct BenchOptions {
 json bench_json(const std::vector<BenchRow>& rows) {
   json j = json::array();
   for (const auto& row : rows)
-    j.push_back({{"method", row.method}, {"median_ms", row.median_ms}, {"min_ms", row.min_ms},
-                 {"peak_rss_mib", row.peak_rss_mib}, {"peak_extra_rss_mib", row.peak_extra_rss_mib},
-                 {"ratio_to_hh4", row.ratio_to_peer}, {"min_ratio_to_hh4", row.min_ratio_to_peer}});
+    j.push_back({{"method", row.method},
+                 {"median_ms", row.median_ms},
+                 {"min_ms", row.min_ms},
+                 {"peak_rss_mib", row.peak_rss_mib},
+                 {"peak_extra_rss_mib", row.peak_extra_rss_mib},
+                 {"ratio_to_hh4", row.ratio_to_peer},
+                 {"min_ratio_to_hh4", row.min_ratio_to_peer}});
   return j;
 }
 
 // The rows as a table on stdout under a line naming the pair size and the runs per method.
 void print_bench_text(const std::vector<BenchRow>& rows, const cv::Mat& l, int iterations) {
   std::printf("%dx%d pair, %d runs per method, one thread each\n", l.cols, l.rows, iterations);
-  std::printf("%-36s %10s %10s %10s %12s %9s %9s\n", "method", "median_ms", "min_ms", "peak_MiB", "extra_MiB",
-              "vs_HH4", "min_vs");
+  std::printf("%-36s %10s %10s %10s %12s %9s %9s\n", "method", "median_ms", "min_ms", "peak_MiB", "extra_MiB", "vs_HH4",
+              "min_vs");
   for (const auto& row : rows)
     std::printf("%-36s %10.1f %10.1f %10.1f %12.1f %9.2f %9.2f\n", row.method.c_str(), row.median_ms, row.min_ms,
                 row.peak_rss_mib, row.peak_extra_rss_mib, row.ratio_to_peer, row.min_ratio_to_peer);
@@ -69,11 +73,15 @@ int run_bench(const BenchOptions& o, const Invocation&) {
 
 Command add_bench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
-  auto* bench = app.add_subcommand("bench", "Time the func run against OpenCV StereoSGBM (HH4, SGBM) on one pair, one thread each, with peak memory");
+  auto* bench = app.add_subcommand(
+      "bench",
+      "Time the func run against OpenCV StereoSGBM (HH4, SGBM) on one pair, one thread each, with peak memory");
   add_config_options(bench, o->cfg, true);
   bench->add_option("--left", o->left, "Left image")->required();
   bench->add_option("--right", o->right, "Right image")->required();
-  bench->add_option("--iterations", o->iterations, "Runs per method (the median is reported)")->capture_default_str()->check(InRange(1, 1000));
+  bench->add_option("--iterations", o->iterations, "Runs per method (the median is reported)")
+      ->capture_default_str()
+      ->check(InRange(1, 1000));
   bench->add_flag("--json", o->json, "Print JSON");
   return bind_command(bench, o, run_bench);
 }

@@ -23,7 +23,8 @@ int run_config(const ConfigArgs& o, const Invocation&) {
 
 Command add_config(CLI::App& app) {
   auto o = std::make_shared<ConfigArgs>();
-  auto* show = app.add_subcommand("config", "Validate a configuration and print it in canonical form with derived bit widths");
+  auto* show =
+      app.add_subcommand("config", "Validate a configuration and print it in canonical form with derived bit widths");
   add_config_options(show, *o, true);
   return bind_command(show, o, run_config);
 }

@@ -33,7 +33,8 @@ int run_crop_dataset(const CropOptions& o, const Invocation&) {
 
 Command add_crop_dataset(CLI::App& app) {
   auto o = std::make_shared<CropOptions>();
-  auto* crop = app.add_subcommand("crop-dataset", "Write the centred ROI crop of a KITTI 2015 dataset (images and GT) as a new dataset");
+  auto* crop = app.add_subcommand(
+      "crop-dataset", "Write the centred ROI crop of a KITTI 2015 dataset (images and GT) as a new dataset");
   crop->add_option("--dataset", o->src, "Source dataset")->required();
   crop->add_option("--frames", o->frames, "Frames, e.g. 1-5,7, or @FILE (default: all)")->transform(FrameList());
   crop->add_option("--roi", o->roi, "ROI WxH")->capture_default_str();

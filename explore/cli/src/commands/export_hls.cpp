@@ -46,7 +46,8 @@ config::PipelineConfig stored_design(const std::string& db, const std::string& p
       hits.push_back(std::move(row));
   if (hits.empty()) throw InputError(db + ": no design whose hash starts with '" + prefix + "' (see parallax pareto)");
   if (hits.size() > 1)
-    throw InputError(db + ": " + std::to_string(hits.size()) + " designs start with '" + prefix + "'; give more digits");
+    throw InputError(db + ": " + std::to_string(hits.size()) + " designs start with '" + prefix +
+                     "'; give more digits");
   if (hits[0].status == "invalid") throw InputError(db + ": design " + hits[0].hash + " is invalid: " + hits[0].reason);
   config::PipelineConfig cfg = config::parse_config(hits[0].config_yaml, db + " design " + hits[0].hash);
   origin = db + " design " + hits[0].hash;
@@ -58,7 +59,8 @@ config::PipelineConfig stored_design(const std::string& db, const std::string& p
 // The design to export, from --config (with --set) or from --db and --design; `origin` is set to
 // where it came from. Throws InputError unless exactly one of the two sources is given.
 config::PipelineConfig export_design(const ExportHlsOptions& o, std::string& origin) {
-  if (o.cfg.path.empty() == o.db.empty()) throw InputError("export-hls: give either --config CFG or --db FILE --design ID");
+  if (o.cfg.path.empty() == o.db.empty())
+    throw InputError("export-hls: give either --config CFG or --db FILE --design ID");
   if (!o.db.empty() && o.design.empty()) throw InputError("export-hls: --db needs --design ID");
   if (!o.cfg.path.empty() && !o.design.empty()) throw InputError("export-hls: --design belongs to --db");
   if (o.cfg.path.empty()) return stored_design(o.db, o.design, origin);
@@ -82,9 +84,16 @@ json export_json(const ExportHlsOptions& o, const config::PipelineConfig& cfg, c
   j["fifos"] = json::array();
   for (const auto& f : req.fifos)
     j["fifos"].push_back({{"name", f.name}, {"depth", f.depth}, {"stall_free", f.stall_free}, {"why", f.why}});
-  j["prediction"] = {{"last_pixel_cycle", pr.last_pixel_cycle}, {"fpga_latency_ms", pr.fpga_latency_ms},
-                     {"cycles_per_frame", pr.cycles_per_frame}, {"fps", pr.fps}, {"device", pr.device},
-                     {"bram18k", pr.bram18k}, {"lut", pr.lut}, {"ff", pr.ff}, {"dsp", pr.dsp}, {"fits", pr.fits}};
+  j["prediction"] = {{"last_pixel_cycle", pr.last_pixel_cycle},
+                     {"fpga_latency_ms", pr.fpga_latency_ms},
+                     {"cycles_per_frame", pr.cycles_per_frame},
+                     {"fps", pr.fps},
+                     {"device", pr.device},
+                     {"bram18k", pr.bram18k},
+                     {"lut", pr.lut},
+                     {"ff", pr.ff},
+                     {"dsp", pr.dsp},
+                     {"fits", pr.fits}};
   return j;
 }
 
@@ -96,9 +105,10 @@ void print_export_text(const ExportHlsOptions& o, const config::PipelineConfig& 
               cfg.name.c_str(), req.part.c_str(), req.clock_mhz);
   std::printf("  FIFO depths:");
   for (const auto& f : req.fifos) std::printf(" %s=%lld", f.name.c_str(), (long long)f.depth);
-  std::printf("\n  predicted: FPGA latency %.2f ms (%lld cycles), %.1f fps; %lld BRAM_18K, %lld LUT, %lld FF, %lld DSP on %s\n",
-              pr.fpga_latency_ms, (long long)pr.last_pixel_cycle, pr.fps, (long long)pr.bram18k, (long long)pr.lut,
-              (long long)pr.ff, (long long)pr.dsp, pr.device.c_str());
+  std::printf(
+      "\n  predicted: FPGA latency %.2f ms (%lld cycles), %.1f fps; %lld BRAM_18K, %lld LUT, %lld FF, %lld DSP on %s\n",
+      pr.fpga_latency_ms, (long long)pr.last_pixel_cycle, pr.fps, (long long)pr.bram18k, (long long)pr.lut,
+      (long long)pr.ff, (long long)pr.dsp, pr.device.c_str());
   std::printf("  next: cd %s && make csim   (g++ alone; bit-exact check against the simulator)\n", o.out.c_str());
 }
 
@@ -118,7 +128,8 @@ int run_export_hls(const ExportHlsOptions& o, const Invocation&) {
   ExportOptions eo;
   eo.part = o.part;
   eo.clock_mhz = o.clock;
-  if (!o.json) std::fprintf(stderr, "parallax: simulating %s (FIFO sizing, timing, golden output)...\n", cfg.name.c_str());
+  if (!o.json)
+    std::fprintf(stderr, "parallax: simulating %s (FIFO sizing, timing, golden output)...\n", cfg.name.c_str());
   hlsx::ExportRequest req;
   std::vector<hlsx::GeneratedFile> files;
   try {
@@ -150,7 +161,8 @@ Command add_export_hls(CLI::App& app) {
   exportc->add_option("--part", o->part, "FPGA part of the synthesis run")->capture_default_str();
   exportc->add_option("--clock-mhz", o->clock, "Synthesis clock in MHz (default: the design's clock_mhz)")
       ->check(InRange(1.0, 2000.0));
-  exportc->add_option("--left", o->left, "Left image of the testbench, cropped to the design's ROI (default: a generated test pattern)");
+  exportc->add_option("--left", o->left,
+                      "Left image of the testbench, cropped to the design's ROI (default: a generated test pattern)");
   exportc->add_option("--right", o->right, "Right image of the testbench");
   exportc->add_flag("--json", o->json, "Print JSON");
   return bind_command(exportc, o, run_export_hls);

@@ -32,8 +32,10 @@ struct FitOptions {
 json fit_json(const res::FitResult& fr) {
   const res::Coefficients& k = fr.coefficients;
   json j;
-  j["coefficients"] = {{"lut_scale", k.lut_scale}, {"lut_per_stage", k.lut_per_stage},
-                       {"lut_per_memory", k.lut_per_memory}, {"ff_per_op_bit", k.ff_per_op_bit},
+  j["coefficients"] = {{"lut_scale", k.lut_scale},
+                       {"lut_per_stage", k.lut_per_stage},
+                       {"lut_per_memory", k.lut_per_memory},
+                       {"ff_per_op_bit", k.ff_per_op_bit},
                        {"ff_per_stage", k.ff_per_stage}};
   j["lut_loo_mean_pct"] = fr.lut_loo_mean_pct;
   j["lut_loo_max_pct"] = fr.lut_loo_max_pct;
@@ -41,12 +43,16 @@ json fit_json(const res::FitResult& fr) {
   j["ff_loo_max_pct"] = fr.ff_loo_max_pct;
   j["points"] = json::array();
   for (const auto& row : fr.rows)
-    j["points"].push_back({{"name", row.name},
-                           {"published", {{"bram18k", row.published.bram18k}, {"lut", row.published.lut},
-                                          {"ff", row.published.ff}, {"dsp", row.published.dsp}}},
-                           {"fitted", {{"bram18k", row.fitted.bram18k}, {"lut", row.fitted.lut},
-                                       {"ff", row.fitted.ff}, {"dsp", row.fitted.dsp}}},
-                           {"leave_one_out", {{"lut", row.loo.lut}, {"ff", row.loo.ff}}}});
+    j["points"].push_back(
+        {{"name", row.name},
+         {"published",
+          {{"bram18k", row.published.bram18k},
+           {"lut", row.published.lut},
+           {"ff", row.published.ff},
+           {"dsp", row.published.dsp}}},
+         {"fitted",
+          {{"bram18k", row.fitted.bram18k}, {"lut", row.fitted.lut}, {"ff", row.fitted.ff}, {"dsp", row.fitted.dsp}}},
+         {"leave_one_out", {{"lut", row.loo.lut}, {"ff", row.loo.ff}}}});
   return j;
 }
 
@@ -63,13 +69,13 @@ void print_fit_text(const res::FitResult& fr, std::size_t point_count, const std
     auto pct = [](int64_t m, int64_t p) { return p > 0 ? 100.0 * double(m - p) / double(p) : 0.0; };
     std::printf("%-26s %8lld %8lld %8s | %7lld %7lld %7lld %+6.1f%% | %7lld %7lld %7lld %+6.1f%%\n", row.name.c_str(),
                 (long long)row.published.bram18k, (long long)row.fitted.bram18k,
-                row.published.bram18k == row.fitted.bram18k ? "exact" : "",
-                (long long)row.published.lut, (long long)row.fitted.lut, (long long)row.loo.lut,
-                pct(row.loo.lut, row.published.lut), (long long)row.published.ff, (long long)row.fitted.ff,
-                (long long)row.loo.ff, pct(row.loo.ff, row.published.ff));
+                row.published.bram18k == row.fitted.bram18k ? "exact" : "", (long long)row.published.lut,
+                (long long)row.fitted.lut, (long long)row.loo.lut, pct(row.loo.lut, row.published.lut),
+                (long long)row.published.ff, (long long)row.fitted.ff, (long long)row.loo.ff,
+                pct(row.loo.ff, row.published.ff));
   }
-  std::printf("\nleave-one-out |error|: LUT mean %.1f%% max %.1f%%; FF mean %.1f%% max %.1f%%\n",
-              fr.lut_loo_mean_pct, fr.lut_loo_max_pct, fr.ff_loo_mean_pct, fr.ff_loo_max_pct);
+  std::printf("\nleave-one-out |error|: LUT mean %.1f%% max %.1f%%; FF mean %.1f%% max %.1f%%\n", fr.lut_loo_mean_pct,
+              fr.lut_loo_max_pct, fr.ff_loo_mean_pct, fr.ff_loo_max_pct);
 }
 
 int run_fit_resources(const FitOptions& o, const Invocation&) {
@@ -102,10 +108,13 @@ int run_fit_resources(const FitOptions& o, const Invocation&) {
 Command add_fit_resources(CLI::App& app) {
   auto o = std::make_shared<FitOptions>();
   auto* fitc = app.add_subcommand(
-      "fit-resources", "Fit the resource model's LUT/FF coefficients to published designs (Ceres), with leave-one-out errors");
+      "fit-resources",
+      "Fit the resource model's LUT/FF coefficients to published designs (Ceres), with leave-one-out errors");
   fitc->add_option("--points", o->points, "Published points (YAML)")->capture_default_str();
-  fitc->add_option("--root", o->root, "Repository root the points' config paths are relative to")->capture_default_str();
-  fitc->add_option("--write", o->write, "Write the coefficients with the fitted section here (e.g. models/data/resource_model.yaml)")
+  fitc->add_option("--root", o->root, "Repository root the points' config paths are relative to")
+      ->capture_default_str();
+  fitc->add_option("--write", o->write,
+                   "Write the coefficients with the fitted section here (e.g. models/data/resource_model.yaml)")
       ->check(OutputFile());
   fitc->add_flag("--json", o->json, "Print JSON");
   return bind_command(fitc, o, run_fit_resources);

@@ -51,10 +51,18 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
       g.time += r.time_s;
     }
     if (per_seed)
-      per_seed->push_back({{"seed", s}, {"reached_goal", r.reached_goal}, {"collided", r.collided},
-                           {"min_clearance_m", r.min_clearance_m}, {"time_s", r.time_s}, {"frames", r.frames}});
+      per_seed->push_back({{"seed", s},
+                           {"reached_goal", r.reached_goal},
+                           {"collided", r.collided},
+                           {"min_clearance_m", r.min_clearance_m},
+                           {"time_s", r.time_s},
+                           {"frames", r.frames}});
     std::fprintf(stderr, "parallax: %s seed %d at %.1f m/s: %s (min clearance %.2f m, %d frames)\n", sc.name.c_str(), s,
-                 speed, r.collided ? "collision" : r.reached_goal ? "goal" : "time out", r.min_clearance_m, r.frames);
+                 speed,
+                 r.collided       ? "collision"
+                 : r.reached_goal ? "goal"
+                                  : "time out",
+                 r.min_clearance_m, r.frames);
   }
   return g;
 }
@@ -91,9 +99,10 @@ int run_fly(const FlyOptions& o, const Invocation&) {
     j["max_safe_speed_mps"] = lo;
     j["stopping_distance_bound_mps"] = bound;
     if (!o.json)
-      std::printf("%s in %s over %d seeds: highest speed without a collision %.2f m/s (searched to 0.5 m/s); "
-                  "stopping-distance bound %.2f m/s (a %.1f m/s2, reaction %.1f ms = latency + frame, range 12 m)\n",
-                  cfg.name.c_str(), sc.name.c_str(), o.seeds, lo, bound, fp.max_accel_mps2, latency_ms + frame_ms);
+      std::printf(
+          "%s in %s over %d seeds: highest speed without a collision %.2f m/s (searched to 0.5 m/s); "
+          "stopping-distance bound %.2f m/s (a %.1f m/s2, reaction %.1f ms = latency + frame, range 12 m)\n",
+          cfg.name.c_str(), sc.name.c_str(), o.seeds, lo, bound, fp.max_accel_mps2, latency_ms + frame_ms);
   } else {
     json per_seed = json::array();
     const FlightTally g = fly_seeds(cfg, sc, fp, o.seeds, o.speed, &per_seed);
@@ -105,11 +114,12 @@ int run_fly(const FlyOptions& o, const Invocation&) {
     j["time_to_goal_s"] = g.ok ? g.time / g.ok : 0.0;
     j["per_seed"] = per_seed;
     if (!o.json)
-      std::printf("%s in %s at %.1f m/s over %d seeds: success_rate %.0f%%  collisions %d  min_clearance %.2f m  "
-                  "path_length_ratio %.3f  time_to_goal %.1f s  (frame %.1f ms, latency %.1f ms)\n",
-                  cfg.name.c_str(), sc.name.c_str(), o.speed, o.seeds, j["success_rate"].get<double>(), g.collisions,
-                  g.min_clear, j["path_length_ratio"].get<double>(), j["time_to_goal_s"].get<double>(), interval_ms,
-                  latency_ms);
+      std::printf(
+          "%s in %s at %.1f m/s over %d seeds: success_rate %.0f%%  collisions %d  min_clearance %.2f m  "
+          "path_length_ratio %.3f  time_to_goal %.1f s  (frame %.1f ms, latency %.1f ms)\n",
+          cfg.name.c_str(), sc.name.c_str(), o.speed, o.seeds, j["success_rate"].get<double>(), g.collisions,
+          g.min_clear, j["path_length_ratio"].get<double>(), j["time_to_goal_s"].get<double>(), interval_ms,
+          latency_ms);
   }
   if (o.json) std::cout << j.dump(2) << "\n";
   return 0;
@@ -119,14 +129,19 @@ int run_fly(const FlyOptions& o, const Invocation&) {
 
 Command add_fly(CLI::App& app) {
   auto o = std::make_shared<FlyOptions>();
-  auto* flyc = app.add_subcommand("fly", "Closed-loop flights through synthetic scenes with the design's disparity, latency and frame rate");
+  auto* flyc = app.add_subcommand(
+      "fly", "Closed-loop flights through synthetic scenes with the design's disparity, latency and frame rate");
   add_config_options(flyc, o->cfg, true);
   flyc->add_option("--scenario", o->scenario, "Scenario file, e.g. configs/scenarios/forest.yaml")->required();
   flyc->add_option("--seeds", o->seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(InRange(1, 1000));
   flyc->add_option("--speed-mps", o->speed, "Cruise speed")->capture_default_str()->check(InRange(0.1, 50.0));
-  flyc->add_option("--size", o->size, "Rendered width (height x 9/16); the design's ROI follows")->capture_default_str()->check(InRange(64, 1280));
+  flyc->add_option("--size", o->size, "Rendered width (height x 9/16); the design's ROI follows")
+      ->capture_default_str()
+      ->check(InRange(64, 1280));
   flyc->add_flag("--find-max-speed", o->find, "Search the highest speed without a collision over the seeds");
-  flyc->add_option("--noise-grey", o->noise, "Sensor noise: Gaussian sigma added to the grey levels")->capture_default_str()->check(InRange(0.0, 50.0));
+  flyc->add_option("--noise-grey", o->noise, "Sensor noise: Gaussian sigma added to the grey levels")
+      ->capture_default_str()
+      ->check(InRange(0.0, 50.0));
   flyc->add_option("--time-limit-s", o->limit, "Flight time limit")->capture_default_str()->check(InRange(1.0, 3600.0));
   flyc->add_flag("--json", o->json, "Print JSON");
   return bind_command(flyc, o, run_fly);

@@ -40,8 +40,11 @@ json import_json(const HlsReport& rep, const std::vector<std::string>& set,
   j["interval_cycles"] = {{"min", rep.interval_min_cycles}, {"max", rep.interval_max_cycles}};
   j["loops"] = json::array();
   for (const auto& l : rep.loops)
-    j["loops"].push_back({{"name", l.name}, {"trip_count", l.trip_count}, {"latency_cycles", l.latency_cycles},
-                          {"ii", l.pipeline_ii}, {"depth", l.pipeline_depth}});
+    j["loops"].push_back({{"name", l.name},
+                          {"trip_count", l.trip_count},
+                          {"latency_cycles", l.latency_cycles},
+                          {"ii", l.pipeline_ii},
+                          {"depth", l.pipeline_depth}});
   j["resources"] = rep.resources;
   j["available"] = rep.available;
   j["calibrated"] = set;
@@ -55,9 +58,10 @@ json import_json(const HlsReport& rep, const std::vector<std::string>& set,
 // the model beside the synthesis with their ratio.
 void print_import_text(const HlsReport& rep, const std::vector<std::string>& set,
                        const std::vector<ModelVsSynthesis>& comparison) {
-  std::printf("%s on %s (Vitis HLS %s): clock %.2f ns target, %.3f ns estimated; latency %lld-%lld cycles, interval %lld\n",
-              rep.top.c_str(), rep.part.c_str(), rep.version.c_str(), rep.target_clock_ns, rep.estimated_clock_ns,
-              (long long)rep.best_latency_cycles, (long long)rep.worst_latency_cycles, (long long)rep.interval_max_cycles);
+  std::printf(
+      "%s on %s (Vitis HLS %s): clock %.2f ns target, %.3f ns estimated; latency %lld-%lld cycles, interval %lld\n",
+      rep.top.c_str(), rep.part.c_str(), rep.version.c_str(), rep.target_clock_ns, rep.estimated_clock_ns,
+      (long long)rep.best_latency_cycles, (long long)rep.worst_latency_cycles, (long long)rep.interval_max_cycles);
   for (const auto& l : rep.loops)
     std::printf("  loop %-20s trip %lld  II %d  depth %d  latency %lld\n", l.name.c_str(), (long long)l.trip_count,
                 l.pipeline_ii, l.pipeline_depth, (long long)l.latency_cycles);
@@ -69,7 +73,10 @@ void print_import_text(const HlsReport& rep, const std::vector<std::string>& set
     std::printf("\n%-28s %14s %14s %10s\n", "model vs synthesis", "model", "synthesis", "syn/model");
     for (const auto& c : comparison) {
       std::printf("%-28s %14.0f %14.0f", c.figure.c_str(), c.model, c.synthesis);
-      if (c.model > 0 && c.synthesis >= 0) std::printf(" %10.2f", c.synthesis / c.model); else std::printf(" %10s", "-");
+      if (c.model > 0 && c.synthesis >= 0)
+        std::printf(" %10.2f", c.synthesis / c.model);
+      else
+        std::printf(" %10s", "-");
       std::printf("  %s\n", c.note.c_str());
     }
   }
@@ -115,12 +122,15 @@ int run_import_hls(const ImportHlsOptions& o, const Invocation&) {
 
 Command add_import_hls(CLI::App& app) {
   auto o = std::make_shared<ImportHlsOptions>();
-  auto* importc = app.add_subcommand("import-hls", "Read a Vitis HLS csynth.xml back: latency, II per loop, resources; calibrate a configuration");
+  auto* importc = app.add_subcommand(
+      "import-hls", "Read a Vitis HLS csynth.xml back: latency, II per loop, resources; calibrate a configuration");
   importc->add_option("--report", o->report, "csynth.xml of a synthesis run")->required();
   importc->add_option("--config", o->config, "Configuration to calibrate (ii_<stage>, latency_<stage> from the loops)");
   importc->add_option("--write-config", o->write, "Write the calibrated configuration here")->check(OutputFile());
   importc->add_flag("--json", o->json, "Print JSON");
-  importc->add_option("--html", o->html, "With --config: write a page with the model's and the synthesis figures side by side")
+  importc
+      ->add_option("--html", o->html,
+                   "With --config: write a page with the model's and the synthesis figures side by side")
       ->check(OutputFile());
   return bind_command(importc, o, run_import_hls);
 }

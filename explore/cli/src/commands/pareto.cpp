@@ -48,8 +48,10 @@ void print_front_text(const SweepSpec& spec, const std::vector<ResultStore::Row>
     if (pos != std::string::npos) name = r.config_yaml.substr(pos + 6, r.config_yaml.find('\n', pos) - pos - 6);
     std::printf("%-18s %-40s", r.hash.c_str(), name.substr(0, 40).c_str());
     auto cell = [&](const std::string& k, int width, int decimals) {  // a missing metric: "-"
-      if (r.metrics.count(k)) std::printf(" %*.*f", width, decimals, r.metrics.at(k));
-      else std::printf(" %*s", width, "-");
+      if (r.metrics.count(k))
+        std::printf(" %*.*f", width, decimals, r.metrics.at(k));
+      else
+        std::printf(" %*s", width, "-");
     };
     for (const auto& o : spec.objectives) cell(o.key, 16, 3);
     cell("fps", 8, 1);

@@ -62,7 +62,9 @@ Command add_report(CLI::App& app) {
   reportc->add_option("--json", o->json, "Write the same content as JSON")->check(OutputFile());
   reportc->add_option("--dataset", o->dataset, "Dataset to render the front designs' images from (optional)");
   reportc->add_option("--frame", o->frame, "Frame of those images (default: the first with ground truth)");
-  reportc->add_option("--details", o->details, "Front designs with a full section")->capture_default_str()->check(InRange(0, 1000));
+  reportc->add_option("--details", o->details, "Front designs with a full section")
+      ->capture_default_str()
+      ->check(InRange(0, 1000));
   return bind_command(reportc, o, run_report);
 }
 

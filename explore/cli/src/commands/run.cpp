@@ -118,7 +118,8 @@ int run_run(const RunOptions& o, const Invocation& inv) {
   DesignSection section;
   if (!o.gt.empty()) {
     const DisparityMap gt = ground_truth_on_roi(o.gt, left.size(), roi);
-    const FrameRow row = make_frame_row("pair", count_frame(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask));
+    const FrameRow row =
+        make_frame_row("pair", count_frame(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask));
     j.update(metrics_json(row.metrics));
     if (!o.html.empty()) {
       section.gt_colour = colourize_disparity(gt.disparity_px, gt.valid_mask, double(cfg.disparities));
@@ -142,11 +143,15 @@ Command add_run(CLI::App& app) {
   add_config_options(run, o->cfg, true);
   run->add_option("--left", o->left, "Left image (8-bit grey or colour)")->required();
   run->add_option("--right", o->right, "Right image, same size")->required();
-  run->add_option("--out", o->out, "Disparity as KITTI 16-bit PNG (value = 256 d, 0 = invalid)")->required()->check(OutputFile(".png"));
-  run->add_option("--colour", o->colour, "Colour-coded picture (default: OUT with _colour.png)")->check(OutputFile(".png"));
+  run->add_option("--out", o->out, "Disparity as KITTI 16-bit PNG (value = 256 d, 0 = invalid)")
+      ->required()
+      ->check(OutputFile(".png"));
+  run->add_option("--colour", o->colour, "Colour-coded picture (default: OUT with _colour.png)")
+      ->check(OutputFile(".png"));
   run->add_option("--gt", o->gt, "Ground truth (KITTI 16-bit PNG, full image or ROI size) to score against");
   run->add_flag("--json", o->json, "Print a JSON object (metrics when --gt is given)");
-  run->add_option("--html", o->html, "Write a self-contained HTML page of this design on this pair (images, timing, resources)")
+  run->add_option("--html", o->html,
+                  "Write a self-contained HTML page of this design on this pair (images, timing, resources)")
       ->check(OutputFile());
   return bind_command(run, o, run_run);
 }

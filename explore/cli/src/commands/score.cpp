@@ -34,10 +34,16 @@ int run_score(const ScoreOptions& o, const Invocation&) {
 
 Command add_score(CLI::App& app) {
   auto o = std::make_shared<ScoreOptions>();
-  auto* score = app.add_subcommand("score", "Score existing KITTI-format disparity PNGs (any method) with the same protocol");
-  score->add_option("--pred", o->pred, "Folder of predictions, one KITTI 16-bit PNG per frame named <frame id>_10.png (as eval --save writes them)")->required();
+  auto* score =
+      app.add_subcommand("score", "Score existing KITTI-format disparity PNGs (any method) with the same protocol");
+  score
+      ->add_option(
+          "--pred", o->pred,
+          "Folder of predictions, one KITTI 16-bit PNG per frame named <frame id>_10.png (as eval --save writes them)")
+      ->required();
   score->add_option("--dataset", o->dataset, "Dataset folder with the ground truth")->required();
-  score->add_option("--frames", o->frames, "Frames to score, e.g. 1-5,7, or @FILE (default: all with GT)")->transform(FrameList());
+  score->add_option("--frames", o->frames, "Frames to score, e.g. 1-5,7, or @FILE (default: all with GT)")
+      ->transform(FrameList());
   score->add_option("--gt", o->gt, "Ground truth kind: noc or occ")->check(CLI::IsMember({"noc", "occ"}));
   score->add_option("--roi", o->roi, "ROI WxH or full (default: the dataset's, 640x360 for KITTI)");
   score->add_flag("--json", o->json, "Print JSON");

@@ -62,12 +62,19 @@ void add_resources_json(json& j, const ResourceReport& r) {
   j["ff"] = u.ff;
   j["dsp"] = u.dsp;
   j["fits_device"] = r.util.fits;
-  j["utilisation_pct"] = {{"bram18k", r.util.bram18k_pct}, {"uram", r.util.uram_pct}, {"lut", r.util.lut_pct},
-                          {"ff", r.util.ff_pct}, {"dsp", r.util.dsp_pct}};
+  j["utilisation_pct"] = {{"bram18k", r.util.bram18k_pct},
+                          {"uram", r.util.uram_pct},
+                          {"lut", r.util.lut_pct},
+                          {"ff", r.util.ff_pct},
+                          {"dsp", r.util.dsp_pct}};
   j["resource_stages"] = json::array();
   for (const auto& s : r.estimate.stages)
-    j["resource_stages"].push_back({{"stage", s.stage}, {"bram18k", s.usage.bram18k}, {"lut", s.usage.lut},
-                                    {"ff", s.usage.ff}, {"dsp", s.usage.dsp}, {"lutram_luts", s.usage.lutram_luts},
+    j["resource_stages"].push_back({{"stage", s.stage},
+                                    {"bram18k", s.usage.bram18k},
+                                    {"lut", s.usage.lut},
+                                    {"ff", s.usage.ff},
+                                    {"dsp", s.usage.dsp},
+                                    {"lutram_luts", s.usage.lutram_luts},
                                     {"srl_luts", s.usage.srl_luts}});
   j["power_estimate_w"] = {{"static", r.power.static_w}, {"dynamic", r.power.dynamic_w}, {"total", r.power.total_w}};
   j["energy_estimate_mj_per_frame"] = r.power.energy_mj_per_frame;
@@ -81,8 +88,8 @@ void print_resources(const ResourceReport& r) {
   for (const auto& s : r.estimate.stages)
     std::printf("  %-19s %8lld %8lld %8lld %8lld %8d\n", s.stage.c_str(), (long long)s.usage.bram18k,
                 (long long)s.usage.lut, (long long)s.usage.ff, (long long)s.usage.dsp, 0);
-  std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", "total", (long long)u.bram18k, (long long)u.lut, (long long)u.ff,
-              (long long)u.dsp, (long long)u.uram);
+  std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", "total", (long long)u.bram18k, (long long)u.lut,
+              (long long)u.ff, (long long)u.dsp, (long long)u.uram);
   std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", d.name.c_str(), (long long)d.bram18k, (long long)d.lut,
               (long long)d.ff, (long long)d.dsp, (long long)d.uram);
   std::printf("  %-19s %7.1f%% %7.1f%% %7.1f%% %7.1f%% %7.1f%%\n", "utilisation", r.util.bram18k_pct, r.util.lut_pct,
@@ -148,24 +155,30 @@ json sim_json(const config::PipelineConfig& cfg, int clock, const cv::Mat& l, co
                 {"frame_bytes_written", c.ddr_bytes_written},
                 {"frame_bytes_read", c.ddr_bytes_read},
                 {"map_bytes_written", c.map_bytes_written},
-                {"gbytes_per_s_at_fps", double(c.ddr_bytes_written + c.ddr_bytes_read + c.map_bytes_written) * result.fps / 1e9},
+                {"gbytes_per_s_at_fps",
+                 double(c.ddr_bytes_written + c.ddr_bytes_read + c.map_bytes_written) * result.fps / 1e9},
                 {"ddr_gbps", cfg.ddr_gbps}};
   if (result.unbounded_last_pixel_cycle >= 0) j["unbounded_fifos_last_pixel_cycle"] = result.unbounded_last_pixel_cycle;
   j["stages"] = json::array();
   const std::map<std::string, std::string> why = ii_reasons(cfg, l.cols, l.rows);
   for (const auto& s : c.stages) {
-    json sj = {{"name", s.name}, {"ii_cycles", s.ii_cycles}, {"latency_cycles", s.latency_cycles},
-               {"fires", s.fires}, {"busy_cycles", s.busy_cycles},
-               {"input_stall_cycles", s.input_stall_cycles}, {"output_stall_cycles", s.output_stall_cycles},
+    json sj = {{"name", s.name},
+               {"ii_cycles", s.ii_cycles},
+               {"latency_cycles", s.latency_cycles},
+               {"fires", s.fires},
+               {"busy_cycles", s.busy_cycles},
+               {"input_stall_cycles", s.input_stall_cycles},
+               {"output_stall_cycles", s.output_stall_cycles},
                {"port_conflict_cycles", s.port_conflict_cycles},
-               {"first_fire_cycle", s.first_fire_cycle}, {"last_fire_cycle", s.last_fire_cycle}};
+               {"first_fire_cycle", s.first_fire_cycle},
+               {"last_fire_cycle", s.last_fire_cycle}};
     if (why.count(s.name)) sj["ii_limit"] = why.at(s.name);
     j["stages"].push_back(sj);
   }
   j["fifos"] = json::array();
   for (const auto& f : c.fifos) {
-    json fj = {{"name", f.name}, {"producer", f.producer}, {"consumer", f.consumer}, {"depth", f.depth},
-               {"tokens", f.tokens}, {"high_water", f.high_water}};
+    json fj = {{"name", f.name},   {"producer", f.producer}, {"consumer", f.consumer},
+               {"depth", f.depth}, {"tokens", f.tokens},     {"high_water", f.high_water}};
     if (result.stall_free_depths.count(f.name)) fj["stall_free_depth"] = result.stall_free_depths.at(f.name);
     j["fifos"].push_back(fj);
   }
@@ -186,12 +199,12 @@ void print_sim_summary(const config::PipelineConfig& cfg, int clock, const cv::M
   std::printf("frame_interval_ms  %.3f (%s)\nfps                %.2f\n", result.frame_interval_ms,
               result.interval_limit.c_str(), result.fps);
   if (c.ddr_word_bits > 0)
-    std::printf("ddr per frame      %lld B written + %lld B read (frame buffer, %d-bit words), map %lld B; "
-                "%.2f GB/s at %.2f fps (ddr_gbps %.2f)\n",
-                (long long)c.ddr_bytes_written, (long long)c.ddr_bytes_read, c.ddr_word_bits,
-                (long long)c.map_bytes_written,
-                double(c.ddr_bytes_written + c.ddr_bytes_read + c.map_bytes_written) * result.fps / 1e9, result.fps,
-                cfg.ddr_gbps);
+    std::printf(
+        "ddr per frame      %lld B written + %lld B read (frame buffer, %d-bit words), map %lld B; "
+        "%.2f GB/s at %.2f fps (ddr_gbps %.2f)\n",
+        (long long)c.ddr_bytes_written, (long long)c.ddr_bytes_read, c.ddr_word_bits, (long long)c.map_bytes_written,
+        double(c.ddr_bytes_written + c.ddr_bytes_read + c.map_bytes_written) * result.fps / 1e9, result.fps,
+        cfg.ddr_gbps);
 }
 
 // The simulation as text on stdout: the summary, the stages and what sets their II, the FIFOs,
@@ -208,21 +221,23 @@ void print_sim_text(const config::PipelineConfig& cfg, int clock, const cv::Mat&
                 s.latency_cycles, (long long)s.fires, (long long)s.busy_cycles, (long long)s.input_stall_cycles,
                 (long long)s.output_stall_cycles, (long long)s.first_fire_cycle, (long long)s.last_fire_cycle);
   std::printf("\nII derived from the kernels' declarations at the design's %d MHz (docs/hls.md):\n", cfg.clock_mhz);
-  for (const auto& kv : ii_reasons(cfg, l.cols, l.rows)) std::printf("  %-13s %s\n", kv.first.c_str(), kv.second.c_str());
+  for (const auto& kv : ii_reasons(cfg, l.cols, l.rows))
+    std::printf("  %-13s %s\n", kv.first.c_str(), kv.second.c_str());
   if (c.rows_fast_forwarded > 0)
     std::printf("\n%lld of %d output rows repeated the previous rows' schedule exactly and were applied at once\n",
                 (long long)c.rows_fast_forwarded, l.rows);
   if (result.unbounded_last_pixel_cycle >= 0)
-    std::printf("\nwith unbounded FIFOs the last pixel leaves at cycle %lld (%+lld cycles); stall_free = depth at which\n"
-                "no producer ever waits (behind a faster producer: its whole backlog, harmless back-pressure)\n",
-                (long long)result.unbounded_last_pixel_cycle,
-                (long long)(result.unbounded_last_pixel_cycle - c.last_pixel_cycle));
+    std::printf(
+        "\nwith unbounded FIFOs the last pixel leaves at cycle %lld (%+lld cycles); stall_free = depth at which\n"
+        "no producer ever waits (behind a faster producer: its whole backlog, harmless back-pressure)\n",
+        (long long)result.unbounded_last_pixel_cycle,
+        (long long)(result.unbounded_last_pixel_cycle - c.last_pixel_cycle));
   std::printf("\n%-15s %-15s %-15s %7s %10s %10s %12s\n", "fifo", "producer", "consumer", "depth", "tokens",
               "high_water", "stall_free");
   for (const auto& f : c.fifos) {
     const auto it = result.stall_free_depths.find(f.name);
-    std::printf("%-15s %-15s %-15s %7lld %10lld %10lld %12s\n", f.name.c_str(), f.producer.c_str(),
-                f.consumer.c_str(), (long long)f.depth, (long long)f.tokens, (long long)f.high_water,
+    std::printf("%-15s %-15s %-15s %7lld %10lld %10lld %12s\n", f.name.c_str(), f.producer.c_str(), f.consumer.c_str(),
+                (long long)f.depth, (long long)f.tokens, (long long)f.high_water,
                 it == result.stall_free_depths.end() ? "-" : std::to_string(it->second).c_str());
   }
   print_resources(rr);
@@ -239,11 +254,17 @@ void write_sim_page(const SimOptions& o, const Invocation& inv, const config::Pi
   s.left_grey = l.clone();
   const DisparityMap d = to_disparity_map(result.cycle.codes);
   s.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities));
-  s.metrics = {{"latency_ms", result.latency_ms}, {"frame_interval_ms", result.frame_interval_ms}, {"fps", result.fps},
-               {"cycles_per_frame", double(result.cycle.cycles_per_frame)}, {"bram18k", double(rr.estimate.total.bram18k)},
-               {"lut", double(rr.estimate.total.lut)}, {"ff", double(rr.estimate.total.ff)},
-               {"dsp", double(rr.estimate.total.dsp)}, {"fits_device", rr.util.fits ? 1.0 : 0.0},
-               {"power_w", rr.power.total_w}, {"energy_mj_per_frame", rr.power.energy_mj_per_frame}};
+  s.metrics = {{"latency_ms", result.latency_ms},
+               {"frame_interval_ms", result.frame_interval_ms},
+               {"fps", result.fps},
+               {"cycles_per_frame", double(result.cycle.cycles_per_frame)},
+               {"bram18k", double(rr.estimate.total.bram18k)},
+               {"lut", double(rr.estimate.total.lut)},
+               {"ff", double(rr.estimate.total.ff)},
+               {"dsp", double(rr.estimate.total.dsp)},
+               {"fits_device", rr.util.fits ? 1.0 : 0.0},
+               {"power_w", rr.power.total_w},
+               {"energy_mj_per_frame", rr.power.energy_mj_per_frame}};
   s.cycle = result.cycle;
   s.resources = rr.estimate;
   s.device = device;
@@ -267,7 +288,8 @@ int finish_sim(const SimOptions& o, const Invocation& inv, config::PipelineConfi
   }
   if (!o.write_config.empty()) {
     cfg.clock_mhz = clock;
-    std::ofstream(o.write_config) << "# written by parallax sim" << (calibration.empty() ? "" : " (calibrated: " + calibration + ")") << "\n"
+    std::ofstream(o.write_config) << "# written by parallax sim"
+                                  << (calibration.empty() ? "" : " (calibrated: " + calibration + ")") << "\n"
                                   << config::to_yaml(cfg);
   }
   if (!o.out.empty()) {
@@ -312,26 +334,32 @@ int run_sim(const SimOptions& o, const Invocation& inv) {
 
 Command add_sim(CLI::App& app) {
   auto o = std::make_shared<SimOptions>();
-  auto* simc = app.add_subcommand("sim", "Cycle-level simulation of one frame: latency, frame rate, stalls, FIFO depths");
+  auto* simc =
+      app.add_subcommand("sim", "Cycle-level simulation of one frame: latency, frame rate, stalls, FIFO depths");
   add_config_options(simc, o->cfg, true);
   simc->add_option("--left", o->left, "Left image (default: a generated test pattern of the ROI size)");
   simc->add_option("--right", o->right, "Right image");
-  simc->add_option("--out", o->out, "Write the disparity (KITTI 16-bit PNG) of the cycle run")->check(OutputFile(".png"));
-  simc->add_option("--clock-mhz", o->clock_mhz, "Processing clock in MHz (default: the config's clock_mhz)")->check(InRange(1, 2000));
+  simc->add_option("--out", o->out, "Write the disparity (KITTI 16-bit PNG) of the cycle run")
+      ->check(OutputFile(".png"));
+  simc->add_option("--clock-mhz", o->clock_mhz, "Processing clock in MHz (default: the config's clock_mhz)")
+      ->check(InRange(1, 2000));
   simc->add_flag("--json", o->json, "Print JSON");
   simc->add_flag("--no-sizing", o->no_sizing, "Skip the second run that finds stall-free FIFO depths");
   simc->add_flag("--coupled", o->coupled,
                  "Fire the kernels' datapath inside the schedule at the design's PU (slower; same report and "
                  "output, which by default come from the control-path schedule and the func run)");
-  simc->add_option("--html", o->html, "Write a self-contained HTML page of this design (timing, FIFOs, resources, images)")
+  simc->add_option("--html", o->html,
+                   "Write a self-contained HTML page of this design (timing, FIFOs, resources, images)")
       ->check(OutputFile());
   simc->add_option("--device", o->device, "Device for utilisation and fit (" + res::device_names() + ")")
       ->capture_default_str();
   simc->add_flag("--every-firing", o->every_firing,
                  "Simulate every firing instead of applying rows that repeat exactly at once (same report, slower)");
-  simc->add_option("--vcd", o->vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)")->check(OutputFile());
+  simc->add_option("--vcd", o->vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)")
+      ->check(OutputFile());
   simc->add_option("--vcd-cycles", o->vcd_cycles, "Cycle window A:B of the VCD (default 0:20000)");
-  simc->add_option("--calibrate-latency-ms", o->cal_latency, "Measured latency at this clock: set host_latency_ms to match")
+  simc->add_option("--calibrate-latency-ms", o->cal_latency,
+                   "Measured latency at this clock: set host_latency_ms to match")
       ->check(InRange(0.001, 1e6));
   simc->add_option("--calibrate-fps", o->cal_fps, "Measured frame rate at this clock: set host_frame_ms to match")
       ->check(InRange(0.001, 1e6));

@@ -89,7 +89,8 @@ std::function<void(int, int, int)> sweep_progress() {
                    done, total, skipped, eta);
       if (done == total) std::fprintf(stderr, "\n");
     } else {
-      std::fprintf(stderr, "parallax: sweep %d/%d designs (%d already stored), ETA %.0f s\n", done, total, skipped, eta);
+      std::fprintf(stderr, "parallax: sweep %d/%d designs (%d already stored), ETA %.0f s\n", done, total, skipped,
+                   eta);
     }
   };
 }
@@ -125,10 +126,11 @@ int run_sweep_command(const SweepOptions& o, const Invocation& inv) {
   ResultStore store(db_path);
   ro.progress = sweep_progress();
   const SweepSummary sum = run_sweep(spec, store, ro);
-  std::printf("sweep '%s'%s: %d designs: %d evaluated (%d invalid, %d failed), %d already in %s; %.1f s\n",
-              spec.name.c_str(),
-              ro.shard_count > 1 ? (" shard " + std::to_string(ro.shard_index) + "/" + std::to_string(ro.shard_count)).c_str() : "",
-              sum.total, sum.evaluated + sum.invalid, sum.invalid, sum.failed, sum.skipped, db_path.c_str(), sum.seconds);
+  std::printf(
+      "sweep '%s'%s: %d designs: %d evaluated (%d invalid, %d failed), %d already in %s; %.1f s\n", spec.name.c_str(),
+      ro.shard_count > 1 ? (" shard " + std::to_string(ro.shard_index) + "/" + std::to_string(ro.shard_count)).c_str()
+                         : "",
+      sum.total, sum.evaluated + sum.invalid, sum.invalid, sum.failed, sum.skipped, db_path.c_str(), sum.seconds);
   for (const auto& p : sum.first_problems) std::fprintf(stderr, "parallax: %s\n", p.c_str());
   const bool all_failed = sum.total > 0 && sum.skipped == 0 && sum.invalid + sum.failed >= sum.evaluated + sum.invalid;
 #ifdef PARALLAX_HAVE_MPI
@@ -156,8 +158,10 @@ int run_sweep_command(const SweepOptions& o, const Invocation& inv) {
 
 Command add_sweep(CLI::App& app) {
   auto o = std::make_shared<SweepOptions>();
-  auto* sweepc = app.add_subcommand("sweep", "Evaluate many designs (accuracy, timing, resources) into a SQLite store; reruns skip finished designs");
-  sweepc->add_option("spec", o->spec, "Sweep file (YAML, docs/explorer.md); optional when --base and --grid say it all");
+  auto* sweepc = app.add_subcommand(
+      "sweep", "Evaluate many designs (accuracy, timing, resources) into a SQLite store; reruns skip finished designs");
+  sweepc->add_option("spec", o->spec,
+                     "Sweep file (YAML, docs/explorer.md); optional when --base and --grid say it all");
   sweepc->add_option("--base", o->base, "Base configuration the axes modify (overrides the file's)");
   sweepc->add_option("--grid", o->grid, "Axis KEY=V1,V2,... over any configuration field (repeatable)");
   sweepc->add_option("--dataset", o->dataset, "Dataset folder (KITTI 2015/2012, Middlebury)")->required();
@@ -167,18 +171,25 @@ Command add_sweep(CLI::App& app) {
   sweepc->add_option("--db", o->db, "Results store (SQLite); created if absent")->required();
   sweepc->add_option("--jobs", o->jobs, "Designs in parallel (default: all cores)")->check(InRange(0, 256));
   sweepc->add_option("--strategy", o->strategy, "grid, random, lhs or nsga2 (default: the file's, else grid)");
-  sweepc->add_option("--samples", o->samples, "Designs drawn by random / lhs; population of nsga2")->check(InRange(1, 1000000));
-  sweepc->add_option("--generations", o->generations, "Generations of nsga2 after the first population")->check(InRange(1, 10000));
+  sweepc->add_option("--samples", o->samples, "Designs drawn by random / lhs; population of nsga2")
+      ->check(InRange(1, 1000000));
+  sweepc->add_option("--generations", o->generations, "Generations of nsga2 after the first population")
+      ->check(InRange(1, 10000));
   sweepc->add_option("--seed", o->seed, "Seed of random / lhs");
   sweepc->add_option("--name", o->name, "Sweep name in the store (default: the file's, else 'sweep')");
-  sweepc->add_option("--flight", o->flight, "Also fly every design through this scenario (configs/scenarios/*.yaml), 3 seeds at 5 m/s");
-  sweepc->add_flag("--avoidance", o->avoidance, "Also score the avoidance stage on every design (obstacle_precision, ...)");
-  sweepc->add_flag("--yes", o->yes, "Run a sweep of more than 10,000 designs (otherwise refused: sample with lhs or nsga2)");
-  sweepc->add_flag("--no-sharing", o->no_sharing,
-                   "Evaluate every design on its own (by default designs sharing the cost stage share each frame's costs)");
+  sweepc->add_option("--flight", o->flight,
+                     "Also fly every design through this scenario (configs/scenarios/*.yaml), 3 seeds at 5 m/s");
+  sweepc->add_flag("--avoidance", o->avoidance,
+                   "Also score the avoidance stage on every design (obstacle_precision, ...)");
+  sweepc->add_flag("--yes", o->yes,
+                   "Run a sweep of more than 10,000 designs (otherwise refused: sample with lhs or nsga2)");
+  sweepc->add_flag(
+      "--no-sharing", o->no_sharing,
+      "Evaluate every design on its own (by default designs sharing the cost stage share each frame's costs)");
   sweepc->add_option("--shard", o->shard, "K/N: evaluate only shard K of N (merge the stores with `parallax merge`)");
 #ifdef PARALLAX_HAVE_MPI
-  sweepc->add_flag("--mpi", o->mpi, "Under mpirun: rank r evaluates shard r+1 of the ranks into DB.rank<r>; rank 0 merges them into DB");
+  sweepc->add_flag("--mpi", o->mpi,
+                   "Under mpirun: rank r evaluates shard r+1 of the ranks into DB.rank<r>; rank 0 merges them into DB");
 #endif
   return bind_command(sweepc, o, run_sweep_command);
 }
