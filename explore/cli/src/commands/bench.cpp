@@ -1,0 +1,89 @@
+// parallax bench: the func run timed against OpenCV's StereoSGBM (HH4, SGBM) on one pair, one
+// thread each, with peak memory.
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "parallax/eval/bench.hpp"
+#include "parallax/eval/dataset.hpp"
+#include "parallax/eval/evaluate.hpp"
+#include "parallax/eval/input_error.hpp"
+
+namespace parallax::cli {
+
+namespace {
+
+using nlohmann::json;
+using namespace parallax::explore;
+
+struct BenchOptions {
+  ConfigArgs cfg;
+  std::string left, right;
+  int iterations = 7;
+  bool json = false;
+};
+
+// The rows as a JSON array, one object per method.
+json bench_json(const std::vector<BenchRow>& rows) {
+  json j = json::array();
+  for (const auto& row : rows)
+    j.push_back({{"method", row.method},
+                 {"median_ms", row.median_ms},
+                 {"min_ms", row.min_ms},
+                 {"peak_rss_mib", row.peak_rss_mib},
+                 {"peak_extra_rss_mib", row.peak_extra_rss_mib},
+                 {"ratio_to_hh4", row.ratio_to_peer},
+                 {"min_ratio_to_hh4", row.min_ratio_to_peer}});
+  return j;
+}
+
+// The rows as a table on stdout under a line naming the pair size and the runs per method.
+void print_bench_text(const std::vector<BenchRow>& rows, const cv::Mat& l, int iterations) {
+  std::printf("%dx%d pair, %d runs per method, one thread each\n", l.cols, l.rows, iterations);
+  std::printf("%-36s %10s %10s %10s %12s %9s %9s\n", "method", "median_ms", "min_ms", "peak_MiB", "extra_MiB", "vs_HH4",
+              "min_vs");
+  for (const auto& row : rows)
+    std::printf("%-36s %10.1f %10.1f %10.1f %12.1f %9.2f %9.2f\n", row.method.c_str(), row.median_ms, row.min_ms,
+                row.peak_rss_mib, row.peak_extra_rss_mib, row.ratio_to_peer, row.min_ratio_to_peer);
+}
+
+int run_bench(const BenchOptions& o, const Invocation&) {
+  const config::PipelineConfig cfg = load_config_args(o.cfg);
+  std::vector<std::string> notes;
+  const cv::Mat left = load_grey_file(o.left, "left", notes);
+  const cv::Mat right = load_grey_file(o.right, "right", notes);
+  if (left.size() != right.size()) throw InputError(o.right + ": size differs from the left image " + o.left);
+  const Roi roi = resolve_roi(roi_for(cfg), left.cols, left.rows);
+  const cv::Mat l = crop_to_roi(left, roi).clone(), r = crop_to_roi(right, roi).clone();
+  const auto rows = bench_pair(cfg, l, r, o.iterations);
+  if (o.json)
+    std::cout << bench_json(rows).dump(2) << "\n";
+  else
+    print_bench_text(rows, l, o.iterations);
+  return 0;
+}
+
+}  // namespace
+
+Command add_bench(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  auto* bench = app.add_subcommand(
+      "bench",
+      "Time the func run against OpenCV StereoSGBM (HH4, SGBM) on one pair, one thread each, with peak memory");
+  add_config_options(bench, o->cfg, true);
+  bench->add_option("--left", o->left, "Left image")->required();
+  bench->add_option("--right", o->right, "Right image")->required();
+  bench->add_option("--iterations", o->iterations, "Runs per method (the median is reported)")
+      ->capture_default_str()
+      ->check(InRange(1, 1000));
+  bench->add_flag("--json", o->json, "Print JSON");
+  return bind_command(bench, o, run_bench);
+}
+
+}  // namespace parallax::cli
