@@ -20,7 +20,7 @@ template class parallax::kern::Median<TinyCaps>;
 template class parallax::kern::Rectify<64, 8>;
 template class parallax::kern::Rectify<64, 8, true>;
 // The frame buffer's packing, at a width of several limbs.
-template void parallax::kern::frame_pack(const parallax::kern::Lanes<uint16_t, 4>&, const parallax::kern::Lanes<uint16_t, 4>&,
-                                         int, int, int, uint32_t (&)[4]);
+template void parallax::kern::frame_pack(const parallax::kern::Lanes<uint16_t, 4>&,
+                                         const parallax::kern::Lanes<uint16_t, 4>&, int, int, int, uint32_t (&)[4]);
 template void parallax::kern::frame_unpack(const uint32_t (&)[4], int, int, int, parallax::kern::Lanes<uint16_t, 4>&,
                                            parallax::kern::Lanes<uint16_t, 4>&);

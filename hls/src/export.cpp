@@ -43,7 +43,8 @@ std::string fill(const std::string& name, const std::string& text, const std::ma
       if (j < text.size() && text[j] == '@') {
         const std::string key = text.substr(i + 1, j - i - 1);
         const auto it = values.find(key);
-        if (it == values.end()) throw std::logic_error("hls export: template " + name + " uses @" + key + "@, which has no value");
+        if (it == values.end())
+          throw std::logic_error("hls export: template " + name + " uses @" + key + "@, which has no value");
         out += it->second;
         i = j + 1;
         continue;
@@ -90,12 +91,17 @@ std::string fixed(double v, int decimals) {
 }
 
 // The storage a memory of the resource model maps to, as a BIND_STORAGE impl of a RAM / a FIFO.
-std::string ram_impl(res::Storage s) { return s == res::Storage::bram ? "bram" : "lutram"; }
+std::string ram_impl(res::Storage s) {
+  return s == res::Storage::bram ? "bram" : "lutram";
+}
 std::string fifo_impl(res::Storage s) {
   switch (s) {
-    case res::Storage::bram: return "bram";
-    case res::Storage::lutram: return "lutram";
-    default: return "srl";
+    case res::Storage::bram:
+      return "bram";
+    case res::Storage::lutram:
+      return "lutram";
+    default:
+      return "srl";
   }
 }
 
@@ -106,7 +112,8 @@ const res::MemoryItem* find_memory(const res::Inventory& inv, const std::string&
 }
 
 std::string pgm(int width_px, int height_px, int maxval, const uint16_t* px16, const uint8_t* px8) {
-  std::string out = "P5\n" + std::to_string(width_px) + " " + std::to_string(height_px) + "\n" + std::to_string(maxval) + "\n";
+  std::string out =
+      "P5\n" + std::to_string(width_px) + " " + std::to_string(height_px) + "\n" + std::to_string(maxval) + "\n";
   const std::size_t n = std::size_t(width_px) * std::size_t(height_px);
   out.reserve(out.size() + n * (maxval >= 256 ? 2 : 1));
   for (std::size_t i = 0; i < n; ++i) {
@@ -119,7 +126,9 @@ std::string pgm(int width_px, int height_px, int maxval, const uint16_t* px16, c
 
 void check_request(const ExportRequest& r) {
   const auto errors = config::validate(r.config);
-  if (!errors.empty()) throw ExportError("design '" + r.config.name + "': field '" + errors.front().field + "': " + errors.front().message);
+  if (!errors.empty())
+    throw ExportError("design '" + r.config.name + "': field '" + errors.front().field +
+                      "': " + errors.front().message);
   const std::size_t n = std::size_t(r.width_px) * std::size_t(r.height_px);
   if (r.width_px < 1 || r.height_px < 1) throw ExportError("export: the design's size is empty");
   if (r.left.size() != n || r.right.size() != n || r.golden.size() != n)
@@ -145,7 +154,8 @@ void check_request(const ExportRequest& r) {
     throw ExportError("export: the reduced frame's golden output must be " + std::to_string(r.width_px) + "x" +
                       std::to_string(reduced_frame_rows(r.height_px)));
   for (uint16_t c : r.reduced_golden)
-    if (c > r.config.disparities) throw ExportError("export: a golden code of the reduced frame exceeds the invalid code D");
+    if (c > r.config.disparities)
+      throw ExportError("export: a golden code of the reduced frame exceeds the invalid code D");
 }
 
 // The stages whose loops in the top run until the stage is done (`while (!stage.done())`), by the
@@ -172,18 +182,22 @@ std::string tripcount_pragma(const std::map<std::string, int64_t>& fires, const 
   for (std::size_t i = 0; i < stages.size(); ++i) {
     const auto it = fires.find(stages[i]);
     if (it == fires.end() || it->second < 1)
-      throw ExportError("export: the cycle model's firings of stage '" + stages[i] + "' on the " + frame + " frame are missing");
+      throw ExportError("export: the cycle model's firings of stage '" + stages[i] + "' on the " + frame +
+                        " frame are missing");
     lo = i == 0 ? it->second : std::min(lo, it->second);
     hi = i == 0 ? it->second : std::max(hi, it->second);
     sum += it->second;
   }
   const int64_t avg = (sum + int64_t(stages.size()) / 2) / int64_t(stages.size());
-  return "#pragma HLS LOOP_TRIPCOUNT min=" + std::to_string(lo) + " max=" + std::to_string(hi) + " avg=" + std::to_string(avg) + "\n";
+  return "#pragma HLS LOOP_TRIPCOUNT min=" + std::to_string(lo) + " max=" + std::to_string(hi) +
+         " avg=" + std::to_string(avg) + "\n";
 }
 
 }  // namespace
 
-int reduced_frame_rows(int height_px) { return std::min(height_px, kReducedRows); }
+int reduced_frame_rows(int height_px) {
+  return std::min(height_px, kReducedRows);
+}
 
 // The FIFOs of the design's variant, in the pipeline table's order (kernels/pipeline.hpp).
 std::vector<const kern::PipelineFifo*> export_fifos(const config::PipelineConfig& c) {
@@ -202,7 +216,9 @@ std::vector<std::string> export_fifo_names(const config::PipelineConfig& c) {
   return names;
 }
 
-std::string clock_period_ns(double clock_mhz) { return fixed(1000.0 / clock_mhz, 3); }
+std::string clock_period_ns(double clock_mhz) {
+  return fixed(1000.0 / clock_mhz, 3);
+}
 
 namespace {
 
@@ -269,9 +285,10 @@ void storage_values(const config::PipelineConfig& c, const res::Inventory& inv, 
     if (!row) row = find_memory(inv, "aggregate", n);
   v["ROW_IMPL"] = row ? ram_impl(row->per_copy.storage) : "bram";
   v["ROW_MEMORIES"] = std::to_string(row ? std::max(1, row->copies) : 1);
-  v["ROW_RESHAPE"] = c.row_packing > 1 ? "#define PX_HLS_SGM_ROW_RESHAPE \"HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=" +
-                                             std::to_string(c.row_packing) + " dim=3\"\n"
-                                       : "";
+  v["ROW_RESHAPE"] = c.row_packing > 1
+                         ? "#define PX_HLS_SGM_ROW_RESHAPE \"HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=" +
+                               std::to_string(c.row_packing) + " dim=3\"\n"
+                         : "";
 }
 
 // Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera. Its row
@@ -279,50 +296,61 @@ void storage_values(const config::PipelineConfig& c, const res::Inventory& inv, 
 void rectify_values(const config::PipelineConfig& c, const res::Inventory& inv, Values& v) {
   const bool rectify = c.rectify != "none";
   const res::MemoryItem* rlb = find_memory(inv, "rectify_left", "rectify_line_buffer");
-  v["RECTIFY_STORAGE"] =
-      rectify ? "#define PX_HLS_RECTIFY_STORAGE \"HLS BIND_STORAGE variable=lb_ type=" +
-                    std::string(c.rectify == "bilinear" ? "ram_t2p" : "ram_s2p") + " impl=" +
-                    (rlb ? ram_impl(rlb->per_copy.storage) : std::string("bram")) + "\"\n"
+  v["RECTIFY_STORAGE"] = rectify ? "#define PX_HLS_RECTIFY_STORAGE \"HLS BIND_STORAGE variable=lb_ type=" +
+                                       std::string(c.rectify == "bilinear" ? "ram_t2p" : "ram_s2p") +
+                                       " impl=" + (rlb ? ram_impl(rlb->per_copy.storage) : std::string("bram")) + "\"\n"
+                                 : "";
+  v["MAP_TYPEDEF"] =
+      rectify ? "\n// One remap-table entry: the source position of an output pixel in the kernels' fixed point\n"
+                "// (kRectifyFracBits fraction bits); x in TDATA[31:0], y in TDATA[63:32], both signed.\n"
+                "typedef ap_axiu<64, 1, 1, 1> map_beat_t;\n"
               : "";
-  v["MAP_TYPEDEF"] = rectify ? "\n// One remap-table entry: the source position of an output pixel in the kernels' fixed point\n"
-                               "// (kRectifyFracBits fraction bits); x in TDATA[31:0], y in TDATA[63:32], both signed.\n"
-                               "typedef ap_axiu<64, 1, 1, 1> map_beat_t;\n"
-                             : "";
-  v["MAP_PORTS"] = rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
+  v["MAP_PORTS"] =
+      rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
   v["RECTIFY_INCLUDE"] = rectify ? "#include \"parallax/kernels/rectify.hpp\"\n" : "";
-  v["MAP_INTERFACE_PRAGMAS"] = rectify ? "#pragma HLS INTERFACE mode=axis port=map_left_in\n#pragma HLS INTERFACE mode=axis port=map_right_in\n" : "";
+  v["MAP_INTERFACE_PRAGMAS"] =
+      rectify ? "#pragma HLS INTERFACE mode=axis port=map_left_in\n#pragma HLS INTERFACE mode=axis port=map_right_in\n"
+              : "";
   v["RECTIFY_CONSTANTS"] =
       rectify ? "// Rectification (docs/algorithm.md §1): mode, fraction bits of the map entries, line-buffer rows.\n"
-                "constexpr int kRectifyMode = parallax::kern::" + std::string(c.rectify == "bilinear" ? "kRectifyBilinear" : "kRectifyNearest") +
-                    ";\nconstexpr int kRectifyFracBits = " + std::to_string(c.rectify == "bilinear" ? c.rectify_frac_bits : 0) +
+                "constexpr int kRectifyMode = parallax::kern::" +
+                    std::string(c.rectify == "bilinear" ? "kRectifyBilinear" : "kRectifyNearest") +
+                    ";\nconstexpr int kRectifyFracBits = " +
+                    std::to_string(c.rectify == "bilinear" ? c.rectify_frac_bits : 0) +
                     ";\nconstexpr int kRectifyRows = " + std::to_string(c.rectify_rows) +
                     ";\n\ninline parallax::kern::RectifyParams rectify_params() {\n"
                     "  parallax::kern::RectifyParams p;\n  p.width_px = kWidthPx;\n  p.height_px = kHeightPx;\n"
-                    "  p.mode = kRectifyMode;\n  p.frac_bits = kRectifyFracBits;\n  p.buffer_rows = kRectifyRows;\n  return p;\n}\n\n"
+                    "  p.mode = kRectifyMode;\n  p.frac_bits = kRectifyFracBits;\n  p.buffer_rows = kRectifyRows;\n  "
+                    "return p;\n}\n\n"
               : "";
   v["FRONT_END"] = rectify ? "  read_pixels(left_in, raw_left_px);\n  read_pixels(right_in, raw_right_px);\n"
                              "  read_maps(map_left_in, map_left);\n  read_maps(map_right_in, map_right);\n"
-                             "  rectify_stage<0>(raw_left_px, map_left, left_px);\n  rectify_stage<1>(raw_right_px, map_right, right_px);\n"
+                             "  rectify_stage<0>(raw_left_px, map_left, left_px);\n  rectify_stage<1>(raw_right_px, "
+                             "map_right, right_px);\n"
                            : "  read_pixels(left_in, left_px);\n  read_pixels(right_in, right_px);\n";
   v["TB_MAP_FUNCTIONS"] = rectify ? template_text("tb_map_functions.cpp") : "";
   v["TB_MAP_LOAD"] = rectify ? "  std::vector<uint64_t> map_left, map_right;\n"
-                               "  if (!read_map(dir + \"/map_left.bin\", map_left) || !read_map(dir + \"/map_right.bin\", map_right)) return 1;\n"
+                               "  if (!read_map(dir + \"/map_left.bin\", map_left) || !read_map(dir + "
+                               "\"/map_right.bin\", map_right)) return 1;\n"
                              : "";
-  v["TB_MAP_FEED"] = rectify ? "    hls::stream<map_beat_t> map_left_in(\"map_left_in\"), map_right_in(\"map_right_in\");\n"
-                               "    feed_map(map_left_in, map_left);\n    feed_map(map_right_in, map_right);\n"
-                             : "";
+  v["TB_MAP_FEED"] = rectify
+                         ? "    hls::stream<map_beat_t> map_left_in(\"map_left_in\"), map_right_in(\"map_right_in\");\n"
+                           "    feed_map(map_left_in, map_left);\n    feed_map(map_right_in, map_right);\n"
+                         : "";
   v["TB_MAP_ARGS"] = rectify ? " map_left_in, map_right_in," : "";
 
   v["CFG_MAP_FILES"] = rectify ? "tb.file=tb/map_left.bin\ntb.file=tb/map_right.bin\n" : "";
   v["TCL_MAP_FILES"] = rectify ? "  add_files -tb tb/map_left.bin\n  add_files -tb tb/map_right.bin\n" : "";
-  v["README_MAP_PORTS"] =
-      rectify ? "| `map_left_in`, `map_right_in` | AXI4-Stream | 64 | remap tables, one entry per output pixel: source x in TDATA[31:0], y in [63:32], signed, " +
-                    std::to_string(c.rectify == "bilinear" ? c.rectify_frac_bits : 0) + " fraction bits |\n"
-              : "";
+  v["README_MAP_PORTS"] = rectify ? "| `map_left_in`, `map_right_in` | AXI4-Stream | 64 | remap tables, one entry per "
+                                    "output pixel: source x in TDATA[31:0], y in [63:32], signed, " +
+                                        std::to_string(c.rectify == "bilinear" ? c.rectify_frac_bits : 0) +
+                                        " fraction bits |\n"
+                                  : "";
   v["README_RECTIFY"] =
       rectify ? "\nThe design rectifies (" + c.rectify + ", " + std::to_string(c.rectify_rows) +
                     " line-buffer rows): the pair is the raw camera images, and `tb/map_left.bin`, `tb/map_right.bin` "
-                    "hold the remap tables (one entry per pixel, two little-endian int32: x, y in the kernels' fixed point), "
+                    "hold the remap tables (one entry per pixel, two little-endian int32: x, y in the kernels' fixed "
+                    "point), "
                     "fed through `map_left_in` / `map_right_in`.\n"
               : "";
 }
@@ -334,7 +362,8 @@ void fifo_values(const ExportRequest& r, const res::Inventory& inv, Values& v) {
   std::string depths, streams, pass2_streams, fifo_rows;
   for (const kern::PipelineFifo* d : export_fifos(c)) {
     const std::string name = d->name;
-    const ExportFifo& f = *std::find_if(r.fifos.begin(), r.fifos.end(), [&](const ExportFifo& x) { return x.name == name; });
+    const ExportFifo& f =
+        *std::find_if(r.fifos.begin(), r.fifos.end(), [&](const ExportFifo& x) { return x.name == name; });
     const std::string k = depth_constant(name);
     depths += "constexpr int " + k + " = " + std::to_string(f.depth) + ";\n";
     // The stream's type by its token (the design's widths, see the beats in parallax_top.cpp).
@@ -344,8 +373,7 @@ void fifo_values(const ExportRequest& r, const res::Inventory& inv, Values& v) {
                              : d->token == kern::kTokenSum    ? "SumBeat"
                                                               : "CodeBeat";
     const res::MemoryItem* m = find_memory(inv, "fifos", name);
-    const res::MemoryMapping mapping =
-        res::map_memory(res::MemoryKind::fifo, f.depth, m ? m->width_bits : 8, false);
+    const res::MemoryMapping mapping = res::map_memory(res::MemoryKind::fifo, f.depth, m ? m->width_bits : 8, false);
     const bool second = two_pass && d->pass == 2;
     std::string& s = second ? pass2_streams : streams;
     s += "  hls::stream<" + type + "> " + name + "(\"" + name + "\");\n";
@@ -375,30 +403,37 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
   kern::StereoParams reduced_p = p;
   reduced_p.height_px = r.reduced_height_px;
   const std::string frame_check =
-      two_pass ? "#ifndef PARALLAX_REDUCED_FRAME\nstatic_assert(kFrameWords == " + std::to_string(kern::frame_words(p)) +
-                     " && kFrameSegmentPixels == " + std::to_string(kern::frame_segment_pixels(p)) +
-                     " && kMapSegmentPixels == " + std::to_string(kern::map_segment_pixels(p)) +
-                     ",\n              \"the export's frame-buffer layout (m_axi depths, README)\");\n#else\nstatic_assert(kFrameWords == " +
-                     std::to_string(kern::frame_words(reduced_p)) +
-                     " && kFrameSegmentPixels == " + std::to_string(kern::frame_segment_pixels(reduced_p)) +
-                     " && kMapSegmentPixels == " + std::to_string(kern::map_segment_pixels(reduced_p)) +
-                     ",\n              \"the export's frame-buffer layout (m_axi depths, README)\");\n#endif\n"
-               : "";
+      two_pass
+          ? "#ifndef PARALLAX_REDUCED_FRAME\nstatic_assert(kFrameWords == " + std::to_string(kern::frame_words(p)) +
+                " && kFrameSegmentPixels == " + std::to_string(kern::frame_segment_pixels(p)) +
+                " && kMapSegmentPixels == " + std::to_string(kern::map_segment_pixels(p)) +
+                ",\n              \"the export's frame-buffer layout (m_axi depths, "
+                "README)\");\n#else\nstatic_assert(kFrameWords == " +
+                std::to_string(kern::frame_words(reduced_p)) +
+                " && kFrameSegmentPixels == " + std::to_string(kern::frame_segment_pixels(reduced_p)) +
+                " && kMapSegmentPixels == " + std::to_string(kern::map_segment_pixels(reduced_p)) +
+                ",\n              \"the export's frame-buffer layout (m_axi depths, README)\");\n#endif\n"
+          : "";
   v["TWO_PASS_TYPES"] =
       two_pass
           ? "\n#include \"parallax/kernels/frame_buffer.hpp\"\n\n"
             "// The frame buffer between the passes (DDR, m_axi; layout in parallax/kernels/frame_buffer.hpp):\n"
-            "// per firing of pass 1 one pair of PU costs and PU forward sums (" + std::to_string(kern::frame_pair_bits(p)) +
+            "// per firing of pass 1 one pair of PU costs and PU forward sums (" +
+                std::to_string(kern::frame_pair_bits(p)) +
                 " bits), packed into kFrameBeats\n"
                 "// word(s) of kFrameWordBits bits, the pixels in reverse raster order. Pass 1 reverses them on chip\n"
-                "// in segments of kFrameSegmentPixels pixels (one burst each); pass 2 reads words 0 .. kFrameWords-1.\n"
+                "// in segments of kFrameSegmentPixels pixels (one burst each); pass 2 reads words 0 .. "
+                "kFrameWords-1.\n"
                 "// The map writer reverses the codes the same way, in segments of kMapSegmentPixels.\n"
                 "namespace parallax_design {\n"
-                "constexpr int kFramePairBits = parallax::kern::frame_pair_bits_of(kParallelUnits, kCostBits, kAggregateBits);\n"
+                "constexpr int kFramePairBits = parallax::kern::frame_pair_bits_of(kParallelUnits, kCostBits, "
+                "kAggregateBits);\n"
                 "constexpr int kFrameWordBits = parallax::kern::frame_word_bits_of(kFramePairBits);  // " +
-                std::to_string(kern::frame_word_bits(p)) + "\n"
+                std::to_string(kern::frame_word_bits(p)) +
+                "\n"
                 "constexpr int kFrameBeats = parallax::kern::frame_beats_of(kFramePairBits);  // words per pair: " +
-                std::to_string(kern::frame_beats(p)) + "\n"
+                std::to_string(kern::frame_beats(p)) +
+                "\n"
                 "constexpr int kFrameWordLimbs = kFrameWordBits / 32;\n"
                 "constexpr int kFramePairLimbs = parallax::kern::frame_limbs_of(kFramePairBits);\n"
                 "constexpr int kFramePixelWords = kChunks * kFrameBeats;\n"
@@ -412,7 +447,8 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
                 "    kPixels, 1, parallax::kern::burst_elements_of(parallax::kern::kMapCodeBytes)));\n"
                 "constexpr int kMapSegments = kPixels / kMapSegmentPixels;\n" +
                 frame_check +
-                "static_assert(int64_t(kPixels) * kFramePixelWords < (int64_t(1) << 31), \"word addresses fit an int\");\n"
+                "static_assert(int64_t(kPixels) * kFramePixelWords < (int64_t(1) << 31), \"word addresses fit an "
+                "int\");\n"
                 "}  // namespace parallax_design\n"
                 "// One DDR word: kFrameWordBits bits as 32-bit limbs (one bus word of the m_axi port).\n"
                 "typedef parallax::kern::FrameWord<parallax_design::kFrameWordLimbs> frame_word_t;\n"
@@ -434,16 +470,25 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
                 "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
                 "// registers hold P1 < P2 (the SGM penalties, read by the aggregation only) and the left-right\n"
                 "// tolerance in pixels (read by the WTA / LR check only).";
-  const std::string ports = "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] + "\n";
+  const std::string ports =
+      "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] +
+      "\n";
   v["TOP_SIGNATURE"] =
-      ports + (two_pass ? "                  parallax::kern::DispCode* disparity, frame_word_t* frame_write,\n"
-                          "                  const frame_word_t* frame_read,\n"
-                          "                  ap_uint<parallax_design::kPenaltyBits> p1, ap_uint<parallax_design::kPenaltyBits> p2,\n"
-                          "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance)"
-                        : "                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,\n"
-                          "                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance)");
-  v["PASS_MAP_PARAMS"] = rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
-  v["DATAFLOW_MAP_PARAMS"] = rectify ? "\n                       hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
+      ports +
+      (two_pass
+           ? "                  parallax::kern::DispCode* disparity, frame_word_t* frame_write,\n"
+             "                  const frame_word_t* frame_read,\n"
+             "                  ap_uint<parallax_design::kPenaltyBits> p1, ap_uint<parallax_design::kPenaltyBits> p2,\n"
+             "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance)"
+           : "                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> "
+             "p1,\n"
+             "                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> "
+             "lr_tolerance)");
+  v["PASS_MAP_PARAMS"] =
+      rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
+  v["DATAFLOW_MAP_PARAMS"] =
+      rectify ? "\n                       hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in,"
+              : "";
   v["PASS_MAP_ARGS"] = rectify ? " map_left_in, map_right_in," : "";
   // The m_axi ports: one bundle per direction of the frame buffer (gmem_wr: pass 1's writes,
   // gmem_rd: pass 2's reads), the map on its own (gmem_map: written by pass 2 while pass 1 writes
@@ -457,9 +502,11 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
       const std::string burst = std::to_string(kern::burst_elements_of(kern::frame_word_bytes(q)));
       const std::string map_burst = std::to_string(kern::burst_elements_of(kern::kMapCodeBytes));
       return "#pragma HLS INTERFACE mode=m_axi port=frame_write offset=slave bundle=gmem_wr depth=" + words +
-             " max_write_burst_length=" + burst + " num_write_outstanding=2 max_read_burst_length=2 num_read_outstanding=1\n"
-             "#pragma HLS INTERFACE mode=m_axi port=frame_read offset=slave bundle=gmem_rd depth=" + words +
-             " max_read_burst_length=" + burst + " num_read_outstanding=2 max_write_burst_length=2 num_write_outstanding=1\n"
+             " max_write_burst_length=" + burst +
+             " num_write_outstanding=2 max_read_burst_length=2 num_read_outstanding=1\n"
+             "#pragma HLS INTERFACE mode=m_axi port=frame_read offset=slave bundle=gmem_rd depth=" +
+             words + " max_read_burst_length=" + burst +
+             " num_read_outstanding=2 max_write_burst_length=2 num_write_outstanding=1\n"
              "#pragma HLS INTERFACE mode=m_axi port=disparity offset=slave bundle=gmem_map depth=" +
              std::to_string(kern::frame_pixels(q)) + " max_write_burst_length=" + map_burst +
              " num_write_outstanding=2 max_read_burst_length=2 num_read_outstanding=1 max_widen_bitwidth=128\n";
@@ -480,7 +527,7 @@ void loop_values(const ExportRequest& r, Values& v) {
   // frame, of the full frame and of the reduced one.
   std::string trip_table;
   for (const char* key : {"TRIPCOUNT_COST", "TRIPCOUNT_AGGREGATE", "TRIPCOUNT_WTA_LR", "TRIPCOUNT_MEDIAN",
-                                 "TRIPCOUNT_AGGREGATE_BACK", "TRIPCOUNT_RECTIFY"})
+                          "TRIPCOUNT_AGGREGATE_BACK", "TRIPCOUNT_RECTIFY"})
     v[key] = "";
   for (const TripLoop& l : trip_loops(c)) {
     v[l.key] = "#ifndef PARALLAX_REDUCED_FRAME\n" + tripcount_pragma(r.stage_fires, l.stages, "full") + "#else\n" +
@@ -543,8 +590,8 @@ void readme_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["DEVICE"] = pr.device;
   std::string rows;
   for (const auto& s : pr.stages)
-    rows += "| " + s.name + " | " + std::to_string(s.bram18k) + " | " + std::to_string(s.lut) + " | " + std::to_string(s.ff) +
-            " | " + std::to_string(s.dsp) + " |\n";
+    rows += "| " + s.name + " | " + std::to_string(s.bram18k) + " | " + std::to_string(s.lut) + " | " +
+            std::to_string(s.ff) + " | " + std::to_string(s.dsp) + " |\n";
   v["RESOURCE_ROWS"] = rows;
   v["BRAM"] = std::to_string(pr.bram18k);
   v["LUT"] = std::to_string(pr.lut);
@@ -563,7 +610,9 @@ std::vector<GeneratedFile> project_files(const ExportRequest& r, Values& v) {
   const config::PipelineConfig& c = r.config;
   const bool rectify = c.rectify != "none";
   std::vector<GeneratedFile> files;
-  auto add = [&](const std::string& path, const std::string& tmpl) { files.push_back({path, fill(tmpl, template_text(tmpl), v), false}); };
+  auto add = [&](const std::string& path, const std::string& tmpl) {
+    files.push_back({path, fill(tmpl, template_text(tmpl), v), false});
+  };
   add("src/parallax_config.hpp", "parallax_config.hpp");
   add("src/parallax_top.hpp", "parallax_top.hpp");
   add("src/parallax_top.cpp", "parallax_top.cpp");
@@ -573,25 +622,38 @@ std::vector<GeneratedFile> project_files(const ExportRequest& r, Values& v) {
   // The unified flow's configurations: the full frame, and the reduced frame of C/RTL
   // co-simulation (a component of its own: the frame's size is compile-time).
   const std::string id = identifier(c.name);
-  v["CFG_HEADER"] =
-      "# Design " + c.name + ", exported by `parallax export-hls`, for the Vitis unified flow (2023.2 and later;\n"
-      "# the only one from 2025.1), the full frame (`make vitis FLOW=vpp` runs these):\n"
-      "#   vitis-run --mode hls --csim --config hls_config.cfg --work_dir parallax_" + id + "\n"
-      "#   v++ -c --mode hls --config hls_config.cfg --work_dir parallax_" + id + "\n"
-      "#   vitis-run --mode hls --cosim --config hls_config.cfg --work_dir parallax_" + id + "   (COSIM_FULL=1 only)\n"
-      "#   vitis-run --mode hls --package --config hls_config.cfg --work_dir parallax_" + id + "\n"
-      "# C/RTL co-simulation runs by default on the reduced frame, a component of its own synthesised\n"
-      "# with -DPARALLAX_REDUCED_FRAME: hls_config_reduced.cfg.\n";
+  v["CFG_HEADER"] = "# Design " + c.name +
+                    ", exported by `parallax export-hls`, for the Vitis unified flow (2023.2 and later;\n"
+                    "# the only one from 2025.1), the full frame (`make vitis FLOW=vpp` runs these):\n"
+                    "#   vitis-run --mode hls --csim --config hls_config.cfg --work_dir parallax_" +
+                    id +
+                    "\n"
+                    "#   v++ -c --mode hls --config hls_config.cfg --work_dir parallax_" +
+                    id +
+                    "\n"
+                    "#   vitis-run --mode hls --cosim --config hls_config.cfg --work_dir parallax_" +
+                    id +
+                    "   (COSIM_FULL=1 only)\n"
+                    "#   vitis-run --mode hls --package --config hls_config.cfg --work_dir parallax_" +
+                    id +
+                    "\n"
+                    "# C/RTL co-simulation runs by default on the reduced frame, a component of its own synthesised\n"
+                    "# with -DPARALLAX_REDUCED_FRAME: hls_config_reduced.cfg.\n";
   v["CFG_DEFINES"] = "";
   v["CFG_GOLDEN"] = "golden_disparity.pgm";
   add("hls_config.cfg", "hls_config.cfg");
-  v["CFG_HEADER"] =
-      "# Design " + c.name + ", exported by `parallax export-hls`: the reduced frame of C/RTL co-simulation,\n"
-      "# the pair's first " + v["REDUCED_HEIGHT"] + " rows at the full width (-DPARALLAX_REDUCED_FRAME; the frame's size is\n"
-      "# compile-time, so this is a component of its own), checked bit for bit against\n"
-      "# tb/golden_disparity_reduced.pgm (`make vitis FLOW=vpp` runs these):\n"
-      "#   v++ -c --mode hls --config hls_config_reduced.cfg --work_dir parallax_" + id + "_reduced\n"
-      "#   vitis-run --mode hls --cosim --config hls_config_reduced.cfg --work_dir parallax_" + id + "_reduced\n";
+  v["CFG_HEADER"] = "# Design " + c.name +
+                    ", exported by `parallax export-hls`: the reduced frame of C/RTL co-simulation,\n"
+                    "# the pair's first " +
+                    v["REDUCED_HEIGHT"] +
+                    " rows at the full width (-DPARALLAX_REDUCED_FRAME; the frame's size is\n"
+                    "# compile-time, so this is a component of its own), checked bit for bit against\n"
+                    "# tb/golden_disparity_reduced.pgm (`make vitis FLOW=vpp` runs these):\n"
+                    "#   v++ -c --mode hls --config hls_config_reduced.cfg --work_dir parallax_" +
+                    id +
+                    "_reduced\n"
+                    "#   vitis-run --mode hls --cosim --config hls_config_reduced.cfg --work_dir parallax_" +
+                    id + "_reduced\n";
   v["CFG_DEFINES"] = " -DPARALLAX_REDUCED_FRAME";
   v["CFG_GOLDEN"] = "golden_disparity_reduced.pgm";
   add("hls_config_reduced.cfg", "hls_config.cfg");
@@ -603,15 +665,18 @@ std::vector<GeneratedFile> project_files(const ExportRequest& r, Values& v) {
     for (std::size_t i = 0; i < r.stage_timing.size(); ++i) {
       const auto& t = r.stage_timing[i];
       js += "  {\"name\": \"" + t.name + "\", \"ii_cycles\": " + std::to_string(t.ii_cycles) +
-            ", \"depth_cycles\": " + std::to_string(t.depth_cycles) + "}" + (i + 1 < r.stage_timing.size() ? ",\n" : "\n");
+            ", \"depth_cycles\": " + std::to_string(t.depth_cycles) + "}" +
+            (i + 1 < r.stage_timing.size() ? ",\n" : "\n");
     }
     files.push_back({"stages.json", js + "]\n", false});
   }
-  files.push_back({"design.yaml", "# Exported by parallax export-hls from " + r.origin + "\n" + config::to_yaml(c), false});
+  files.push_back(
+      {"design.yaml", "# Exported by parallax export-hls from " + r.origin + "\n" + config::to_yaml(c), false});
   for (const auto& f : detail::copied_files()) files.push_back({f.name, *f.text, false});
   files.push_back({"tb/left.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.left.data()), true});
   files.push_back({"tb/right.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.right.data()), true});
-  files.push_back({"tb/golden_disparity.pgm", pgm(r.width_px, r.height_px, c.disparities, r.golden.data(), nullptr), true});
+  files.push_back(
+      {"tb/golden_disparity.pgm", pgm(r.width_px, r.height_px, c.disparities, r.golden.data(), nullptr), true});
   files.push_back({"tb/golden_disparity_reduced.pgm",
                    pgm(r.width_px, r.reduced_height_px, c.disparities, r.reduced_golden.data(), nullptr), true});
   if (rectify) {

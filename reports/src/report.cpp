@@ -83,11 +83,16 @@ std::vector<std::string> all_metric_columns(const std::vector<ResultStore::Row>&
 std::string html_escape(const std::string& s) {
   std::string o;
   for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else if (c == '"')
+      o += "&quot;";
+    else
+      o += c;
   }
   return o;
 }
@@ -155,9 +160,9 @@ std::string svg_scatter(const std::string& id, const std::string& title, const s
   for (const auto& q : pts)
     if (std::isfinite(q.x) && std::isfinite(q.y)) p.push_back(q);
   std::ostringstream o;
-  o << "<svg class=\"plot\" id=\"" << id << "\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\" viewBox=\"0 0 " << W << " " << H << "\"><text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" class=\"t\">"
-    << html_escape(title) << "</text>";
+  o << "<svg class=\"plot\" id=\"" << id << "\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\""
+    << H << "\" viewBox=\"0 0 " << W << " " << H << "\"><text x=\"" << W / 2
+    << "\" y=\"18\" text-anchor=\"middle\" class=\"t\">" << html_escape(title) << "</text>";
   if (p.empty()) {
     o << "<text x=\"" << W / 2 << "\" y=\"" << H / 2 << "\" text-anchor=\"middle\">no data</text></svg>";
     return o.str();
@@ -169,19 +174,28 @@ std::string svg_scatter(const std::string& id, const std::string& title, const s
     y0 = std::min(y0, q.y);
     y1 = std::max(y1, q.y);
   }
-  if (x1 - x0 < 1e-9) { x0 -= 1; x1 += 1; }
-  if (y1 - y0 < 1e-9) { y0 -= 1; y1 += 1; }
+  if (x1 - x0 < 1e-9) {
+    x0 -= 1;
+    x1 += 1;
+  }
+  if (y1 - y0 < 1e-9) {
+    y0 -= 1;
+    y1 += 1;
+  }
   const double px = (x1 - x0) * 0.05, py = (y1 - y0) * 0.05;
-  x0 -= px; x1 += px; y0 -= py; y1 += py;
+  x0 -= px;
+  x1 += px;
+  y0 -= py;
+  y1 += py;
   auto sx = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R); };
   auto sy = [&](double y) { return H - B - (y - y0) / (y1 - y0) * (H - T - B); };
   o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R << "\" height=\"" << H - T - B
     << "\" fill=\"none\" stroke=\"#999\"/>";
   for (int i = 0; i <= 4; ++i) {
     const double xv = x0 + (x1 - x0) * i / 4, yv = y0 + (y1 - y0) * i / 4;
-    o << "<text x=\"" << sx(xv) << "\" y=\"" << H - B + 14 << "\" text-anchor=\"middle\" class=\"k\">" << number(std::round(xv * 10) / 10)
-      << "</text><text x=\"" << L - 4 << "\" y=\"" << sy(yv) + 4 << "\" text-anchor=\"end\" class=\"k\">"
-      << number(std::round(yv * 10) / 10) << "</text>";
+    o << "<text x=\"" << sx(xv) << "\" y=\"" << H - B + 14 << "\" text-anchor=\"middle\" class=\"k\">"
+      << number(std::round(xv * 10) / 10) << "</text><text x=\"" << L - 4 << "\" y=\"" << sy(yv) + 4
+      << "\" text-anchor=\"end\" class=\"k\">" << number(std::round(yv * 10) / 10) << "</text>";
   }
   o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 8 << "\" text-anchor=\"middle\">" << html_escape(xlabel)
     << "</text><text transform=\"translate(14," << (T + H - B) / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
@@ -194,11 +208,13 @@ std::string svg_scatter(const std::string& id, const std::string& title, const s
   auto colour = [&](const std::string& k) {
     return kPalette[std::size_t(std::find(colours.begin(), colours.end(), k) - colours.begin()) % 8];
   };
-  auto marker = [&](const std::string& shape, double x, double y, const char* fill, bool front, const std::string& tip) {
+  auto marker = [&](const std::string& shape, double x, double y, const char* fill, bool front,
+                    const std::string& tip) {
     const std::string stroke = front ? " stroke=\"#000\" stroke-width=\"2\"" : " stroke=\"none\"";
     std::ostringstream m;
     if (std::find(shapes.begin(), shapes.end(), shape) - shapes.begin() == 0)
-      m << "<circle class=\"pt\" cx=\"" << x << "\" cy=\"" << y << "\" r=\"4.5\" fill=\"" << fill << "\" fill-opacity=\"0.8\"" << stroke << ">";
+      m << "<circle class=\"pt\" cx=\"" << x << "\" cy=\"" << y << "\" r=\"4.5\" fill=\"" << fill
+        << "\" fill-opacity=\"0.8\"" << stroke << ">";
     else
       m << "<rect class=\"pt\" x=\"" << x - 4 << "\" y=\"" << y - 4 << "\" width=\"8\" height=\"8\" fill=\"" << fill
         << "\" fill-opacity=\"0.8\"" << stroke << ">";
@@ -209,14 +225,14 @@ std::string svg_scatter(const std::string& id, const std::string& title, const s
   for (const auto& q : p) o << marker(q.shape_key, sx(q.x), sy(q.y), colour(q.colour_key), q.front, q.label);
   double ly = T + 8;
   for (const auto& c : colours) {
-    o << "<circle cx=\"" << W - R + 14 << "\" cy=\"" << ly << "\" r=\"4.5\" fill=\"" << colour(c) << "\"/><text x=\"" << W - R + 24
-      << "\" y=\"" << ly + 4 << "\" class=\"k\">" << html_escape(c) << "</text>";
+    o << "<circle cx=\"" << W - R + 14 << "\" cy=\"" << ly << "\" r=\"4.5\" fill=\"" << colour(c) << "\"/><text x=\""
+      << W - R + 24 << "\" y=\"" << ly + 4 << "\" class=\"k\">" << html_escape(c) << "</text>";
     ly += 15;
   }
   ly += 6;
   for (const auto& sh : shapes) {
-    o << marker(sh, W - R + 14, ly, "#777", false, sh) << "<text x=\"" << W - R + 24 << "\" y=\"" << ly + 4 << "\" class=\"k\">"
-      << html_escape(sh) << "</text>";
+    o << marker(sh, W - R + 14, ly, "#777", false, sh) << "<text x=\"" << W - R + 24 << "\" y=\"" << ly + 4
+      << "\" class=\"k\">" << html_escape(sh) << "</text>";
     ly += 15;
   }
   o << "<text x=\"" << W - R + 8 << "\" y=\"" << ly + 10 << "\" class=\"k\">outlined: front</text></svg>";
@@ -231,18 +247,20 @@ std::string svg_bars(const std::string& id, const std::string& title,
   const double W = 560, L = 130, R = 20, row_h = 20, T = 30;
   const double H = T + row_h * double(rows.size()) + 52;
   std::ostringstream o;
-  o << "<svg class=\"plot\" id=\"" << id << "\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\"><text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" class=\"t\">" << html_escape(title) << "</text>";
+  o << "<svg class=\"plot\" id=\"" << id << "\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\""
+    << H << "\"><text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" class=\"t\">" << html_escape(title)
+    << "</text>";
   if (!(max_value > 0)) max_value = 1;
   double y = T;
   for (const auto& r : rows) {
-    o << "<text x=\"" << L - 6 << "\" y=\"" << y + 14 << "\" text-anchor=\"end\" class=\"k\">" << html_escape(r.first) << "</text>";
+    o << "<text x=\"" << L - 6 << "\" y=\"" << y + 14 << "\" text-anchor=\"end\" class=\"k\">" << html_escape(r.first)
+      << "</text>";
     double x = L;
     for (const auto& seg : r.second) {
       const double w = std::max(0.0, seg.first / max_value * (W - L - R));
       o << "<rect class=\"bar\" x=\"" << x << "\" y=\"" << y + 3 << "\" width=\"" << w << "\" height=\"" << row_h - 6
-        << "\" fill=\"" << seg.second << "\"><title>" << html_escape(r.first) << ": " << number(seg.first) << " " << unit
-        << "</title></rect>";
+        << "\" fill=\"" << seg.second << "\"><title>" << html_escape(r.first) << ": " << number(seg.first) << " "
+        << unit << "</title></rect>";
       x += w;
     }
     y += row_h;
@@ -250,11 +268,13 @@ std::string svg_bars(const std::string& id, const std::string& title,
   double lx = L;
   for (const auto& item : legend) {
     o << "<rect x=\"" << lx << "\" y=\"" << y + 8 << "\" width=\"10\" height=\"10\" fill=\"" << item.second
-      << "\"/><text x=\"" << lx + 14 << "\" y=\"" << y + 17 << "\" class=\"k\">" << html_escape(item.first) << "</text>";
+      << "\"/><text x=\"" << lx + 14 << "\" y=\"" << y + 17 << "\" class=\"k\">" << html_escape(item.first)
+      << "</text>";
     lx += 14 + 6.0 * double(item.first.size()) + 16;
   }
-  o << "<text x=\"" << W - R << "\" y=\"" << y + 36 << "\" text-anchor=\"end\" class=\"k\">full width = " << number(max_value)
-    << " " << html_escape(unit) << "</text></svg>";
+  o << "<text x=\"" << W - R << "\" y=\"" << y + 36
+    << "\" text-anchor=\"end\" class=\"k\">full width = " << number(max_value) << " " << html_escape(unit)
+    << "</text></svg>";
   return o.str();
 }
 
@@ -287,11 +307,33 @@ const char* kScript = R"JS(
 }  // namespace
 
 std::vector<std::string> metric_columns() {
-  return {"density_pct", "density_gt_pct", "correct_3px_pct", "d1_all_pct", "d1_all_filled_pct", "mean_abs_error_px",
-          "frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "bram18k", "lut", "ff", "dsp",
-          "fits_device", "power_w", "energy_mj_per_frame", "obstacle_precision", "obstacle_recall", "range_error_m",
-          "decision_agreement_pct", "mean_ms_per_frame", "flight_success_rate", "flight_collisions",
-          "flight_min_clearance_m", "flight_time_to_goal_s"};
+  return {"density_pct",
+          "density_gt_pct",
+          "correct_3px_pct",
+          "d1_all_pct",
+          "d1_all_filled_pct",
+          "mean_abs_error_px",
+          "frames",
+          "latency_ms",
+          "frame_interval_ms",
+          "fps",
+          "cycles_per_frame",
+          "bram18k",
+          "lut",
+          "ff",
+          "dsp",
+          "fits_device",
+          "power_w",
+          "energy_mj_per_frame",
+          "obstacle_precision",
+          "obstacle_recall",
+          "range_error_m",
+          "decision_agreement_pct",
+          "mean_ms_per_frame",
+          "flight_success_rate",
+          "flight_collisions",
+          "flight_min_clearance_m",
+          "flight_time_to_goal_s"};
 }
 
 void write_designs_csv(const std::vector<ResultStore::Row>& rows, std::ostream& out) {
@@ -345,9 +387,17 @@ std::string report_json(const std::vector<ResultStore::Row>& rows) {
     for (const auto& f : r.frames) frames.push_back({{"frame", f.first}, {"metrics", f.second}});
     json measurement = r.measurement.empty() ? json() : json::parse(r.measurement, nullptr, false);
     if (measurement.is_discarded()) measurement = r.measurement;
-    j.push_back({{"hash", r.hash}, {"sweep", r.sweep}, {"status", r.status}, {"reason", r.reason},
-                 {"configuration", c}, {"metrics", r.metrics}, {"frames", frames}, {"model_version", r.model_version},
-                 {"started_at", r.started_at}, {"finished_at", r.finished_at}, {"measurement", measurement}});
+    j.push_back({{"hash", r.hash},
+                 {"sweep", r.sweep},
+                 {"status", r.status},
+                 {"reason", r.reason},
+                 {"configuration", c},
+                 {"metrics", r.metrics},
+                 {"frames", frames},
+                 {"model_version", r.model_version},
+                 {"started_at", r.started_at},
+                 {"finished_at", r.finished_at},
+                 {"measurement", measurement}});
   }
   return j.dump(2) + "\n";
 }
@@ -382,12 +432,14 @@ void add_avoidance_images(DesignSection& s, const cv::Mat& disp, const cv::Mat& 
   cv::resize(u, u, cv::Size(u.cols, u.rows * su), 0, 0, cv::INTER_NEAREST);
   cv::resize(v, v, cv::Size(v.cols * sv, v.rows), 0, 0, cv::INTER_NEAREST);
   for (const auto& o : a.obstacles) {
-    cv::rectangle(u, cv::Rect(o.u_box.x, o.u_box.y * su, o.u_box.width, o.u_box.height * su), cv::Scalar(60, 200, 60), 1);
+    cv::rectangle(u, cv::Rect(o.u_box.x, o.u_box.y * su, o.u_box.width, o.u_box.height * su), cv::Scalar(60, 200, 60),
+                  1);
     cv::RotatedRect e = o.ellipse;
     e.center.y *= su;
     e.size.height *= su;
     if (e.size.width > 1 && e.size.height > 1) cv::ellipse(u, e, cv::Scalar(40, 40, 230), 1);
-    cv::rectangle(v, cv::Rect(o.v_box.x * sv, o.v_box.y, o.v_box.width * sv, o.v_box.height), cv::Scalar(60, 200, 60), 1);
+    cv::rectangle(v, cv::Rect(o.v_box.x * sv, o.v_box.y, o.v_box.width * sv, o.v_box.height), cv::Scalar(60, 200, 60),
+                  1);
   }
   if (a.ground_found)
     cv::line(v, cv::Point(0, int(a.ground_offset)), cv::Point(v.cols, int(a.ground_slope * max_d + a.ground_offset)),
@@ -414,8 +466,8 @@ void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::
   o << "<svg class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H + 20
     << "\"><rect width=\"" << W << "\" height=\"" << H << "\" fill=\"#f6f6f0\" stroke=\"#999\"/>";
   for (const auto& c : scene.cylinders)
-    o << "<circle cx=\"" << sx(c.x_m) << "\" cy=\"" << sz(c.z_m) << "\" r=\"" << std::max(1.5, c.radius_m / (x1 - x0) * W)
-      << "\" fill=\"#2e7d32\"/>";
+    o << "<circle cx=\"" << sx(c.x_m) << "\" cy=\"" << sz(c.z_m) << "\" r=\""
+      << std::max(1.5, c.radius_m / (x1 - x0) * W) << "\" fill=\"#2e7d32\"/>";
   for (const auto& b : scene.boxes)
     o << "<rect x=\"" << sx(std::max(b.x0_m, x0)) << "\" y=\"" << sz(b.z1_m) << "\" width=\""
       << sx(std::min(b.x1_m, x1)) - sx(std::max(b.x0_m, x0)) << "\" height=\"" << std::max(1.0, sz(b.z0_m) - sz(b.z1_m))
@@ -423,8 +475,11 @@ void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::
   o << "<polyline fill=\"none\" stroke=\"" << (r.collided ? "#d62728" : "#1f77b4") << "\" stroke-width=\"2\" points=\"";
   for (const auto& p : r.trajectory) o << sx(p.x()) << "," << sz(p.z()) << " ";
   o << "\"/><line x1=\"0\" x2=\"" << W << "\" y1=\"" << sz(scene.goal_z_m) << "\" y2=\"" << sz(scene.goal_z_m)
-    << "\" stroke=\"#444\" stroke-dasharray=\"4 3\"/><text x=\"4\" y=\"" << H + 15 << "\" class=\"k\">" << html_escape(sc.name)
-    << " at " << number(speed) << " m/s: " << (r.collided ? "collision" : r.reached_goal ? "goal" : "time out")
+    << "\" stroke=\"#444\" stroke-dasharray=\"4 3\"/><text x=\"4\" y=\"" << H + 15 << "\" class=\"k\">"
+    << html_escape(sc.name) << " at " << number(speed) << " m/s: "
+    << (r.collided       ? "collision"
+        : r.reached_goal ? "goal"
+                         : "time out")
     << ", min clearance " << number(std::round(r.min_clearance_m * 100) / 100) << " m</text></svg>";
   s.flight_svg = o.str();
   // Three frames of the flight: start, middle, end, with the design's disparity.
@@ -470,7 +525,6 @@ void add_figures(DesignSection& s, const DesignResult& r) {
     s.resources = r.resources->estimate;
     s.device = r.resources->utilisation.device;
   }
-  for (const auto& kv : metric_columns(r)) s.metrics.emplace(kv.first, kv.second);
 }
 
 std::string design_section_html(const DesignSection& s) {
@@ -487,7 +541,8 @@ std::string design_section_html(const DesignSection& s) {
   if (!s.left_grey.empty()) {
     o << "<div class=\"images\">" << img_tag(s.left_grey, "left image, frame " + s.frame_id)
       << img_tag(s.disparity_colour, "disparity (red near, blue far, black invalid)")
-      << img_tag(s.gt_colour, "ground truth") << img_tag(s.error_map, "error: green within 3 px, red beyond, black unscored")
+      << img_tag(s.gt_colour, "ground truth")
+      << img_tag(s.error_map, "error: green within 3 px, red beyond, black unscored")
       << img_tag(s.u_map_image, "U map (disparity x column, stretched x3): obstacles boxed, ellipses red")
       << img_tag(s.v_map_image, "V map (row x disparity, stretched x4): ground line blue, obstacles boxed") << "</div>";
   }
@@ -501,18 +556,23 @@ std::string design_section_html(const DesignSection& s) {
     std::vector<std::pair<std::string, std::vector<std::pair<double, std::string>>>> rows;
     double mx = 0;
     for (const auto& st : s.cycle.stages) {
-      rows.push_back({st.name, {{double(st.busy_cycles), kPalette[0]}, {double(st.input_stall_cycles), kPalette[1]},
-                                {double(st.output_stall_cycles), kPalette[3]}}});
+      rows.push_back({st.name,
+                      {{double(st.busy_cycles), kPalette[0]},
+                       {double(st.input_stall_cycles), kPalette[1]},
+                       {double(st.output_stall_cycles), kPalette[3]}}});
       mx = std::max(mx, double(st.busy_cycles + st.input_stall_cycles + st.output_stall_cycles));
     }
     o << "<div class=\"plots\">"
-      << svg_bars(id + "-cycles", "cycles per stage (last pixel at cycle " + std::to_string(s.cycle.last_pixel_cycle) + ")",
-                  rows, {{"busy", kPalette[0]}, {"waiting for input", kPalette[1]}, {"waiting for space", kPalette[3]}}, mx,
+      << svg_bars(id + "-cycles",
+                  "cycles per stage (last pixel at cycle " + std::to_string(s.cycle.last_pixel_cycle) + ")", rows,
+                  {{"busy", kPalette[0]}, {"waiting for input", kPalette[1]}, {"waiting for space", kPalette[3]}}, mx,
                   "cycles");
     std::vector<std::pair<std::string, std::vector<std::pair<double, std::string>>>> fifos;
     double fmx = 0;
     for (const auto& f : s.cycle.fifos) {
-      fifos.push_back({f.name, {{double(f.high_water), kPalette[2]}, {double(std::max<int64_t>(0, f.depth - f.high_water)), "#ddd"}}});
+      fifos.push_back(
+          {f.name,
+           {{double(f.high_water), kPalette[2]}, {double(std::max<int64_t>(0, f.depth - f.high_water)), "#ddd"}}});
       fmx = std::max(fmx, double(std::max(f.depth, f.high_water)));
     }
     o << svg_bars(id + "-fifos", "FIFO occupancy: high-water mark of the depth", fifos,
@@ -522,15 +582,18 @@ std::string design_section_html(const DesignSection& s) {
   if (s.device) {
     const res::Utilisation u = res::utilisation(s.resources.total, *s.device);
     std::vector<std::pair<std::string, std::vector<std::pair<double, std::string>>>> rows = {
-        {"BRAM_18K", {{u.bram18k_pct, kPalette[0]}}}, {"LUT", {{u.lut_pct, kPalette[1]}}},
-        {"FF", {{u.ff_pct, kPalette[2]}}},            {"DSP", {{u.dsp_pct, kPalette[4]}}}};
+        {"BRAM_18K", {{u.bram18k_pct, kPalette[0]}}},
+        {"LUT", {{u.lut_pct, kPalette[1]}}},
+        {"FF", {{u.ff_pct, kPalette[2]}}},
+        {"DSP", {{u.dsp_pct, kPalette[4]}}}};
     o << "<div class=\"plots\">"
-      << svg_bars(id + "-res", "resources on " + s.device->name + (u.fits ? " (fits)" : " (does not fit)"), rows, {}, 100.0,
-                  "% of the device")
-      << "</div><table class=\"kv\"><tr><th class=\"s\">stage</th><th>BRAM_18K</th><th>LUT</th><th>FF</th><th>DSP</th></tr>";
+      << svg_bars(id + "-res", "resources on " + s.device->name + (u.fits ? " (fits)" : " (does not fit)"), rows, {},
+                  100.0, "% of the device")
+      << "</div><table class=\"kv\"><tr><th "
+         "class=\"s\">stage</th><th>BRAM_18K</th><th>LUT</th><th>FF</th><th>DSP</th></tr>";
     for (const auto& st : s.resources.stages)
-      o << "<tr><td class=\"s\">" << st.stage << "</td><td>" << st.usage.bram18k << "</td><td>" << st.usage.lut << "</td><td>"
-        << st.usage.ff << "</td><td>" << st.usage.dsp << "</td></tr>";
+      o << "<tr><td class=\"s\">" << st.stage << "</td><td>" << st.usage.bram18k << "</td><td>" << st.usage.lut
+        << "</td><td>" << st.usage.ff << "</td><td>" << st.usage.dsp << "</td></tr>";
     o << "</table>";
   }
   if (!s.synthesis.empty()) {
@@ -538,17 +601,20 @@ std::string design_section_html(const DesignSection& s) {
          "<th>synthesis</th><th>synthesis / model</th><th class=\"s\">note</th></tr>";
     for (const auto& row : s.synthesis) {
       const bool both = row.model > 0 && row.synthesis >= 0;
-      o << "<tr><td class=\"s\">" << html_escape(row.figure) << "</td><td>" << (row.model >= 0 ? number(row.model) : "-")
-        << "</td><td>" << (row.synthesis >= 0 ? number(row.synthesis) : "-") << "</td><td>"
-        << (both ? number(row.synthesis / row.model) : "-") << "</td><td class=\"s\">" << html_escape(row.note) << "</td></tr>";
+      o << "<tr><td class=\"s\">" << html_escape(row.figure) << "</td><td>"
+        << (row.model >= 0 ? number(row.model) : "-") << "</td><td>"
+        << (row.synthesis >= 0 ? number(row.synthesis) : "-") << "</td><td>"
+        << (both ? number(row.synthesis / row.model) : "-") << "</td><td class=\"s\">" << html_escape(row.note)
+        << "</td></tr>";
     }
     o << "</table>";
   }
   {
     const std::vector<uchar> yaml(s.config_yaml.begin(), s.config_yaml.end());
     o << "<h4>Configuration</h4><p><a download=\"" << html_escape(s.config_file.empty() ? "design.yaml" : s.config_file)
-      << "\" href=\"data:text/yaml;base64," << base64(yaml) << "\">save as " << html_escape(s.config_file.empty() ? "design.yaml" : s.config_file)
-      << "</a></p><pre>" << html_escape(s.config_yaml) << "</pre>";
+      << "\" href=\"data:text/yaml;base64," << base64(yaml) << "\">save as "
+      << html_escape(s.config_file.empty() ? "design.yaml" : s.config_file) << "</a></p><pre>"
+      << html_escape(s.config_yaml) << "</pre>";
   }
   if (!s.command.empty()) o << "<p>Reproduce:</p><pre>" << html_escape(s.command) << "</pre>";
   o << "</section>";
@@ -557,7 +623,8 @@ std::string design_section_html(const DesignSection& s) {
 
 std::string standalone_page(const std::string& title, const std::string& body) {
   return "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html_escape(title) +
-         "</title><style>" + kStyle + "</style></head><body>" + body + "<script>" + kScript + "</script></body></html>\n";
+         "</title><style>" + kStyle + "</style></head><body>" + body + "<script>" + kScript +
+         "</script></body></html>\n";
 }
 
 std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt) {
@@ -572,10 +639,12 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
     meets += meets_constraints(spec, r) ? 1 : 0;
   }
   std::ostringstream o;
-  o << "<h1>Parallax sweep report: " << html_escape(spec.name) << "</h1><section id=\"summary\"><h2>Summary</h2><table class=\"kv\">"
-    << "<tr><td>base design</td><td>" << html_escape(spec.base) << "</td></tr><tr><td>strategy</td><td>" << spec.strategy
-    << "</td></tr><tr><td>designs</td><td>" << rows.size() << " (" << ok << " evaluated, " << invalid << " invalid, " << failed
-    << " failed)</td></tr><tr><td>constraints</td><td>" << (spec.require_fit ? "fits " + spec.device : "none")
+  o << "<h1>Parallax sweep report: " << html_escape(spec.name)
+    << "</h1><section id=\"summary\"><h2>Summary</h2><table class=\"kv\">"
+    << "<tr><td>base design</td><td>" << html_escape(spec.base) << "</td></tr><tr><td>strategy</td><td>"
+    << spec.strategy << "</td></tr><tr><td>designs</td><td>" << rows.size() << " (" << ok << " evaluated, " << invalid
+    << " invalid, " << failed << " failed)</td></tr><tr><td>constraints</td><td>"
+    << (spec.require_fit ? "fits " + spec.device : "none")
     << (spec.min_fps > 0 ? ", fps &ge; " + number(spec.min_fps) : "")
     << (spec.max_latency_ms > 0 ? ", latency &le; " + number(spec.max_latency_ms) + " ms" : "") << "</td></tr>"
     << "<tr><td>meet them</td><td>" << meets << "</td></tr><tr><td>objectives</td><td>";
@@ -594,26 +663,31 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
     return p;
   };
   o << "<section id=\"pareto\"><h2>Pareto plots</h2><div class=\"plots\">"
-    << svg_scatter("pareto-bram", "correct vs BRAM", "BRAM_18K", "correct_3px_pct", pts("bram18k", "correct_3px_pct", false))
-    << svg_scatter("pareto-latency", "correct vs latency", "latency_ms", "correct_3px_pct", pts("latency_ms", "correct_3px_pct", false))
-    << svg_scatter("pareto-density", "density vs correct", "correct_3px_pct", "density_pct", pts("correct_3px_pct", "density_pct", false))
+    << svg_scatter("pareto-bram", "correct vs BRAM", "BRAM_18K", "correct_3px_pct",
+                   pts("bram18k", "correct_3px_pct", false))
+    << svg_scatter("pareto-latency", "correct vs latency", "latency_ms", "correct_3px_pct",
+                   pts("latency_ms", "correct_3px_pct", false))
+    << svg_scatter("pareto-density", "density vs correct", "correct_3px_pct", "density_pct",
+                   pts("correct_3px_pct", "density_pct", false))
     << "</div></section><section id=\"sensitivity\"><h2>Sensitivity</h2><div class=\"plots\">"
     << svg_scatter("sens-p2", "correct vs P2", "p2", "correct_3px_pct", pts("p2", "correct_3px_pct", true))
-    << svg_scatter("sens-d", "correct vs disparities", "disparities", "correct_3px_pct", pts("disparities", "correct_3px_pct", true))
+    << svg_scatter("sens-d", "correct vs disparities", "disparities", "correct_3px_pct",
+                   pts("disparities", "correct_3px_pct", true))
     << svg_scatter("sens-paths", "correct vs paths", "paths", "correct_3px_pct", pts("paths", "correct_3px_pct", true))
     << "</div></section>";
   // Table.
   const std::vector<std::string> shown_cfg = {"paths", "disparities", "parallel_units", "cost", "p1", "p2", "median"};
-  const std::vector<std::string> shown_met = {"correct_3px_pct", "density_pct", "d1_all_pct", "fps", "latency_ms", "bram18k",
-                                              "lut", "ff", "dsp", "power_w"};
-  o << "<section id=\"table\"><h2>All designs</h2><input id=\"filter\" placeholder=\"filter rows (any text)\"><div class=\"scroll\">"
+  const std::vector<std::string> shown_met = {"correct_3px_pct", "density_pct", "d1_all_pct", "fps", "latency_ms",
+                                              "bram18k",         "lut",         "ff",         "dsp", "power_w"};
+  o << "<section id=\"table\"><h2>All designs</h2><input id=\"filter\" placeholder=\"filter rows (any text)\"><div "
+       "class=\"scroll\">"
     << "<table id=\"designs\"><thead><tr><th class=\"s\">hash</th><th class=\"s\">status</th>";
   for (const auto& c : shown_cfg) o << "<th>" << c << "</th>";
   for (const auto& c : shown_met) o << "<th>" << c << "</th>";
   o << "<th class=\"s\">reason</th></tr></thead><tbody>";
   for (const auto& r : rows) {
-    o << "<tr" << (on_front.count(r.hash) ? " class=\"front\"" : "") << "><td class=\"s\">" << r.hash << "</td><td class=\"s\">"
-      << r.status << "</td>";
+    o << "<tr" << (on_front.count(r.hash) ? " class=\"front\"" : "") << "><td class=\"s\">" << r.hash
+      << "</td><td class=\"s\">" << r.status << "</td>";
     for (const auto& c : shown_cfg) o << "<td>" << html_escape(field(r, c)) << "</td>";
     for (const auto& c : shown_met) {
       const double v = metric(r, c);
@@ -633,17 +707,19 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
     s.config_yaml = r.config_yaml;
     s.metrics = r.metrics;
     s.config_file = "design-" + r.hash + ".yaml";
-    s.command = "parallax sweep --base " + s.config_file + " --dataset " + (opt.dataset.empty() ? "DATASET" : opt.dataset) +
-                " --frames '" + spec.frames + "' --gt " + spec.gt +
+    s.command = "parallax sweep --base " + s.config_file + " --dataset " +
+                (opt.dataset.empty() ? "DATASET" : opt.dataset) + " --frames '" + spec.frames + "' --gt " + spec.gt +
                 " --db check.db   # accuracy, timing and resources as stored\n"
-                "parallax sim --config " + s.config_file + " --device " + spec.device + " --html " + r.hash + ".html";
+                "parallax sim --config " +
+                s.config_file + " --device " + spec.device + " --html " + r.hash + ".html";
     try {
       const config::PipelineConfig cfg = config::parse_config(r.config_yaml, "design " + r.hash);
       PointRequest timing_and_resources;
       timing_and_resources.device = spec.device;
       add_figures(s, evaluate_point(cfg, timing_and_resources));
       if (!opt.dataset.empty()) add_frame_images(s, cfg, opt.dataset, opt.frame);
-      if (!spec.flight_scenario.empty()) add_flight(s, cfg, spec.flight_scenario, spec.flight_speed_mps, spec.flight_size_px);
+      if (!spec.flight_scenario.empty())
+        add_flight(s, cfg, spec.flight_scenario, spec.flight_speed_mps, spec.flight_size_px);
     } catch (const std::exception& e) {
       s.title += " (" + std::string(e.what()) + ")";
     }
@@ -699,7 +775,8 @@ void check_report_outputs(const std::string& store_path, const std::vector<std::
         throw InputError(opt + " " + out + ": inside the dataset folder " + d + "; write the report elsewhere");
     for (std::size_t j = 0; j < i; ++j)
       if (!outputs[j].second.empty() && same_file(out, outputs[j].second))
-        throw InputError(opt + " " + out + ": the same file as " + outputs[j].first + "; give each output its own file");
+        throw InputError(opt + " " + out + ": the same file as " + outputs[j].first +
+                         "; give each output its own file");
   }
 }
 

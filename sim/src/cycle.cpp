@@ -16,8 +16,8 @@ TimingModel default_timing(const kern::StereoParams& p, double clock_hz) {
   // Latencies are pipeline depths of the kernels' per-firing work: a read, the lane arithmetic as
   // balanced trees, a register. II comes from the kernels' own schedule declarations.
   const int taps = p.window_w * p.window_h;
-  const int cost_latency = p.cost == kern::kCostCensus ? 2 + kern::bits_for(uint64_t(taps - 1))
-                                                        : 2 + kern::bits_for(uint64_t(taps));
+  const int cost_latency =
+      p.cost == kern::kCostCensus ? 2 + kern::bits_for(uint64_t(taps - 1)) : 2 + kern::bits_for(uint64_t(taps));
   const int agg_latency = 3 + 1 + kern::bits_for(uint64_t(std::max(1, kern::path_count(p))));
   const int wta_latency = 2 + kern::bits_for(uint64_t(p.parallel_units));
   const int median_latency = p.median >= 3 ? 2 + kern::bits_for(uint64_t(p.median) * uint64_t(p.median)) : 1;

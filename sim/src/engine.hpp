@@ -43,9 +43,9 @@ namespace parallax::sim::detail {
 template <class Caps, class Word, bool kTimed, bool kData = true>
 class Engine : private PipelineRun<kTimed> {
   using Run = PipelineRun<kTimed>;
-  using Run::p_, Run::setup_, Run::rep_, Run::timing_, Run::trace_, Run::graph_, Run::conditions_, Run::input_rate_;
   using Run::begin, Run::frame_pixels, Run::depth_of, Run::rectifying, Run::input_arrival, Run::ddr_rate,
       Run::ddr_latency_cycles, Run::schedule, Run::mark_done, Run::collect, Run::finish_report;
+  using Run::p_, Run::setup_, Run::rep_, Run::timing_, Run::trace_, Run::graph_, Run::conditions_, Run::input_rate_;
 
  public:
   using CostTok = kern::Lanes<uint16_t, Caps::lanes>;
@@ -153,7 +153,8 @@ class Engine : private PipelineRun<kTimed> {
     bool known = name == "replay" || name == "recorder";
     for (const kern::PipelineStage& st : kern::kPipelineStages)
       known = known || (name == st.name && kern::pipeline_has(st.when, conditions_));
-    if (!known) internal_error("stage '" + name + "' is not in this variant of the pipeline table (kernels/pipeline.hpp)");
+    if (!known)
+      internal_error("stage '" + name + "' is not in this variant of the pipeline table (kernels/pipeline.hpp)");
     const auto it = timing_.find(name);
     return graph_->add_node(name, it != timing_.end() ? it->second : StageTiming{});
   }
@@ -173,18 +174,19 @@ class Engine : private PipelineRun<kTimed> {
       if (n.still_blocked()) return false;
       while (next < total) {
         const int64_t i = next;
-        if (!n.attempt({}, {Port{&l, true}, Port{&r, true}},
-                       [&] {
-                         l.write(left.px[std::size_t(i)]);
-                         r.write(right.px[std::size_t(i)]);
-                       },
-                       input_arrival(i)))
+        if (!n.attempt(
+                {}, {Port{&l, true}, Port{&r, true}},
+                [&] {
+                  l.write(left.px[std::size_t(i)]);
+                  r.write(right.px[std::size_t(i)]);
+                },
+                input_arrival(i)))
           break;
         if (kTimed && rep_ && setup_.opt->input == InputKind::camera && rep_->input_overrun.empty() &&
             n.report().last_fire_cycle > input_arrival(i))
           rep_->input_overrun = "camera overrun: pixel " + std::to_string(i) + " arrived at cycle " +
-                                std::to_string(input_arrival(i)) + " but FIFO '" + l.name() + "' had room only at cycle " +
-                                std::to_string(n.report().last_fire_cycle);
+                                std::to_string(input_arrival(i)) + " but FIFO '" + l.name() +
+                                "' had room only at cycle " + std::to_string(n.report().last_fire_cycle);
         ++next;
         fired = true;
       }
@@ -236,22 +238,25 @@ class Engine : private PipelineRun<kTimed> {
       while (!agg_.done()) {
         const kern::AggPlan pl = agg_.plan();
         const int extra = conflicts[chunk];
-        const bool ok = n.attempt({Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}}, [&] {
-          if constexpr (!kData) {
-            agg_.step(pl);
-            c.skip_read();
-            if (f) f->skip_read();
-            s.skip_write();
-            if (t) t->skip_write();
-          } else if (f && t)
-            agg_.fire(pl, c, *f, s, *t);
-          else if (f)
-            agg_.fire(pl, c, *f, s, no_cost);
-          else if (t)
-            agg_.fire(pl, c, no_sum, s, *t);
-          else
-            agg_.fire(pl, c, no_sum, s, no_cost);
-        }, 0, extra);
+        const bool ok = n.attempt(
+            {Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}},
+            [&] {
+              if constexpr (!kData) {
+                agg_.step(pl);
+                c.skip_read();
+                if (f) f->skip_read();
+                s.skip_write();
+                if (t) t->skip_write();
+              } else if (f && t)
+                agg_.fire(pl, c, *f, s, *t);
+              else if (f)
+                agg_.fire(pl, c, *f, s, no_cost);
+              else if (t)
+                agg_.fire(pl, c, no_sum, s, *t);
+              else
+                agg_.fire(pl, c, no_sum, s, no_cost);
+            },
+            0, extra);
         if (!ok) break;
         if (++chunk == conflicts.size()) chunk = 0;
         fired = true;
@@ -285,7 +290,9 @@ class Engine : private PipelineRun<kTimed> {
       return fired;
     };
   }
-  std::function<bool()> wta_pump(NodeT& n, Fifo<SumTok>& in, Fifo<kern::DispCode>& out) { return io_pump(n, wta_, in, out); }
+  std::function<bool()> wta_pump(NodeT& n, Fifo<SumTok>& in, Fifo<kern::DispCode>& out) {
+    return io_pump(n, wta_, in, out);
+  }
   std::function<bool()> median_pump(NodeT& n, Fifo<kern::DispCode>& in, Fifo<kern::DispCode>& out) {
     return io_pump(n, median_, in, out);
   }
@@ -327,7 +334,9 @@ class Engine : private PipelineRun<kTimed> {
       if (n.still_blocked()) return false;
       while (next < int64_t(table.size())) {
         const int64_t i = next;
-        if (!n.attempt({}, {Port{&out, true}}, [&] { out.write(table[std::size_t(i)]); }, maps.at(i))) break;
+        if (!n.attempt(
+                {}, {Port{&out, true}}, [&] { out.write(table[std::size_t(i)]); }, maps.at(i)))
+          break;
         ++next;
         fired = true;
       }
@@ -514,16 +523,18 @@ class Engine : private PipelineRun<kTimed> {
     int64_t read_word = 0, got = 0;
     const int64_t total = fl.pixels;
     schedule({fb_.read_pump(n_rd, *back_c, *back_f, rd, read_word),
-              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums, nullptr),
-              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered), fb_.map_writer_pump(n_sink, *filtered, out, got)},
+              agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums,
+                                                                                 nullptr),
+              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
+              fb_.map_writer_pump(n_sink, *filtered, out, got)},
              [&] { return got >= total; });
     if (rep_) {
       rep_->ddr_bytes_read = read_word * fl.word_bytes;
       rep_->map_bytes_written = got * kern::kMapCodeBytes;
     }
     collect_front_end(*fe);
-    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd), std::move(back_c),
-            std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
+    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd),
+            std::move(back_c), std::move(back_f), std::move(sums), std::move(disp), std::move(filtered));
   }
 
   // --- periodic fast-forward hooks (fast_forward.hpp) ------------------------------------------
@@ -532,7 +543,8 @@ class Engine : private PipelineRun<kTimed> {
   // rectification or VCD trace (the coupled run never skips).
   void start_fast_forward(int64_t& next_src, int64_t& got, int64_t source_pixels) {
     const bool tracing = trace_ && trace_->active();
-    const bool enabled = kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
+    const bool enabled =
+        kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
     FastForwardRun run;
     if (enabled) {
       run.next_src = &next_src;
@@ -540,11 +552,12 @@ class Engine : private PipelineRun<kTimed> {
       run.last_pixel_cycle = &rep_->last_pixel_cycle;
       run.rows_fast_forwarded = &rep_->rows_fast_forwarded;
       run.source_total = source_pixels;
-      if (setup_.opt->truncate_input_px >= 0) run.source_total = std::min(run.source_total, setup_.opt->truncate_input_px);
+      if (setup_.opt->truncate_input_px >= 0)
+        run.source_total = std::min(run.source_total, setup_.opt->truncate_input_px);
       run.width = p_.width_px;
       run.settle_rows = p_.window_h / 2 + p_.median / 2 + 2;
       const double stride = setup_.opt->input == InputKind::camera ? double(p_.width_px + setup_.opt->camera_h_blank_px)
-                                                                    : double(p_.width_px);
+                                                                   : double(p_.width_px);
       run.row_input_cycles = stride * input_rate_.cycles_per_token;
     }
     ff_.start(enabled, *graph_, run);

@@ -29,7 +29,7 @@ namespace parallax::sim::detail {
 
 // Reads (out) or assigns (in) every field of the timed state, in visiting order.
 struct StateIO {
-  std::vector<int64_t>* out = nullptr;  // read mode: append every field
+  std::vector<int64_t>* out = nullptr;       // read mode: append every field
   const std::vector<int64_t>* in = nullptr;  // write mode: assign every field in order
   std::size_t pos = 0;
   template <class T>

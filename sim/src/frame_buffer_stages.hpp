@@ -87,36 +87,37 @@ class FrameBufferStages {
         const bool writes = t >= fl.seg_tokens;
         const int64_t w = t - fl.seg_tokens;  // the word written (writes)
         const bool reads = !writes || (w < fl.words - fl.seg_words && w % fl.beats == 0);
-        if (!n.attempt({Port{&tee, reads}, Port{&fwd, reads}}, {},
-                       [&] {
-                         if constexpr (kData) {
-                           if (writes) {  // before the fill: the two halves differ
-                             const int64_t seg = w / fl.seg_words, k = w % fl.seg_words;
-                             const int64_t slot =
-                                 (seg % 2) * fl.seg_tokens + kern::reversed_slot(k / fl.beats, fl.chunks, fl.seg_pixels);
-                             uint32_t pair[kPairLimbs] = {};
-                             const uint32_t* from = &segment_[std::size_t(slot) * std::size_t(fl.pair_limbs)];
-                             for (int i = 0; i < fl.pair_limbs; ++i) pair[i] = from[i];
-                             uint32_t word[kern::kFrameWordMaxBits / 32];
-                             kern::frame_beat_of(pair, int(k % fl.beats), fl.word_limbs, word);
-                             const int64_t address = kern::reversed_block_base(fl.segments, fl.seg_words, seg) + k;
-                             for (int i = 0; i < fl.word_limbs; ++i)
-                               frame_[std::size_t(address) * std::size_t(fl.word_limbs) + std::size_t(i)] = word[i];
-                           }
-                           if (reads) {
-                             const int64_t token = writes ? fl.seg_tokens + w / fl.beats : t;
-                             const int64_t slot = ((token / fl.seg_tokens) % 2) * fl.seg_tokens + token % fl.seg_tokens;
-                             uint32_t pair[kPairLimbs];
-                             kern::frame_pack(tee.read(), fwd.read(), p_.parallel_units, fl.cost_w, fl.sum_w, pair);
-                             uint32_t* to = &segment_[std::size_t(slot) * std::size_t(fl.pair_limbs)];
-                             for (int i = 0; i < fl.pair_limbs; ++i) to[i] = pair[i];
-                           }
-                         } else if (reads) {
-                           tee.skip_read();
-                           fwd.skip_read();
-                         }
-                       },
-                       writes ? ddr.at(w) : 0))
+        if (!n.attempt(
+                {Port{&tee, reads}, Port{&fwd, reads}}, {},
+                [&] {
+                  if constexpr (kData) {
+                    if (writes) {  // before the fill: the two halves differ
+                      const int64_t seg = w / fl.seg_words, k = w % fl.seg_words;
+                      const int64_t slot =
+                          (seg % 2) * fl.seg_tokens + kern::reversed_slot(k / fl.beats, fl.chunks, fl.seg_pixels);
+                      uint32_t pair[kPairLimbs] = {};
+                      const uint32_t* from = &segment_[std::size_t(slot) * std::size_t(fl.pair_limbs)];
+                      for (int i = 0; i < fl.pair_limbs; ++i) pair[i] = from[i];
+                      uint32_t word[kern::kFrameWordMaxBits / 32];
+                      kern::frame_beat_of(pair, int(k % fl.beats), fl.word_limbs, word);
+                      const int64_t address = kern::reversed_block_base(fl.segments, fl.seg_words, seg) + k;
+                      for (int i = 0; i < fl.word_limbs; ++i)
+                        frame_[std::size_t(address) * std::size_t(fl.word_limbs) + std::size_t(i)] = word[i];
+                    }
+                    if (reads) {
+                      const int64_t token = writes ? fl.seg_tokens + w / fl.beats : t;
+                      const int64_t slot = ((token / fl.seg_tokens) % 2) * fl.seg_tokens + token % fl.seg_tokens;
+                      uint32_t pair[kPairLimbs];
+                      kern::frame_pack(tee.read(), fwd.read(), p_.parallel_units, fl.cost_w, fl.sum_w, pair);
+                      uint32_t* to = &segment_[std::size_t(slot) * std::size_t(fl.pair_limbs)];
+                      for (int i = 0; i < fl.pair_limbs; ++i) to[i] = pair[i];
+                    }
+                  } else if (reads) {
+                    tee.skip_read();
+                    fwd.skip_read();
+                  }
+                },
+                writes ? ddr.at(w) : 0))
           break;
         if (writes) ++stored;
         ++step;
@@ -136,26 +137,27 @@ class FrameBufferStages {
       while (read_word < fl.words) {
         const int64_t i = read_word;  // ascending addresses
         const bool last_beat = i % fl.beats == fl.beats - 1;
-        if (!n.attempt({}, {Port{&c_out, last_beat}, Port{&f_out, last_beat}},
-                       [&] {
-                         if constexpr (kData) {
-                           uint32_t word[kern::kFrameWordMaxBits / 32];
-                           for (int k = 0; k < fl.word_limbs; ++k)
-                             word[k] = frame_[std::size_t(i) * std::size_t(fl.word_limbs) + std::size_t(k)];
-                           kern::frame_set_beat(read_pair_, int(i % fl.beats), fl.word_limbs, word);
-                           if (last_beat) {
-                             CostTok c;
-                             SumTok f;
-                             kern::frame_unpack(read_pair_, p_.parallel_units, fl.cost_w, fl.sum_w, c, f);
-                             c_out.write(c);
-                             f_out.write(f);
-                           }
-                         } else if (last_beat) {
-                           c_out.skip_write();
-                           f_out.skip_write();
-                         }
-                       },
-                       rd.at(i)))
+        if (!n.attempt(
+                {}, {Port{&c_out, last_beat}, Port{&f_out, last_beat}},
+                [&] {
+                  if constexpr (kData) {
+                    uint32_t word[kern::kFrameWordMaxBits / 32];
+                    for (int k = 0; k < fl.word_limbs; ++k)
+                      word[k] = frame_[std::size_t(i) * std::size_t(fl.word_limbs) + std::size_t(k)];
+                    kern::frame_set_beat(read_pair_, int(i % fl.beats), fl.word_limbs, word);
+                    if (last_beat) {
+                      CostTok c;
+                      SumTok f;
+                      kern::frame_unpack(read_pair_, p_.parallel_units, fl.cost_w, fl.sum_w, c, f);
+                      c_out.write(c);
+                      f_out.write(f);
+                    }
+                  } else if (last_beat) {
+                    c_out.skip_write();
+                    f_out.skip_write();
+                  }
+                },
+                rd.at(i)))
           break;
         ++read_word;
         fired = true;

@@ -53,8 +53,7 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
   need(p.disparities >= 1 && p.disparities <= kern::kMaxDisparities, "disparities out of [1, 256]");
   need(p.parallel_units >= 1 && p.disparities % (p.parallel_units > 0 ? p.parallel_units : 1) == 0,
        "parallel_units must divide disparities");
-  need(p.window_w % 2 == 1 && p.window_h % 2 == 1 && p.window_w <= kern::kMaxWindow &&
-           p.window_h <= kern::kMaxWindow,
+  need(p.window_w % 2 == 1 && p.window_h % 2 == 1 && p.window_w <= kern::kMaxWindow && p.window_h <= kern::kMaxWindow,
        "window sides must be odd and at most 9");
   need(p.cost != kern::kCostCensus || p.window_w * p.window_h - 1 <= kern::kMaxCensusBits,
        "census window needs w*h-1 <= 64");
@@ -79,8 +78,9 @@ CostRecording& CostRecording::operator=(CostRecording&&) noexcept = default;
 
 std::string cost_sharing_key(const kern::StereoParams& p) {
   if ((p.path_mask & kern::kBackwardPaths) != 0) return "";
-  return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) + " window " +
-         std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities);
+  return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) +
+         " window " + std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " +
+         std::to_string(p.disparities);
 }
 
 // One engine per instantiation the func run uses, made on first use and kept (its stages are
@@ -136,8 +136,14 @@ RectifyOutput run_rectify_func(const GreyImage& in, const std::vector<kern::MapE
   std::size_t src = 0, map_src = 0, dst = 0;
   while (dst < map.size()) {
     bool progress = false;
-    while (src < in.px.size() && !pix.full()) { pix.write(in.px[src++]); progress = true; }
-    while (map_src < map.size() && !maps.full()) { maps.write(map[map_src++]); progress = true; }
+    while (src < in.px.size() && !pix.full()) {
+      pix.write(in.px[src++]);
+      progress = true;
+    }
+    while (map_src < map.size() && !maps.full()) {
+      maps.write(map[map_src++]);
+      progress = true;
+    }
     progress |= pump(
         [&] {
           if (stage->done()) return false;
@@ -146,7 +152,10 @@ RectifyOutput run_rectify_func(const GreyImage& in, const std::vector<kern::MapE
                    (!pl.read_pixel && !pl.write));
         },
         [&] { stage->fire(stage->plan(), pix, maps, out); });
-    while (!out.empty()) { r.image.px[dst++] = out.read(); progress = true; }
+    while (!out.empty()) {
+      r.image.px[dst++] = out.read();
+      progress = true;
+    }
     if (!progress) internal_error("func scheduler made no progress (rectify)");
   }
   r.window_misses = stage->window_misses();
@@ -178,9 +187,8 @@ DisparityCodes FuncPipeline::run_from_costs(const CostRecording& rec, const kern
   kern::StereoParams p = p_in;
   p.parallel_units = largest_divisor_at_most(p.disparities, 64);
   DisparityCodes out;
-  detail::dispatch_design<Narrow>(p.parallel_units, kern::aggregate_bits(p), [&](auto design) {
-    impl_->engine(design).run_from_costs(rec.impl->tokens, p, out);
-  });
+  detail::dispatch_design<Narrow>(p.parallel_units, kern::aggregate_bits(p),
+                                  [&](auto design) { impl_->engine(design).run_from_costs(rec.impl->tokens, p, out); });
   return out;
 }
 

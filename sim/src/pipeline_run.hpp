@@ -49,7 +49,7 @@ class PipelineRun {
     p_ = p;
     setup_ = setup;
     rep_ = rep;
-    timing_ = default_timing(p, !setup.opt ? 200e6
+    timing_ = default_timing(p, !setup.opt                          ? 200e6
                                 : setup.opt->synthesis_clock_hz > 0 ? setup.opt->synthesis_clock_hz
                                                                     : setup.opt->clock_hz);
     if (setup.opt)

@@ -33,9 +33,12 @@ std::vector<std::string> csv_fields(const std::string& line) {
   std::vector<std::string> f(1);
   bool quoted = false;
   for (char c : line) {
-    if (c == '"') quoted = !quoted;
-    else if (c == ',' && !quoted) f.emplace_back();
-    else f.back() += c;
+    if (c == '"')
+      quoted = !quoted;
+    else if (c == ',' && !quoted)
+      f.emplace_back();
+    else
+      f.back() += c;
   }
   return f;
 }
@@ -61,20 +64,29 @@ std::vector<OperatorDelay> parse_delays() {
 
 const char* kind_key(kern::OpKind k) {
   switch (k) {
-    case kern::kOpAdd: return "add";
-    case kern::kOpCompare: return "compare";
-    case kern::kOpMux: return "mux";
-    case kern::kOpXor: return "xor";
-    case kern::kOpMemRead: return "memory_read";
-    case kern::kOpRegister: return "register";
-    default: return "";
+    case kern::kOpAdd:
+      return "add";
+    case kern::kOpCompare:
+      return "compare";
+    case kern::kOpMux:
+      return "mux";
+    case kern::kOpXor:
+      return "xor";
+    case kern::kOpMemRead:
+      return "memory_read";
+    case kern::kOpRegister:
+      return "register";
+    default:
+      return "";
   }
 }
 
 // What a kernel's schedule() calls (resources.hpp).
 struct Collector {
   StageSchedule* s;
-  void memory(const char* name, int reads, int writes, int ports) { s->memories.push_back({name, reads, writes, ports}); }
+  void memory(const char* name, int reads, int writes, int ports) {
+    s->memories.push_back({name, reads, writes, ports});
+  }
   void recurrence(const char* name, int distance) { s->recurrences.push_back({name, distance, {}}); }
   void chain(kern::OpKind kind, int width_bits, int count) {
     if (s->recurrences.empty()) table_error("a chain operator before any recurrence");
@@ -113,8 +125,8 @@ double operator_delay_ns(kern::OpKind kind, int width_bits) {
   const std::string key = kind_key(kind);
   for (const auto& r : operator_delays())
     if (r.kind == key && width_bits >= r.min_bits && width_bits <= r.max_bits) return r.delay_ns;
-  table_error("no delay for " + (key.empty() ? std::string("this operator") : key) + " of " + std::to_string(width_bits) +
-              " bits");
+  table_error("no delay for " + (key.empty() ? std::string("this operator") : key) + " of " +
+              std::to_string(width_bits) + " bits");
 }
 
 double Recurrence::delay_ns() const {

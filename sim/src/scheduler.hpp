@@ -53,8 +53,8 @@ class Node {
   // conflict_cycles: extra cycles this firing holds the stage because its memory accesses exceed
   // the memories' ports within one II (see row_memory_conflict_cycles()).
   template <class Fire>
-  [[gnu::always_inline]] bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire, int64_t earliest = 0,
-               int conflict_cycles = 0) {
+  [[gnu::always_inline]] bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire,
+                                      int64_t earliest = 0, int conflict_cycles = 0) {
     if constexpr (!kTimed) {  // func run: only the plan's ports, no statistics
       for (const Port& p : in)
         if (p.used && p.fifo->empty()) return false;

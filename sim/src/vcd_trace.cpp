@@ -39,14 +39,16 @@ void Trace::write(const std::string& path, const std::string& scope) const {
     out << "$var wire " << widths_[i] << " " << vcd_id(int(i)) << " " << names_[i] << " $end\n";
   out << "$upscope $end\n$enddefinitions $end\n";
   std::size_t k = 0;
-  for (; k < ev.size() && ev[k].cycle <= from_; ++k) level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
+  for (; k < ev.size() && ev[k].cycle <= from_; ++k)
+    level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
   out << "#" << from_ << "\n$dumpvars\n";
   for (std::size_t i = 0; i < names_.size(); ++i) out << vcd_value(level[i], widths_[i], vcd_id(int(i))) << "\n";
   out << "$end\n";
   while (k < ev.size() && ev[k].cycle < to_) {
     const int64_t c = ev[k].cycle;
     std::vector<int64_t> before = level;
-    for (; k < ev.size() && ev[k].cycle == c; ++k) level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
+    for (; k < ev.size() && ev[k].cycle == c; ++k)
+      level[ev[k].sig] = ev[k].delta ? level[ev[k].sig] + ev[k].v : ev[k].v;
     bool header = false;
     for (std::size_t i = 0; i < names_.size(); ++i) {
       if (level[i] == before[i]) continue;

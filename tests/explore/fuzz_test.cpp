@@ -158,9 +158,12 @@ class Fuzz : public ::testing::Test {
   fs::path dir_;
 };
 
-const std::vector<std::string> kYamlTokens = {":", "- ", "[", "]", "{", "}", ",", "\n", "  ", "&a ", "*a", "!!str ", "? ",
-                                              "|\n", ">\n", "'", "\"", "#", "---\n", "...\n", "nan", "inf", "-1",
-                                              "1e308", "99999999999999999999", "0x10", "true", "null", "~", "\t"};
+const std::vector<std::string> kYamlTokens = {":",    "- ",     "[",    "]",     "{",
+                                              "}",    ",",      "\n",   "  ",    "&a ",
+                                              "*a",   "!!str ", "? ",   "|\n",   ">\n",
+                                              "'",    "\"",     "#",    "---\n", "...\n",
+                                              "nan",  "inf",    "-1",   "1e308", "99999999999999999999",
+                                              "0x10", "true",   "null", "~",     "\t"};
 
 TEST_F(Fuzz, ConfigurationReader) {
   std::vector<std::string> seeds;
@@ -169,8 +172,9 @@ TEST_F(Fuzz, ConfigurationReader) {
   seeds.push_back("paths: [0, 90, 180]\nwindow: 7x5\nfifo_depth_cost: 4\nii_aggregate: 2\nrectify: bilinear\n");
   std::vector<std::string> tokens = kYamlTokens;
   for (const auto& f : config::field_names()) tokens.push_back(f + ": ");
-  fuzz("configuration", seeds, tokens, 15001, [](const std::string& text) { (void)config::parse_config(text, "fuzz.yaml"); },
-       is<config::ConfigError>);
+  fuzz(
+      "configuration", seeds, tokens, 15001,
+      [](const std::string& text) { (void)config::parse_config(text, "fuzz.yaml"); }, is<config::ConfigError>);
 }
 
 TEST_F(Fuzz, SweepReader) {
@@ -179,11 +183,12 @@ TEST_F(Fuzz, SweepReader) {
     if (e.path().extension() == ".yaml") seeds.push_back(read_all(e.path()));
   ASSERT_FALSE(seeds.empty());
   std::vector<std::string> tokens = kYamlTokens;
-  for (const char* k : {"axes: ", "objectives: ", "constraints: ", "flight: ", "strategy: ", "samples: ", "max ", "min ",
-                        "p2: [", "device: ", "gt: "})
+  for (const char* k : {"axes: ", "objectives: ", "constraints: ", "flight: ", "strategy: ", "samples: ", "max ",
+                        "min ", "p2: [", "device: ", "gt: "})
     tokens.emplace_back(k);
-  fuzz("sweep", seeds, tokens, 15002, [](const std::string& text) { (void)explore::parse_sweep(text, "fuzz.yaml"); },
-       is<explore::InputError>);
+  fuzz(
+      "sweep", seeds, tokens, 15002, [](const std::string& text) { (void)explore::parse_sweep(text, "fuzz.yaml"); },
+      is<explore::InputError>);
 }
 
 TEST_F(Fuzz, ScenarioReader) {
@@ -192,26 +197,45 @@ TEST_F(Fuzz, ScenarioReader) {
     if (e.path().extension() == ".yaml") seeds.push_back(read_all(e.path()));
   ASSERT_FALSE(seeds.empty());
   const fs::path file = dir_ / "scenario.yaml";
-  fuzz("scenario", seeds, kYamlTokens, 15003,
-       [&](const std::string& text) {
-         write_all(file, text);
-         (void)explore::load_scenario(file.string());
-       },
-       is<explore::InputError>);
+  fuzz(
+      "scenario", seeds, kYamlTokens, 15003,
+      [&](const std::string& text) {
+        write_all(file, text);
+        (void)explore::load_scenario(file.string());
+      },
+      is<explore::InputError>);
 }
 
 TEST_F(Fuzz, CsynthReportReader) {
   const std::vector<std::string> seeds = {read_all(fs::path(PARALLAX_TEST_DATA_DIR) / "csynth_sample.xml")};
-  const std::vector<std::string> tokens = {"<", ">", "</", "/>", "<PipelineII>", "</PipelineII>", "<TargetClockPeriod>",
-                                           "undef", "-", "0", "-5", "nan", "1e99", "&amp;", "<![CDATA[", "]]>", "\"",
-                                           "<!--", "-->", "99999999999999999999"};
+  const std::vector<std::string> tokens = {"<",
+                                           ">",
+                                           "</",
+                                           "/>",
+                                           "<PipelineII>",
+                                           "</PipelineII>",
+                                           "<TargetClockPeriod>",
+                                           "undef",
+                                           "-",
+                                           "0",
+                                           "-5",
+                                           "nan",
+                                           "1e99",
+                                           "&amp;",
+                                           "<![CDATA[",
+                                           "]]>",
+                                           "\"",
+                                           "<!--",
+                                           "-->",
+                                           "99999999999999999999"};
   const fs::path file = dir_ / "csynth.xml";
-  fuzz("csynth.xml", seeds, tokens, 15004,
-       [&](const std::string& text) {
-         write_all(file, text);
-         (void)explore::read_csynth_xml(file.string());
-       },
-       is<explore::InputError>);
+  fuzz(
+      "csynth.xml", seeds, tokens, 15004,
+      [&](const std::string& text) {
+        write_all(file, text);
+        (void)explore::read_csynth_xml(file.string());
+      },
+      is<explore::InputError>);
 }
 
 TEST_F(Fuzz, KittiDisparityPng) {
@@ -221,16 +245,22 @@ TEST_F(Fuzz, KittiDisparityPng) {
   std::vector<uchar> png;
   ASSERT_TRUE(cv::imencode(".png", d, png));
   const std::vector<std::string> seeds = {std::string(png.begin(), png.end())};
-  const std::vector<std::string> tokens = {"IHDR", "IDAT", "IEND", "PLTE", std::string("\0\0\0\0", 4),
-                                           std::string("\xff\xff\xff\xff", 4), std::string("\x00\x01\x00\x00", 4)};
+  const std::vector<std::string> tokens = {"IHDR",
+                                           "IDAT",
+                                           "IEND",
+                                           "PLTE",
+                                           std::string("\0\0\0\0", 4),
+                                           std::string("\xff\xff\xff\xff", 4),
+                                           std::string("\x00\x01\x00\x00", 4)};
   const fs::path file = dir_ / "d.png";
   int n = 0;
-  fuzz("KITTI disparity PNG", seeds, tokens, 15005,
-       [&](const std::string& bytes) {
-         write_all(file, ++n % 2 == 0 ? fix_png_crcs(bytes) : bytes);
-         (void)explore::read_kitti_disparity(file);
-       },
-       is<explore::InputError>);
+  fuzz(
+      "KITTI disparity PNG", seeds, tokens, 15005,
+      [&](const std::string& bytes) {
+        write_all(file, ++n % 2 == 0 ? fix_png_crcs(bytes) : bytes);
+        (void)explore::read_kitti_disparity(file);
+      },
+      is<explore::InputError>);
 }
 
 TEST_F(Fuzz, PfmDisparity) {
@@ -238,15 +268,17 @@ TEST_F(Fuzz, PfmDisparity) {
   for (int y = 0; y < v.rows; ++y)
     for (int x = 0; x < v.cols; ++x) v.at<float>(y, x) = (x + y) % 7 == 0 ? INFINITY : float(x) * 1.5f + float(y);
   const std::vector<std::string> seeds = {parallax::test::pfm_bytes(v, true), parallax::test::pfm_bytes(v, false)};
-  const std::vector<std::string> tokens = {"Pf\n", "PF\n", "P6\n", "\n", " ", "-1.0", "1.0", "0", "-0", "nan", "inf",
-                                           "99999999999", "-5", "1e39", std::string("\0\0\x80\x7f", 4)};
+  const std::vector<std::string> tokens = {"Pf\n", "PF\n",        "P6\n", "\n",   " ",
+                                           "-1.0", "1.0",         "0",    "-0",   "nan",
+                                           "inf",  "99999999999", "-5",   "1e39", std::string("\0\0\x80\x7f", 4)};
   const fs::path file = dir_ / "disp0.pfm";
-  fuzz("PFM disparity", seeds, tokens, 15006,
-       [&](const std::string& bytes) {
-         write_all(file, bytes);
-         (void)explore::read_pfm_disparity(file);
-       },
-       is<explore::InputError>);
+  fuzz(
+      "PFM disparity", seeds, tokens, 15006,
+      [&](const std::string& bytes) {
+        write_all(file, bytes);
+        (void)explore::read_pfm_disparity(file);
+      },
+      is<explore::InputError>);
 }
 
 // A small real store (a sweep, three results with frames), its bytes mutated: opened read-only and
@@ -280,36 +312,46 @@ TEST_F(Fuzz, ResultStore) {
     (void)store.designs("", true);
     (void)store.count_designs();
   };
-  const std::vector<std::string> tokens = {std::string(16, '\0'), std::string(4, '\xff'), "SQLite format 3", "{", "}",
-                                           "\"correct_3px_pct\":", "NaN", "null", "[", "]"};
-  fuzz("store file", {bytes}, tokens, 15007,
-       [&](const std::string& b) {
-         fs::remove(file);
-         write_all(file, b);
-         read_store(file);
-       },
-       is<explore::InputError>);
+  const std::vector<std::string> tokens = {std::string(16, '\0'),
+                                           std::string(4, '\xff'),
+                                           "SQLite format 3",
+                                           "{",
+                                           "}",
+                                           "\"correct_3px_pct\":",
+                                           "NaN",
+                                           "null",
+                                           "[",
+                                           "]"};
+  fuzz(
+      "store file", {bytes}, tokens, 15007,
+      [&](const std::string& b) {
+        fs::remove(file);
+        write_all(file, b);
+        read_store(file);
+      },
+      is<explore::InputError>);
   // The metrics column: what another program (or an older Parallax) may have written there.
   const std::vector<std::string> json_seeds = {"{\"correct_3px_pct\": 91.5, \"bram18k\": 120, \"fps\": 29.5}",
                                                "{\"a\": [1, 2], \"b\": {\"c\": null}}"};
-  const std::vector<std::string> json_tokens = {"{", "}", "[", "]", ",", ":", "\"", "null", "NaN", "-Infinity", "1e999",
-                                                "\"x\"", "true", "\\u0000", "-"};
-  fuzz("store metrics JSON", json_seeds, json_tokens, 15008,
-       [&](const std::string& text) {
-         fs::remove(file);
-         fs::copy_file(good, file);
-         sqlite3* db = nullptr;
-         ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
-         sqlite3_stmt* st = nullptr;
-         ASSERT_EQ(sqlite3_prepare_v2(db, "UPDATE results SET metrics = ?1", -1, &st, nullptr), SQLITE_OK);
-         sqlite3_bind_text(st, 1, text.data(), int(text.size()), SQLITE_TRANSIENT);
-         EXPECT_EQ(sqlite3_step(st), SQLITE_DONE);
-         sqlite3_finalize(st);
-         sqlite3_close(db);
-         read_store(file);
-         throw explore::InputError("read");  // counted as a refusal: reading must not throw anything else
-       },
-       is<explore::InputError>);
+  const std::vector<std::string> json_tokens = {"{",   "}",         "[",     "]",     ",",    ":",       "\"", "null",
+                                                "NaN", "-Infinity", "1e999", "\"x\"", "true", "\\u0000", "-"};
+  fuzz(
+      "store metrics JSON", json_seeds, json_tokens, 15008,
+      [&](const std::string& text) {
+        fs::remove(file);
+        fs::copy_file(good, file);
+        sqlite3* db = nullptr;
+        ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+        sqlite3_stmt* st = nullptr;
+        ASSERT_EQ(sqlite3_prepare_v2(db, "UPDATE results SET metrics = ?1", -1, &st, nullptr), SQLITE_OK);
+        sqlite3_bind_text(st, 1, text.data(), int(text.size()), SQLITE_TRANSIENT);
+        EXPECT_EQ(sqlite3_step(st), SQLITE_DONE);
+        sqlite3_finalize(st);
+        sqlite3_close(db);
+        read_store(file);
+        throw explore::InputError("read");  // counted as a refusal: reading must not throw anything else
+      },
+      is<explore::InputError>);
 }
 
 }  // namespace

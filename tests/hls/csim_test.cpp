@@ -36,7 +36,8 @@ const Design kDesigns[] = {
     {"census", "configs/ruf2018-census.yaml", ""},
     {"sad", "configs/ruf2018-sad.yaml", ""},
     {"variant", "configs/ruf2018-census.yaml",
-     "--set parallel_units=12 --set disparities=48 --set paths=0,45,90 --set median=3 --set lr_tolerance=2 --clock-mhz 150"},
+     "--set parallel_units=12 --set disparities=48 --set paths=0,45,90 --set median=3 --set lr_tolerance=2 --clock-mhz "
+     "150"},
     {"eight_paths", "configs/ruf2018-census.yaml", "--set paths=8"},
 };
 
@@ -89,7 +90,8 @@ void expect_reduced_frame_bit_exact(const fs::path& out) {
   const Shell reduced = shell("make -C " + out.string() + " csim-reduced");
   EXPECT_EQ(reduced.status, 0) << reduced.output;
   EXPECT_NE(reduced.output.find("(reduced frame: the pair's first rows)"), std::string::npos) << reduced.output;
-  EXPECT_NE(reduced.output.find("bit-exact against the simulator's golden output"), std::string::npos) << reduced.output;
+  EXPECT_NE(reduced.output.find("bit-exact against the simulator's golden output"), std::string::npos)
+      << reduced.output;
   const std::string golden = read_file(out / "tb/golden_disparity_reduced.pgm");
   EXPECT_EQ(golden.substr(0, 3), "P5\n");
   EXPECT_NE(golden.find(" 16\n"), std::string::npos) << "16 rows";
@@ -107,11 +109,13 @@ void expect_trip_counts_exact(const fs::path& out) {
     long long min[2], max[2];
   };
   std::map<std::string, Counts> pragma;  // by loop label; [0] full frame, [1] reduced
-  static const std::regex loop(R"((\w+_loop):\n\s*while \(!stage\.done\(\)\) \{\n#pragma HLS PIPELINE II=\d+\n)"
-                               R"(#ifndef PARALLAX_REDUCED_FRAME\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=\d+\n)"
-                               R"(#else\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=\d+\n#endif\n)");
+  static const std::regex loop(
+      R"((\w+_loop):\n\s*while \(!stage\.done\(\)\) \{\n#pragma HLS PIPELINE II=\d+\n)"
+      R"(#ifndef PARALLAX_REDUCED_FRAME\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=\d+\n)"
+      R"(#else\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=\d+\n#endif\n)");
   for (auto it = std::sregex_iterator(top.begin(), top.end(), loop); it != std::sregex_iterator(); ++it)
-    pragma[(*it)[1]] = Counts{{std::stoll((*it)[2]), std::stoll((*it)[4])}, {std::stoll((*it)[3]), std::stoll((*it)[5])}};
+    pragma[(*it)[1]] =
+        Counts{{std::stoll((*it)[2]), std::stoll((*it)[4])}, {std::stoll((*it)[3]), std::stoll((*it)[5])}};
   ASSERT_GE(pragma.size(), 4u) << top;
   // A counter per loop call, printed when the testbench exits.
   const std::string probe =
@@ -124,19 +128,22 @@ void expect_trip_counts_exact(const fs::path& out) {
       "  ~Trips() { for (int i = 0; i < n; ++i) printf(\"trip %s %lld\\n\", name[i], count[i]); }\n"
       "};\n"
       "static Trips trips;\n"
-      "inline void begin(const char* s) { if (trips.n < 512) { trips.name[trips.n] = s; trips.count[trips.n++] = 0; } }\n"
+      "inline void begin(const char* s) { if (trips.n < 512) { trips.name[trips.n] = s; trips.count[trips.n++] = 0; } "
+      "}\n"
       "inline void step() { ++trips.count[trips.n - 1]; }\n"
       "}  // namespace px_probe\n";
   static const std::regex head(R"(\n(\w+_loop):\n(\s*)while \(!stage\.done\(\)\) \{\n)");
   const std::string instrumented =
-      probe + std::regex_replace(top, head, "\n  px_probe::begin(\"$1\");\n$1:\n$2while (!stage.done()) {\n$2  px_probe::step();\n");
+      probe + std::regex_replace(
+                  top, head, "\n  px_probe::begin(\"$1\");\n$1:\n$2while (!stage.done()) {\n$2  px_probe::step();\n");
   std::ofstream(file, std::ios::trunc) << instrumented;
   for (int reduced = 0; reduced < 2; ++reduced) {
     const Shell run = shell("make -C " + out.string() + (reduced ? " csim-reduced" : " csim"));
     EXPECT_EQ(run.status, 0) << run.output;
     static const std::regex trip(R"(trip (\w+) (\d+))");
     std::map<std::string, int> calls;
-    for (auto it = std::sregex_iterator(run.output.begin(), run.output.end(), trip); it != std::sregex_iterator(); ++it) {
+    for (auto it = std::sregex_iterator(run.output.begin(), run.output.end(), trip); it != std::sregex_iterator();
+         ++it) {
       const std::string label = (*it)[1];
       const long long n = std::stoll((*it)[2]);
       ASSERT_EQ(pragma.count(label), 1u) << label;
@@ -188,7 +195,8 @@ TEST_P(HlsCsim, BuildsAndMatchesTheSimulatorBitForBit) {
   // Two passes: pass 2 must read the buffer the previous call wrote. A top that reads the one just
   // written gives the flushing call's black frame instead.
   if (std::string(d.id) == "eight_paths") {
-    std::ofstream(out / "tb/golden_disparity.pgm", std::ios::binary | std::ios::trunc) << read_file(out / "tb/csim_disparity.pgm");
+    std::ofstream(out / "tb/golden_disparity.pgm", std::ios::binary | std::ios::trunc)
+        << read_file(out / "tb/csim_disparity.pgm");
     const std::string top = read_file(out / "src/parallax_top.cpp");
     const std::string good = "backward_pass(frame_read,";
     const auto at = top.find(good);
@@ -223,7 +231,8 @@ TEST_P(HlsCsim, BuildsAndMatchesTheSimulatorBitForBit) {
   EXPECT_EQ(find_cycle(graph), "") << "recursion in the top";
 
   // No standard container or heap in the generated top or the kernels, at source level too.
-  static const std::regex banned(R"(#include\s*<(vector|deque|list|map|set|unordered_map|unordered_set|string|memory|functional)>|\bnew\s+[A-Za-z_]|\bmalloc\s*\()");
+  static const std::regex banned(
+      R"(#include\s*<(vector|deque|list|map|set|unordered_map|unordered_set|string|memory|functional)>|\bnew\s+[A-Za-z_]|\bmalloc\s*\()");
   for (const auto& e : fs::recursive_directory_iterator(out / "src"))
     if (e.is_regular_file()) {
       // Code only: comments may say "new".
@@ -245,7 +254,8 @@ TEST(HlsCsimWidePairs, TwoWordsPerPairBitExact) {
   const Shell ex = export_design("configs/ruf2018-sad.yaml", out,
                                  "--set paths=8 --set disparities=64 --set parallel_units=64 --set row_packing=1");
   ASSERT_EQ(ex.status, 0) << ex.output;
-  EXPECT_NE(read_file(out / "src/parallax_top.hpp").find("kFrameBeats = parallax::kern::frame_beats_of(kFramePairBits);  // words per pair: 2"),
+  EXPECT_NE(read_file(out / "src/parallax_top.hpp")
+                .find("kFrameBeats = parallax::kern::frame_beats_of(kFramePairBits);  // words per pair: 2"),
             std::string::npos);
   const Shell csim = shell("make -C " + out.string() + " csim WERROR=1");
   EXPECT_EQ(csim.status, 0) << csim.output;
@@ -283,14 +293,17 @@ class HlsCsimRectify : public ::testing::TestWithParam<const char*> {};
 TEST_P(HlsCsimRectify, StreamsTheRemapTablesBitExactly) {
   const fs::path dir = fresh_dir(std::string("rectify_") + GetParam());
   const std::string cli = std::string("cd ") + PARALLAX_SOURCE_DIR + " && " + PARALLAX_CLI;
-  const Shell scene = shell(cli + " scene --scenario configs/scenarios/single-pole.yaml --frames 1 --size 160"
-                                  " --distortion-k1 -0.15 --out " + (dir / "scene").string());
+  const Shell scene = shell(cli +
+                            " scene --scenario configs/scenarios/single-pole.yaml --frames 1 --size 160"
+                            " --distortion-k1 -0.15 --out " +
+                            (dir / "scene").string());
   ASSERT_EQ(scene.status, 0) << scene.output;
   const std::string s = (dir / "scene").string();
-  const Shell ex = shell(cli + " export-hls --config configs/ruf2018-census.yaml --set roi=full --set disparities=30"
-                               " --set parallel_units=3 --set rectify=bilinear --set rectify_rows=32"
-                               " --set paths=" + GetParam() +
-                               " --set rectify_maps_left=" + s + "/maps_left.yml --set rectify_maps_right=" + s +
+  const Shell ex = shell(cli +
+                         " export-hls --config configs/ruf2018-census.yaml --set roi=full --set disparities=30"
+                         " --set parallel_units=3 --set rectify=bilinear --set rectify_rows=32"
+                         " --set paths=" +
+                         GetParam() + " --set rectify_maps_left=" + s + "/maps_left.yml --set rectify_maps_right=" + s +
                          "/maps_right.yml --left " + s + "/training/image_2/000000_10.png --right " + s +
                          "/training/image_3/000000_10.png --out " + (dir / "hls").string());
   ASSERT_EQ(ex.status, 0) << ex.output;

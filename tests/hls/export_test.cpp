@@ -23,9 +23,15 @@ using parallax::test::shell;
 const fs::path kSource = PARALLAX_SOURCE_DIR;
 
 // The files the export generates (the rest are copies, checked below, and binary data).
-const char* const kGenerated[] = {"src/parallax_config.hpp", "src/parallax_top.hpp", "src/parallax_top.cpp",
-                                  "tb/parallax_tb.cpp",      "Makefile",             "run_hls.tcl",
-                                  "hls_config.cfg",          "hls_config_reduced.cfg", "README.md",
+const char* const kGenerated[] = {"src/parallax_config.hpp",
+                                  "src/parallax_top.hpp",
+                                  "src/parallax_top.cpp",
+                                  "tb/parallax_tb.cpp",
+                                  "Makefile",
+                                  "run_hls.tcl",
+                                  "hls_config.cfg",
+                                  "hls_config_reduced.cfg",
+                                  "README.md",
                                   "design.yaml"};
 
 TEST(HlsExport, GeneratedSourcesMatchGoldenFiles) {
@@ -76,7 +82,9 @@ TEST(HlsExport, RefusesAnInvalidConfigurationAndWritesNothing) {
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("p1"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(out));
-  auto maps = export_design("configs/ruf2018-census.yaml", out, "--set rectify=nearest --set rectify_maps_left=/nonexistent/l.yml --set rectify_maps_right=/nonexistent/r.yml");
+  auto maps = export_design(
+      "configs/ruf2018-census.yaml", out,
+      "--set rectify=nearest --set rectify_maps_left=/nonexistent/l.yml --set rectify_maps_right=/nonexistent/r.yml");
   EXPECT_EQ(maps.status, 2) << maps.output;
   EXPECT_NE(maps.output.find("/nonexistent/l.yml"), std::string::npos) << maps.output;
   EXPECT_FALSE(fs::exists(out));
@@ -126,7 +134,8 @@ TEST(HlsExport, ExportsADesignOfAResultsStore) {
   const std::string db = (dir / "sweep.db").string();
   {
     parallax::explore::ResultStore store(db);
-    parallax::config::PipelineConfig c = parallax::config::load_config((kSource / "configs/ruf2018-census.yaml").string());
+    parallax::config::PipelineConfig c =
+        parallax::config::load_config((kSource / "configs/ruf2018-census.yaml").string());
     c.name = "from-store";
     c.p2 = 48;
     parallax::explore::ResultStore::Row row;
@@ -173,8 +182,9 @@ TEST(HlsImport, PageShowsModelAndSynthesisSideBySide) {
   EXPECT_NE(page.find("Model and synthesis"), std::string::npos);
   EXPECT_NE(page.find("4631240"), std::string::npos);  // the report's worst latency
   EXPECT_NE(page.find("II aggregate_loop"), std::string::npos);
-  const auto bad = shell(std::string(PARALLAX_CLI) + " import-hls --report " +
-                         (kSource / "tests/hls/flow/data/csynth_sample.xml").string() + " --html " + (dir / "q.html").string());
+  const auto bad =
+      shell(std::string(PARALLAX_CLI) + " import-hls --report " +
+            (kSource / "tests/hls/flow/data/csynth_sample.xml").string() + " --html " + (dir / "q.html").string());
   EXPECT_EQ(bad.status, 2) << bad.output;
   fs::remove_all(dir);
 }
@@ -191,17 +201,19 @@ TEST(HlsExport, ProjectCarriesTheDirectivesAndSteps) {
   ASSERT_EQ(export_design("configs/ruf2018-census.yaml", out).status, 0);
   const std::string top = read_file(out / "src/parallax_top.cpp");
   const std::string cfg = read_file(out / "src/parallax_config.hpp");
-  for (const char* s : {"#pragma HLS DATAFLOW", "#pragma HLS PIPELINE II=1", "#pragma HLS STREAM variable=sum depth=30",
-                        "#pragma HLS BIND_STORAGE variable=cost type=fifo", "#pragma HLS INTERFACE mode=axis port=left_in",
-                        "#pragma HLS INTERFACE mode=axis port=disparity_out",
-                        "#pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control",
-                        "#pragma HLS INTERFACE mode=s_axilite port=p2 bundle=control",
-                        "#pragma HLS INTERFACE mode=s_axilite port=lr_tolerance bundle=control", "cost_loop:",
-                        "aggregate_loop:", "wta_lr_loop:", "median_loop:"})
+  for (const char* s :
+       {"#pragma HLS DATAFLOW", "#pragma HLS PIPELINE II=1", "#pragma HLS STREAM variable=sum depth=30",
+        "#pragma HLS BIND_STORAGE variable=cost type=fifo", "#pragma HLS INTERFACE mode=axis port=left_in",
+        "#pragma HLS INTERFACE mode=axis port=disparity_out",
+        "#pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control",
+        "#pragma HLS INTERFACE mode=s_axilite port=p2 bundle=control",
+        "#pragma HLS INTERFACE mode=s_axilite port=lr_tolerance bundle=control",
+        "cost_loop:", "aggregate_loop:", "wta_lr_loop:", "median_loop:"})
     EXPECT_NE(top.find(s), std::string::npos) << s;
-  for (const char* s : {"HLS ARRAY_PARTITION variable=row_", "HLS BIND_STORAGE variable=row_", "HLS BIND_STORAGE variable=mem_",
-                        "HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=3 dim=3",
-                        "constexpr int kCostBits = 5;", "constexpr int kAggregateBits = 9;", "constexpr int kDepthSum = 30;"})
+  for (const char* s :
+       {"HLS ARRAY_PARTITION variable=row_", "HLS BIND_STORAGE variable=row_", "HLS BIND_STORAGE variable=mem_",
+        "HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=3 dim=3", "constexpr int kCostBits = 5;",
+        "constexpr int kAggregateBits = 9;", "constexpr int kDepthSum = 30;"})
     EXPECT_NE(cfg.find(s), std::string::npos) << s;
   // The hooks that place the storage directives, and the kernels' own structural directives, are
   // in the kernels the project carries (in the constructors, beside the members).
@@ -217,7 +229,8 @@ TEST(HlsExport, ProjectCarriesTheDirectivesAndSteps) {
   for (const char* s : {"csim_design", "csynth_design", "cosim_design", "export_design", "create_clock -period 5.000"})
     EXPECT_NE(tcl.find(s), std::string::npos) << s;
   const std::string hcfg = read_file(out / "hls_config.cfg");
-  for (const char* s : {"part=xczu3eg-sbva484-1-e", "clock=5.000ns", "syn.top=parallax_top", "tb.file=tb/parallax_tb.cpp"})
+  for (const char* s :
+       {"part=xczu3eg-sbva484-1-e", "clock=5.000ns", "syn.top=parallax_top", "tb.file=tb/parallax_tb.cpp"})
     EXPECT_NE(hcfg.find(s), std::string::npos) << s;
   const std::string readme = read_file(out / "README.md");
   EXPECT_NE(readme.find("cycle 4610656 = 23.05 ms"), std::string::npos);
@@ -229,11 +242,14 @@ TEST(HlsExport, ProjectCarriesTheDirectivesAndSteps) {
 
 namespace {
 
-const char kPair[] = " --left data/kitti2015-640x360/training/image_2/000001_10.png"
-                     " --right data/kitti2015-640x360/training/image_3/000001_10.png";
+const char kPair[] =
+    " --left data/kitti2015-640x360/training/image_2/000001_10.png"
+    " --right data/kitti2015-640x360/training/image_3/000001_10.png";
 
 // The cycle model's stage of each loop of the top that runs until its stage is done.
-std::string loop_stage(const std::string& label) { return label.substr(0, label.size() - std::string("_loop").size()); }
+std::string loop_stage(const std::string& label) {
+  return label.substr(0, label.size() - std::string("_loop").size());
+}
 
 // The body of each function defined at the start of a line ("void name(" ... "{" ... "}"), by name.
 std::map<std::string, std::string> function_bodies(const std::string& src) {
@@ -290,9 +306,10 @@ TEST_P(HlsTripCount, EveryRunTimeLoopCarriesTheSimulatorsFirings) {
   EXPECT_EQ(exported, timing) << stages_json;
 
   const std::string top = read_file(out / "src/parallax_top.cpp");
-  static const std::regex loop(R"((\w+_loop):\n\s*while \(!stage\.done\(\)\) \{\n#pragma HLS PIPELINE II=(\d+)\n)"
-                               R"(#ifndef PARALLAX_REDUCED_FRAME\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=(\d+)\n)"
-                               R"(#else\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=(\d+)\n#endif\n)");
+  static const std::regex loop(
+      R"((\w+_loop):\n\s*while \(!stage\.done\(\)\) \{\n#pragma HLS PIPELINE II=(\d+)\n)"
+      R"(#ifndef PARALLAX_REDUCED_FRAME\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=(\d+)\n)"
+      R"(#else\n#pragma HLS LOOP_TRIPCOUNT min=(\d+) max=(\d+) avg=(\d+)\n#endif\n)");
   std::set<std::string> labels;
   for (auto it = std::sregex_iterator(top.begin(), top.end(), loop); it != std::sregex_iterator(); ++it) {
     const std::string label = (*it)[1];
@@ -308,7 +325,8 @@ TEST_P(HlsTripCount, EveryRunTimeLoopCarriesTheSimulatorsFirings) {
   }
   // Every run-time loop was matched, i.e. has its LOOP_TRIPCOUNT.
   std::size_t whiles = 0;
-  for (std::size_t at = top.find("while (!stage.done())"); at != std::string::npos; at = top.find("while (!stage.done())", at + 1))
+  for (std::size_t at = top.find("while (!stage.done())"); at != std::string::npos;
+       at = top.find("while (!stage.done())", at + 1))
     ++whiles;
   EXPECT_EQ(labels.size(), whiles) << top;
   std::set<std::string> want = {"cost_loop", "aggregate_loop", "wta_lr_loop", "median_loop"};
@@ -354,14 +372,15 @@ TEST(HlsExport, TwoPassMemoryAccessesAreAscendingBursts) {
     EXPECT_EQ(top.substr(loop_at, at - loop_at).find("if ("), std::string::npos) << (*it)[0] << ": under a condition";
     EXPECT_NE(top.substr(loop_at, at - loop_at).find("#pragma HLS PIPELINE II=1"), std::string::npos) << (*it)[0];
   }
-  const std::multiset<std::string> want = {"frame[(kFrameSegments - j) * kFrameSegmentWords + k]", "frame[k]", "frame[i]",
-                                           "disparity[(kMapSegments - j) * kMapSegmentPixels + k]", "disparity[k]"};
+  const std::multiset<std::string> want = {"frame[(kFrameSegments - j) * kFrameSegmentWords + k]", "frame[k]",
+                                           "frame[i]", "disparity[(kMapSegments - j) * kMapSegmentPixels + k]",
+                                           "disparity[k]"};
   EXPECT_EQ(seen, want);
-  for (const char* pragma :
-       {"port=frame_write offset=slave bundle=gmem_wr depth=2304000 max_write_burst_length=256",
-        "port=frame_read offset=slave bundle=gmem_rd depth=2304000 max_read_burst_length=256",
-        "port=disparity offset=slave bundle=gmem_map depth=230400 max_write_burst_length=256",
-        "port=frame_write offset=slave bundle=gmem_wr depth=102400", "port=frame_read offset=slave bundle=gmem_rd depth=102400"})
+  for (const char* pragma : {"port=frame_write offset=slave bundle=gmem_wr depth=2304000 max_write_burst_length=256",
+                             "port=frame_read offset=slave bundle=gmem_rd depth=2304000 max_read_burst_length=256",
+                             "port=disparity offset=slave bundle=gmem_map depth=230400 max_write_burst_length=256",
+                             "port=frame_write offset=slave bundle=gmem_wr depth=102400",
+                             "port=frame_read offset=slave bundle=gmem_rd depth=102400"})
     EXPECT_NE(top.find(pragma), std::string::npos) << pragma;
   static const std::regex m_axi(R"(mode=m_axi port=(\w+) offset=slave bundle=(\w+))");
   std::map<std::string, std::set<std::string>> bundles;
@@ -372,8 +391,10 @@ TEST(HlsExport, TwoPassMemoryAccessesAreAscendingBursts) {
   EXPECT_EQ(bundles, one_per_direction);
   // The seed's pair is 6 x (5 + 10) = 90 bits: one 128-bit word per firing.
   const std::string header = read_file(out / "src/parallax_top.hpp");
-  EXPECT_NE(header.find("kFrameWordBits = parallax::kern::frame_word_bits_of(kFramePairBits);  // 128"), std::string::npos);
-  EXPECT_NE(header.find("kFrameWords == 2304000 && kFrameSegmentPixels == 25 && kMapSegmentPixels == 256"), std::string::npos);
+  EXPECT_NE(header.find("kFrameWordBits = parallax::kern::frame_word_bits_of(kFramePairBits);  // 128"),
+            std::string::npos);
+  EXPECT_NE(header.find("kFrameWords == 2304000 && kFrameSegmentPixels == 25 && kMapSegmentPixels == 256"),
+            std::string::npos);
   fs::remove_all(out);
 }
 
@@ -397,7 +418,8 @@ TEST(HlsExport, RegistersAreReadOutsideTheDataflowRegion) {
     for (const auto& kv : bodies) {
       if (kv.second.find("#pragma HLS DATAFLOW") == std::string::npos) continue;
       ++regions;
-      EXPECT_FALSE(std::regex_search(kv.second, port)) << sets << ": a register port inside DATAFLOW " << kv.first << kv.second;
+      EXPECT_FALSE(std::regex_search(kv.second, port))
+          << sets << ": a register port inside DATAFLOW " << kv.first << kv.second;
     }
     EXPECT_EQ(regions, std::string(sets).empty() ? 1 : 3) << sets;  // parallax_dataflow (+ forward_pass, backward_pass)
     fs::remove_all(out);
@@ -457,16 +479,30 @@ TEST(HlsExport, MakeVitisRunsEitherFlow) {
 
   const auto vpp = shell(make + " FLOW=vpp");
   ASSERT_EQ(vpp.status, 0) << vpp.output;
-  EXPECT_EQ(vpp.output, "vitis-run --mode hls --csim --config hls_config.cfg --work_dir " + c + "\n"
-                        "v++ -c --mode hls --config hls_config.cfg --work_dir " + c + "\n"
-                        "v++ -c --mode hls --config hls_config_reduced.cfg --work_dir " + c + "_reduced\n"
-                        "vitis-run --mode hls --cosim --config hls_config_reduced.cfg --work_dir " + c + "_reduced\n"
-                        "vitis-run --mode hls --package --config hls_config.cfg --work_dir " + c + "\n");
+  EXPECT_EQ(vpp.output, "vitis-run --mode hls --csim --config hls_config.cfg --work_dir " + c +
+                            "\n"
+                            "v++ -c --mode hls --config hls_config.cfg --work_dir " +
+                            c +
+                            "\n"
+                            "v++ -c --mode hls --config hls_config_reduced.cfg --work_dir " +
+                            c +
+                            "_reduced\n"
+                            "vitis-run --mode hls --cosim --config hls_config_reduced.cfg --work_dir " +
+                            c +
+                            "_reduced\n"
+                            "vitis-run --mode hls --package --config hls_config.cfg --work_dir " +
+                            c + "\n");
   const auto vpp_full = shell(make + " FLOW=vpp COSIM_FULL=1");
-  EXPECT_EQ(vpp_full.output, "vitis-run --mode hls --csim --config hls_config.cfg --work_dir " + c + "\n"
-                             "v++ -c --mode hls --config hls_config.cfg --work_dir " + c + "\n"
-                             "vitis-run --mode hls --cosim --config hls_config.cfg --work_dir " + c + "\n"
-                             "vitis-run --mode hls --package --config hls_config.cfg --work_dir " + c + "\n");
+  EXPECT_EQ(vpp_full.output, "vitis-run --mode hls --csim --config hls_config.cfg --work_dir " + c +
+                                 "\n"
+                                 "v++ -c --mode hls --config hls_config.cfg --work_dir " +
+                                 c +
+                                 "\n"
+                                 "vitis-run --mode hls --cosim --config hls_config.cfg --work_dir " +
+                                 c +
+                                 "\n"
+                                 "vitis-run --mode hls --package --config hls_config.cfg --work_dir " +
+                                 c + "\n");
   const auto bad = shell("cd " + out.string() + " && make vitis FLOW=quartus");
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_NE(bad.output.find("give FLOW=vitis_hls or FLOW=vpp"), std::string::npos) << bad.output;
@@ -480,9 +516,11 @@ TEST(HlsExport, MakeVitisRunsEitherFlow) {
     fs::permissions(f, fs::perms::owner_all);
   }
   const std::string sys = "/usr/local/bin:/usr/bin:/bin";
-  const auto both = shell("cd " + out.string() + " && env -u FLOW PATH=" + (bin / "both").string() + ":" + sys + " make -n vitis");
+  const auto both =
+      shell("cd " + out.string() + " && env -u FLOW PATH=" + (bin / "both").string() + ":" + sys + " make -n vitis");
   EXPECT_EQ(both.output, "COSIM_FULL=0 vitis_hls -f run_hls.tcl\n");
-  const auto only_vpp = shell("cd " + out.string() + " && env -u FLOW PATH=" + (bin / "vpp").string() + ":" + sys + " make -n vitis");
+  const auto only_vpp =
+      shell("cd " + out.string() + " && env -u FLOW PATH=" + (bin / "vpp").string() + ":" + sys + " make -n vitis");
   EXPECT_NE(only_vpp.output.find("v++ -c --mode hls --config hls_config.cfg"), std::string::npos) << only_vpp.output;
   const auto none = shell("cd " + out.string() + " && env -u FLOW PATH=" + sys + " make vitis");
   EXPECT_EQ(none.status, 2) << none.output;  // make's status for a failed recipe
@@ -501,16 +539,18 @@ TEST(HlsExport, MakeVitisRunsEitherFlow) {
         continue;
       }
       const auto eq = line.find('=');
-      if (!in_hls) before += line + "\n";
-      else if (eq != std::string::npos) kv.emplace(line.substr(0, eq), line.substr(eq + 1));
+      if (!in_hls)
+        before += line + "\n";
+      else if (eq != std::string::npos)
+        kv.emplace(line.substr(0, eq), line.substr(eq + 1));
     }
     return kv;
   };
   std::string before;
   const auto full = keys(read_file(out / "hls_config.cfg"), before);
   EXPECT_EQ(before, "part=xczu3eg-sbva484-1-e\n");
-  for (const char* k : {"flow_target", "clock", "syn.top", "syn.file", "syn.cflags", "tb.file", "tb.cflags", "csim.argv",
-                        "cosim.argv", "package.output.format"})
+  for (const char* k : {"flow_target", "clock", "syn.top", "syn.file", "syn.cflags", "tb.file", "tb.cflags",
+                        "csim.argv", "cosim.argv", "package.output.format"})
     EXPECT_EQ(full.count(k) > 0, true) << k;
   EXPECT_EQ(full.find("clock")->second, "5.000ns");
   EXPECT_EQ(full.find("syn.top")->second, "parallax_top");
@@ -527,9 +567,10 @@ TEST(HlsExport, MakeVitisRunsEitherFlow) {
   EXPECT_EQ(reduced.find("cosim.argv")->second, ".");
   // The Tcl script: the reduced project with the define, the full cosim behind COSIM_FULL.
   const std::string script = read_file(out / "run_hls.tcl");
-  for (const char* s : {"::env(COSIM_FULL)", "parallax_project parallax_ruf2018_census \"\" golden_disparity.pgm",
-                        "parallax_project parallax_ruf2018_census_reduced \"-DPARALLAX_REDUCED_FRAME\" golden_disparity_reduced.pgm",
-                        "add_files src/parallax_top.cpp -cflags \"-std=c++14 -Isrc $defines\"", "cosim_design -argv {.}"})
+  for (const char* s :
+       {"::env(COSIM_FULL)", "parallax_project parallax_ruf2018_census \"\" golden_disparity.pgm",
+        "parallax_project parallax_ruf2018_census_reduced \"-DPARALLAX_REDUCED_FRAME\" golden_disparity_reduced.pgm",
+        "add_files src/parallax_top.cpp -cflags \"-std=c++14 -Isrc $defines\"", "cosim_design -argv {.}"})
     EXPECT_NE(script.find(s), std::string::npos) << s;
   fs::remove_all(out);
 }

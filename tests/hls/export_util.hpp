@@ -11,7 +11,8 @@
 namespace parallax::test {
 
 inline std::filesystem::path fresh_dir(const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() / ("parallax_hls_test_" + name + "_" + std::to_string(::getpid()));
+  const auto d =
+      std::filesystem::temp_directory_path() / ("parallax_hls_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   return d;
 }
@@ -21,7 +22,8 @@ inline std::filesystem::path fresh_dir(const std::string& name) {
 inline Shell export_design(const std::string& config, const std::filesystem::path& out, const std::string& extra = "") {
   return shell(std::string("cd ") + PARALLAX_SOURCE_DIR + " && " + PARALLAX_CLI + " export-hls --config " + config +
                " --left data/kitti2015-640x360/training/image_2/000001_10.png"
-               " --right data/kitti2015-640x360/training/image_3/000001_10.png --out " + out.string() + " " + extra);
+               " --right data/kitti2015-640x360/training/image_3/000001_10.png --out " +
+               out.string() + " " + extra);
 }
 
 }  // namespace parallax::test

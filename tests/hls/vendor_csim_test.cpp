@@ -4,8 +4,8 @@
 // as against compat/, Parallax's stand-ins: a one-pass design, the two-pass design and a
 // rectifying design, each built both ways with warnings in the project's code as errors. Both C
 // simulations must report a bit-exact run, and their outputs must equal each other and the
-// simulator's golden file; the reduced frame (`make csim-reduced`) against the vendor's headers too. Skipped when the vendor headers are absent (a fresh machine has no
-// shared/).
+// simulator's golden file; the reduced frame (`make csim-reduced`) against the vendor's headers too. Skipped when the
+// vendor headers are absent (a fresh machine has no shared/).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -46,8 +46,10 @@ fs::path export_project(const Design& d, const fs::path& dir, std::string& why) 
     return ex.status == 0 ? out : fs::path();
   }
   const std::string cli = std::string("cd ") + PARALLAX_SOURCE_DIR + " && " + PARALLAX_CLI;
-  const Shell scene = shell(cli + " scene --scenario configs/scenarios/single-pole.yaml --frames 1 --size 160"
-                                  " --distortion-k1 -0.15 --out " + (dir / "scene").string());
+  const Shell scene = shell(cli +
+                            " scene --scenario configs/scenarios/single-pole.yaml --frames 1 --size 160"
+                            " --distortion-k1 -0.15 --out " +
+                            (dir / "scene").string());
   if (scene.status != 0) {
     why = scene.output;
     return fs::path();
@@ -55,10 +57,12 @@ fs::path export_project(const Design& d, const fs::path& dir, std::string& why) 
   const std::string s = (dir / "scene").string();
   const Shell ex = shell(cli + " export-hls --config " + d.config + " " + d.sets +
                          " --set roi=full --set disparities=30 --set parallel_units=3 --set rectify=bilinear"
-                         " --set rectify_rows=32 --set rectify_maps_left=" + s + "/maps_left.yml"
-                         " --set rectify_maps_right=" + s + "/maps_right.yml --left " + s +
-                         "/training/image_2/000000_10.png --right " + s + "/training/image_3/000000_10.png --out " +
-                         out.string());
+                         " --set rectify_rows=32 --set rectify_maps_left=" +
+                         s +
+                         "/maps_left.yml"
+                         " --set rectify_maps_right=" +
+                         s + "/maps_right.yml --left " + s + "/training/image_2/000000_10.png --right " + s +
+                         "/training/image_3/000000_10.png --out " + out.string());
   if (ex.status != 0) why = ex.output;
   return ex.status == 0 ? out : fs::path();
 }
@@ -89,7 +93,8 @@ TEST_P(HlsVendorCsim, MatchesTheCompatBuildAndTheGoldenBitForBit) {
   const Shell vend = shell(make + " HLS_INCLUDE=" + vendor.string() + " CXXFLAGS='-O2 -H'");
   ASSERT_EQ(vend.status, 0) << vend.output;
   EXPECT_NE(vend.output.find(kBitExact), std::string::npos) << vend.output;
-  EXPECT_NE(vend.output.find("-isystem " + vendor.string()), std::string::npos) << "rebuilt against the vendor's headers";
+  EXPECT_NE(vend.output.find("-isystem " + vendor.string()), std::string::npos)
+      << "rebuilt against the vendor's headers";
   for (const char* h : {"/ap_int.h", "/hls_stream.h", "/etc/ap_private.h"})
     EXPECT_NE(vend.output.find(vendor.string() + h), std::string::npos) << h << " is not the vendor's";
   EXPECT_NE(vend.output.find("compat/ap_axi_sdata.h"), std::string::npos);

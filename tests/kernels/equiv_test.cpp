@@ -16,7 +16,9 @@ namespace {
 
 using kern::StereoParams;
 
-StereoParams base_params(int w, int h) { return test_params(w, h); }
+StereoParams base_params(int w, int h) {
+  return test_params(w, h);
+}
 
 void expect_equivalent(const StereoParams& p, Pattern pat, uint32_t seed) {
   const StereoPair sp = make_pair(pat, p.width_px, p.height_px, seed, 3 + int(seed % 9));
@@ -25,14 +27,12 @@ void expect_equivalent(const StereoParams& p, Pattern pat, uint32_t seed) {
   const sim::DisparityCodes k = sim::run_func(sp.left, sp.right, p, opt);
   const std::vector<uint16_t> r = ref::compute_disparity(to_ref(sp.left), to_ref(sp.right), p);
   const Comparison c = compare_maps(k.code, r, p.width_px);
-  EXPECT_TRUE(c.sizes_equal && c.mismatches == 0)
-      << describe(p) << " pattern " << int(pat) << " seed " << seed << ": " << c.mismatches
-      << " mismatching pixels, first at " << c.first;
+  EXPECT_TRUE(c.sizes_equal && c.mismatches == 0) << describe(p) << " pattern " << int(pat) << " seed " << seed << ": "
+                                                  << c.mismatches << " mismatching pixels, first at " << c.first;
 }
 
-const unsigned kPathSets[] = {kern::kPath0, kern::kPath0 | kern::kPath90,
-                              kern::kPath0 | kern::kPath45 | kern::kPath90, kern::kForwardPaths,
-                              kern::kAllPaths};
+const unsigned kPathSets[] = {kern::kPath0, kern::kPath0 | kern::kPath90, kern::kPath0 | kern::kPath45 | kern::kPath90,
+                              kern::kForwardPaths, kern::kAllPaths};
 
 // The table of the issue: D in {16, 60, 64, 128} with several PU, paths 1-4 and 8, both costs.
 struct TableRow {
@@ -190,8 +190,8 @@ TEST(Equiv, RectifyNearestAndBilinear) {
         const ref::RectifyResult r = ref::rectify(to_ref(img), map, rp);
         const Comparison c = compare_maps(k.image.px, r.image.px, w);
         EXPECT_TRUE(c.sizes_equal && c.mismatches == 0)
-            << "mode " << mode << " rows " << rows << " " << w << "x" << h << " seed " << seed << ": "
-            << c.mismatches << " mismatches, first at " << c.first;
+            << "mode " << mode << " rows " << rows << " " << w << "x" << h << " seed " << seed << ": " << c.mismatches
+            << " mismatches, first at " << c.first;
         EXPECT_EQ(k.window_misses, r.window_misses) << "mode " << mode << " rows " << rows << " seed " << seed;
       }
 }

@@ -109,8 +109,8 @@ Comparison compare_maps(const std::vector<A>& kernel, const std::vector<B>& refe
     if (uint64_t(kernel[i]) == uint64_t(reference[i])) continue;
     if (c.mismatches++ == 0) {
       std::ostringstream o;
-      o << "(" << i % std::size_t(width_px) << ", " << i / std::size_t(width_px) << "): kernel "
-        << uint64_t(kernel[i]) << ", reference " << uint64_t(reference[i]);
+      o << "(" << i % std::size_t(width_px) << ", " << i / std::size_t(width_px) << "): kernel " << uint64_t(kernel[i])
+        << ", reference " << uint64_t(reference[i]);
       c.first = o.str();
     }
   }
@@ -119,10 +119,10 @@ Comparison compare_maps(const std::vector<A>& kernel, const std::vector<B>& refe
 
 inline std::string describe(const kern::StereoParams& p) {
   std::ostringstream o;
-  o << p.width_px << "x" << p.height_px << " " << (p.cost == kern::kCostCensus ? "census" : "sad") << " "
-    << p.window_w << "x" << p.window_h << " D=" << p.disparities << " PU=" << p.parallel_units << " paths=0x"
-    << std::hex << p.path_mask << std::dec << " P1/P2=" << p.p1 << "/" << p.p2 << " lr=" << p.lr_check
-    << "/" << p.lr_tolerance << " median=" << p.median;
+  o << p.width_px << "x" << p.height_px << " " << (p.cost == kern::kCostCensus ? "census" : "sad") << " " << p.window_w
+    << "x" << p.window_h << " D=" << p.disparities << " PU=" << p.parallel_units << " paths=0x" << std::hex
+    << p.path_mask << std::dec << " P1/P2=" << p.p1 << "/" << p.p2 << " lr=" << p.lr_check << "/" << p.lr_tolerance
+    << " median=" << p.median;
   return o.str();
 }
 

@@ -15,7 +15,9 @@
 namespace parallax::kern {
 namespace {
 
-bool power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
+bool power_of_two(int v) {
+  return v > 0 && (v & (v - 1)) == 0;
+}
 
 TEST(FrameBufferWords, NextPowerOfTwoBetween32And1024) {
   for (int bits = 1; bits <= 5000; ++bits) {
@@ -32,7 +34,7 @@ TEST(FrameBufferWords, NextPowerOfTwoBetween32And1024) {
       ASSERT_EQ(beats, (bits + 1023) / 1024) << bits;
     }
   }
-  EXPECT_EQ(frame_word_bits_of(90), 128);   // the seed's 8-path variant: 6 x (5 + 10) bits
+  EXPECT_EQ(frame_word_bits_of(90), 128);  // the seed's 8-path variant: 6 x (5 + 10) bits
   EXPECT_EQ(frame_word_bits_of(20), 32);
   EXPECT_EQ(frame_word_bits_of(1024), 1024);
   EXPECT_EQ(frame_beats_of(1025), 2);
@@ -171,10 +173,10 @@ TEST(FrameBufferAddresses, SegmentReversalWritesWhatPassTwoReadsInOrder) {
   //                       W   H  cost         win   D   PU  paths
   expect_reversal(StereoParams{640, 16, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5});  // reduced seed
   expect_reversal(StereoParams{37, 9, kCostCensus, 5, 5, 32, 8, kAllPaths, 8, 32, true, 1, 3});      // odd sizes
-  expect_reversal(StereoParams{13, 7, kCostSad, 5, 5, 64, 64, kAllPaths, 8, 32, true, 1, 0});         // 2 beats, 91 pixels
-  expect_reversal(StereoParams{11, 1, kCostCensus, 3, 3, 16, 16, kAllPaths, 8, 32, false, 1, 0});    // 11 pixels: S = 11
-  expect_reversal(StereoParams{1, 1, kCostCensus, 3, 3, 4, 1, kAllPaths, 8, 32, false, 1, 0});       // one pixel
-  expect_reversal(StereoParams{7, 3, kCostCensus, 3, 3, 256, 1, kAllPaths, 8, 32, false, 1, 0});     // 256 chunks: S = 1
+  expect_reversal(StereoParams{13, 7, kCostSad, 5, 5, 64, 64, kAllPaths, 8, 32, true, 1, 0});      // 2 beats, 91 pixels
+  expect_reversal(StereoParams{11, 1, kCostCensus, 3, 3, 16, 16, kAllPaths, 8, 32, false, 1, 0});  // 11 pixels: S = 11
+  expect_reversal(StereoParams{1, 1, kCostCensus, 3, 3, 4, 1, kAllPaths, 8, 32, false, 1, 0});     // one pixel
+  expect_reversal(StereoParams{7, 3, kCostCensus, 3, 3, 256, 1, kAllPaths, 8, 32, false, 1, 0});   // 256 chunks: S = 1
 }
 
 TEST(FrameBufferAddresses, ReverseWalkCountsWhatReversedSlotComputesAndWraps) {
@@ -183,7 +185,8 @@ TEST(FrameBufferAddresses, ReverseWalkCountsWhatReversedSlotComputesAndWraps) {
       ReverseWalk w;
       w.start(units, group);
       for (int64_t k = 0; k < 3LL * units * group; ++k) {  // three segments: it starts over
-        ASSERT_EQ(w.slot(), reversed_slot(k % (int64_t(units) * group), group, units)) << units << "x" << group << " " << k;
+        ASSERT_EQ(w.slot(), reversed_slot(k % (int64_t(units) * group), group, units))
+            << units << "x" << group << " " << k;
         w.next();
       }
     }

@@ -66,8 +66,8 @@ struct Fixture {
     explore::run_sweep(s, store, ro);
     int st = -1;
     run(std::string(PARALLAX_CLI) + " report --db " + db + " --html " + (dir / "r.html").string() + " --csv " +
-            (dir / "d.csv").string() + " --frames-csv " + (dir / "f.csv").string() + " --json " + (dir / "r.json").string() +
-            " --dataset " + kData + " 2>&1",
+            (dir / "d.csv").string() + " --frames-csv " + (dir / "f.csv").string() + " --json " +
+            (dir / "r.json").string() + " --dataset " + kData + " 2>&1",
         &st);
     ok = st == 0;
   }
@@ -84,7 +84,8 @@ TEST(Report, CsvColumnsInTheirDocumentedOrder) {
   std::istringstream csv(slurp(fixture().dir / "d.csv"));
   std::string header, line;
   std::getline(csv, header);
-  EXPECT_EQ(header.rfind("hash,sweep,status,reason,name,roi,cost,window,disparities,parallel_units,paths,p1,p2,", 0), 0u)
+  EXPECT_EQ(header.rfind("hash,sweep,status,reason,name,roi,cost,window,disparities,parallel_units,paths,p1,p2,", 0),
+            0u)
       << header;
   // The metrics follow the configuration, in metric_columns() order.
   std::size_t pos = header.find(",density_pct,");
@@ -135,7 +136,8 @@ TEST(Report, ImagesFromTheSweepsOwnDatasetWhileItExists) {
   ASSERT_TRUE(fixture().ok);
   const fs::path html = fixture().dir / "no-dataset.html";
   int st = -1;
-  run(std::string(PARALLAX_CLI) + " report --db " + fixture().db + " --details 1 --html " + html.string() + " 2>&1", &st);
+  run(std::string(PARALLAX_CLI) + " report --db " + fixture().db + " --details 1 --html " + html.string() + " 2>&1",
+      &st);
   ASSERT_EQ(st, 0);
   EXPECT_NE(slurp(html).find("left image, frame 000001"), std::string::npos);
   EXPECT_NE(slurp(html).find("--dataset " + fs::canonical(kData).string()), std::string::npos);  // reproduce command
@@ -156,7 +158,8 @@ TEST(Report, ImagesFromTheSweepsOwnDatasetWhileItExists) {
     explore::run_sweep(s, store, ro);
   }
   fs::remove_all(d / "kitti");
-  const std::string out = run(std::string(PARALLAX_CLI) + " report --db " + db + " --html " + (d / "g.html").string() + " 2>&1", &st);
+  const std::string out =
+      run(std::string(PARALLAX_CLI) + " report --db " + db + " --html " + (d / "g.html").string() + " 2>&1", &st);
   ASSERT_EQ(st, 0) << out;
   EXPECT_NE(out.find("dataset " + (d / "kitti").string() + " is gone"), std::string::npos) << out;
   EXPECT_EQ(slurp(d / "g.html").find("left image, frame"), std::string::npos);
@@ -168,12 +171,12 @@ TEST(Report, RunAndSimWriteTheDesignSection) {
   const fs::path d = fs::temp_directory_path() / "parallax_report_test_pages";
   fs::remove_all(d);
   fs::create_directories(d);
-  const std::string pair = " --left " + kData + "/training/image_2/000005_10.png --right " + kData +
-                           "/training/image_3/000005_10.png";
+  const std::string pair =
+      " --left " + kData + "/training/image_2/000005_10.png --right " + kData + "/training/image_3/000005_10.png";
   int st = -1;
   run(std::string(PARALLAX_CLI) + " run --config " + kCensus + pair + " --gt " + kData +
-          "/training/disp_noc_0/000005_10.png --out " + (d / "o.png").string() + " --html " + (d / "run.html").string() +
-          " 2>&1",
+          "/training/disp_noc_0/000005_10.png --out " + (d / "o.png").string() + " --html " +
+          (d / "run.html").string() + " 2>&1",
       &st);
   ASSERT_EQ(st, 0);
   run(std::string(PARALLAX_CLI) + " sim --config " + kCensus + " --set roi=96x32 --no-sizing --html " +
@@ -183,7 +186,8 @@ TEST(Report, RunAndSimWriteTheDesignSection) {
   for (const char* page : {"run.html", "sim.html"}) {
     const std::string html = slurp(d / page);
     EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u) << page;
-    for (const char* want : {"class=\"design\"", "data:image/png;base64,", "class=\"plot\"", "row_packing", "parallax "})
+    for (const char* want :
+         {"class=\"design\"", "data:image/png;base64,", "class=\"plot\"", "row_packing", "parallax "})
       EXPECT_NE(html.find(want), std::string::npos) << page << ": " << want;
   }
   EXPECT_NE(slurp(d / "run.html").find("error: green within 3 px"), std::string::npos);
@@ -193,18 +197,20 @@ TEST(Report, RunAndSimWriteTheDesignSection) {
 TEST(ReportBrowser, LoadsCleanlyWithSectionsPlotsAndAPicture) {
   ASSERT_TRUE(fixture().ok);
   const std::string url = "file://" + (fixture().dir / "r.html").string();
-  const std::string flags = std::string(PARALLAX_CHROMIUM) +
-                            " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --enable-logging=stderr --v=0 ";
+  const std::string flags =
+      std::string(PARALLAX_CHROMIUM) +
+      " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --enable-logging=stderr --v=0 ";
   const std::string log = (fixture().dir / "console.log").string();
   int st = -1;
   const std::string dom = run(flags + "--dump-dom " + url + " 2>" + log, &st);
   ASSERT_EQ(st, 0) << slurp(log);
-  for (const char* id : {"id=\"summary\"", "id=\"pareto\"", "id=\"sensitivity\"", "id=\"table\"", "id=\"designs-detail\"",
-                         "id=\"pareto-bram\"", "id=\"pareto-latency\"", "id=\"pareto-density\"", "id=\"sens-p2\"",
-                         "id=\"designs\""})
+  for (const char* id :
+       {"id=\"summary\"", "id=\"pareto\"", "id=\"sensitivity\"", "id=\"table\"", "id=\"designs-detail\"",
+        "id=\"pareto-bram\"", "id=\"pareto-latency\"", "id=\"pareto-density\"", "id=\"sens-p2\"", "id=\"designs\""})
     EXPECT_NE(dom.find(id), std::string::npos) << id;
   std::size_t plots = 0, points = 0;
-  for (std::size_t p = dom.find("class=\"plot\""); p != std::string::npos; p = dom.find("class=\"plot\"", p + 1)) ++plots;
+  for (std::size_t p = dom.find("class=\"plot\""); p != std::string::npos; p = dom.find("class=\"plot\"", p + 1))
+    ++plots;
   for (std::size_t p = dom.find("class=\"pt\""); p != std::string::npos; p = dom.find("class=\"pt\"", p + 1)) ++points;
   EXPECT_GE(plots, 6u);
   EXPECT_GE(points, 12u);
@@ -226,7 +232,9 @@ TEST(ReportBrowser, LoadsCleanlyWithSectionsPlotsAndAPicture) {
   EXPECT_GT(cv::countNonZero(img < 200), int(img.total() / 200)) << "almost nothing drawn";
 }
 #else
-TEST(ReportBrowser, LoadsCleanlyWithSectionsPlotsAndAPicture) { GTEST_SKIP() << "chromium not found at configure time"; }
+TEST(ReportBrowser, LoadsCleanlyWithSectionsPlotsAndAPicture) {
+  GTEST_SKIP() << "chromium not found at configure time";
+}
 #endif
 
 }  // namespace

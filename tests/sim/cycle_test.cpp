@@ -23,7 +23,9 @@ namespace {
 
 using kern::StereoParams;
 
-StereoParams params(int w, int h, int d, int pu, unsigned paths) { return test_params(w, h, d, pu, paths); }
+StereoParams params(int w, int h, int d, int pu, unsigned paths) {
+  return test_params(w, h, d, pu, paths);
+}
 
 sim::CycleOptions one_pair_per_cycle() {
   sim::CycleOptions o;
@@ -109,18 +111,16 @@ void expect_cycle_equivalent(const StereoParams& p, const sim::CycleOptions& o, 
   const std::vector<uint16_t> r = ref::compute_disparity(to_ref(sp.left), to_ref(sp.right), p);
   const Comparison cf = compare_maps(c.codes.code, f.code, p.width_px);
   const Comparison cr = compare_maps(c.codes.code, r, p.width_px);
-  EXPECT_TRUE(cf.sizes_equal && cf.mismatches == 0) << describe(p) << " seed " << seed << " vs func: "
-                                                    << cf.mismatches << " mismatches, first at " << cf.first;
-  EXPECT_TRUE(cr.sizes_equal && cr.mismatches == 0) << describe(p) << " seed " << seed << " vs golden: "
-                                                    << cr.mismatches << " mismatches, first at " << cr.first;
+  EXPECT_TRUE(cf.sizes_equal && cf.mismatches == 0)
+      << describe(p) << " seed " << seed << " vs func: " << cf.mismatches << " mismatches, first at " << cf.first;
+  EXPECT_TRUE(cr.sizes_equal && cr.mismatches == 0)
+      << describe(p) << " seed " << seed << " vs golden: " << cr.mismatches << " mismatches, first at " << cr.first;
 }
 
 TEST(CycleEquiv, TableOfConfigurations) {
-  const struct {
-    int d, pu;
-  } rows[] = {{16, 1}, {16, 16}, {60, 6}, {60, 60}, {64, 8}, {128, 16}};
-  const unsigned path_sets[] = {kern::kPath0, kern::kPath0 | kern::kPath90, kern::kPath0 | kern::kPath45 | kern::kPath90,
-                                kern::kForwardPaths, kern::kAllPaths};
+  const struct { int d, pu; } rows[] = {{16, 1}, {16, 16}, {60, 6}, {60, 60}, {64, 8}, {128, 16}};
+  const unsigned path_sets[] = {kern::kPath0, kern::kPath0 | kern::kPath90,
+                                kern::kPath0 | kern::kPath45 | kern::kPath90, kern::kForwardPaths, kern::kAllPaths};
   uint32_t seed = 7000;
   for (const auto& row : rows)
     for (unsigned paths : path_sets)
@@ -208,9 +208,9 @@ TEST(Timing, LineBufferFillLatency) {
 TEST(Timing, TwoPassDdrTrafficIsThePackedWords) {
   struct Case {
     int cost, d, pu, word_bits, beats;
-  } cases[] = {{kern::kCostCensus, 32, 8, 128, 1},   // 8 x (5 + 10) = 120 bits
-               {kern::kCostCensus, 16, 1, 32, 1},    // 15 bits
-               {kern::kCostSad, 64, 64, 1024, 2}};   // 64 x (13 + 16) = 1856 bits: two beats
+  } cases[] = {{kern::kCostCensus, 32, 8, 128, 1},  // 8 x (5 + 10) = 120 bits
+               {kern::kCostCensus, 16, 1, 32, 1},   // 15 bits
+               {kern::kCostSad, 64, 64, 1024, 2}};  // 64 x (13 + 16) = 1856 bits: two beats
   for (const Case& c : cases) {
     StereoParams p = params(37, 9, c.d, c.pu, kern::kAllPaths);
     p.cost = c.cost;
@@ -235,7 +235,8 @@ TEST(Timing, TwoPassDdrTrafficIsThePackedWords) {
     EXPECT_EQ(rd.fires, words) << what;
     EXPECT_EQ(stage(r, "sink").fires, pixels + kern::map_segment_pixels(p)) << what;
     EXPECT_GE(wr.last_fire_cycle - stage(r, "aggregate").last_fire_cycle, seg_words) << what;
-    EXPECT_GE(stage(r, "sink").last_fire_cycle - stage(r, "median").last_fire_cycle, kern::map_segment_pixels(p)) << what;
+    EXPECT_GE(stage(r, "sink").last_fire_cycle - stage(r, "median").last_fire_cycle, kern::map_segment_pixels(p))
+        << what;
     const int64_t ddr_latency = int64_t(std::ceil(o.ddr_latency_s * o.clock_hz));
     EXPECT_EQ(rd.first_fire_cycle, wr.last_fire_cycle + 1 + ddr_latency) << what;
     EXPECT_EQ(rd.last_fire_cycle - rd.first_fire_cycle, (words - 1) * 4) << what << ": pass 2 reads at the DDR rate";
@@ -419,8 +420,8 @@ TEST(Vcd, WindowOfFifoOccupanciesAndStageSignals) {
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string vcd = ss.str();
-  for (const char* sig : {"$enddefinitions", "aggregate_valid", "aggregate_stall", "cost_valid", "fifo_cost", "fifo_sum",
-                          "$dumpvars"})
+  for (const char* sig :
+       {"$enddefinitions", "aggregate_valid", "aggregate_stall", "cost_valid", "fifo_cost", "fifo_sum", "$dumpvars"})
     EXPECT_NE(vcd.find(sig), std::string::npos) << sig;
   // Timestamps stay inside the window and are increasing.
   std::istringstream lines(vcd);
@@ -526,8 +527,10 @@ TEST(FuncSharing, ReplayedCostsGiveTheCodesOfTheRun) {
       int p1, p2, median;
       unsigned paths;
       bool lr;
-    } variants[] = {{8, 32, 5, kern::kForwardPaths, true}, {4, 96, 0, kern::kPath0, false},
-                    {20, 400, 3, kern::kPath0 | kern::kPath90, true}, {2, 3, 7, kern::kPath45 | kern::kPath135, true}};
+    } variants[] = {{8, 32, 5, kern::kForwardPaths, true},
+                    {4, 96, 0, kern::kPath0, false},
+                    {20, 400, 3, kern::kPath0 | kern::kPath90, true},
+                    {2, 3, 7, kern::kPath45 | kern::kPath135, true}};
     for (const auto& v : variants) {
       StereoParams p = base;
       p.p1 = cost == kern::kCostSad ? v.p1 * 25 : v.p1;
@@ -676,8 +679,8 @@ TEST(CycleEquiv, RectifyInFrontOfTheCostStage) {
       o.rectify = kern::RectifyParams{w, h, mode, frac, rows};
       o.rectify_map_left = &map_l;
       o.rectify_map_right = &map_r;
-      const sim::CycleReport c =
-          run_both_modes(sp.left, sp.right, p, o, "rectify mode " + std::to_string(mode) + " rows " + std::to_string(rows));
+      const sim::CycleReport c = run_both_modes(
+          sp.left, sp.right, p, o, "rectify mode " + std::to_string(mode) + " rows " + std::to_string(rows));
       ASSERT_FALSE(c.deadlock) << c.deadlock_message;
       const sim::RectifyOutput rl = sim::run_rectify_func(sp.left, map_l, o.rectify);
       const sim::RectifyOutput rr = sim::run_rectify_func(sp.right, map_r, o.rectify);

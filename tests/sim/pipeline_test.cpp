@@ -36,7 +36,9 @@ void expect_graph_is_the_table(const CycleReport& r, const kern::StereoParams& p
   EXPECT_EQ(graph_fifos, table_fifos);
 }
 
-GreyImage blank(int w, int h) { return GreyImage{w, h, std::vector<uint8_t>(std::size_t(w) * h, 77)}; }
+GreyImage blank(int w, int h) {
+  return GreyImage{w, h, std::vector<uint8_t>(std::size_t(w) * h, 77)};
+}
 
 TEST(PipelineTable, OnePassAndTwoPassGraphs) {
   for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths)}) {

@@ -308,10 +308,6 @@ int report_exception(std::exception_ptr ep) {
     std::rethrow_exception(std::move(ep));
   } catch (const UserError& e) {
     return user(e.what());
-  } catch (const cv::Exception& e) {
-    return user(std::string("OpenCV: ") + e.what());
-  } catch (const fs::filesystem_error& e) {
-    return user(e.what());
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "parallax: error: out of memory\n");
     return 1;

@@ -60,11 +60,11 @@ FlightFigures measure_flights(const config::PipelineConfig& cfg, const PointRequ
 }  // namespace
 
 ResourceFigures resource_figures(const config::PipelineConfig& cfg, int width_px, int height_px,
-                                 const res::Device* device, double frame_interval_ms) {
+                                 const res::Device* device, int clock_mhz, double frame_interval_ms) {
   ResourceFigures r;
   r.estimate = res::estimate(res::design_inventory(cfg, width_px, height_px));
   if (device != nullptr) r.utilisation = res::utilisation(r.estimate.total, *device);
-  r.power = res::power(r.estimate.total, cfg.clock_mhz, frame_interval_ms);
+  r.power = res::power(r.estimate.total, clock_mhz, frame_interval_ms);
   return r;
 }
 
@@ -87,7 +87,7 @@ void complete_point(DesignResult& r, const PointRequest& req) {
     const res::Device* dev = req.device.empty() ? nullptr : res::find_device(req.device);
     if (!req.device.empty() && dev == nullptr)
       throw InputError("unknown device '" + req.device + "' (known: " + res::device_names() + ")");
-    r.resources = resource_figures(cfg, r.width_px, r.height_px, dev, r.timing->frame_interval_ms);
+    r.resources = resource_figures(cfg, r.width_px, r.height_px, dev, cfg.clock_mhz, r.timing->frame_interval_ms);
   }
 }
 

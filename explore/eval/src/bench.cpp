@@ -95,12 +95,10 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
   const kern::StereoParams params = cfg.stereo_params(left.cols, left.rows);
   const sim::GreyImage grey_l{left.cols, left.rows, std::vector<uint8_t>(left.datastart, left.dataend)};
   const sim::GreyImage grey_r{right.cols, right.rows, std::vector<uint8_t>(right.datastart, right.dataend)};
-  add("parallax cycle " + cfg.name, [&] {
-    (void)sim::run_cycle(grey_l, grey_r, params, cycle_options(cfg, cfg.clock_mhz));
-  });
-  add("  its timing run alone", [&] {
-    (void)sim::run_timing(grey_l, grey_r, params, cycle_options(cfg, cfg.clock_mhz));
-  });
+  add("parallax cycle " + cfg.name,
+      [&] { (void)sim::run_cycle(grey_l, grey_r, params, cycle_options(cfg, cfg.clock_mhz)); });
+  add("  its timing run alone",
+      [&] { (void)sim::run_timing(grey_l, grey_r, params, cycle_options(cfg, cfg.clock_mhz)); });
   add("parallax cycle, coupled", [&] {
     sim::CycleOptions opt = cycle_options(cfg, cfg.clock_mhz);
     opt.coupled = true;

@@ -16,7 +16,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-
 // Opens a text file for reading; InputError naming it when it is missing, a folder or unreadable.
 std::ifstream open_text(const fs::path& file, const char* role) {
   std::error_code ec;
@@ -139,16 +138,14 @@ MiddleburyCalib read_middlebury_calib(const fs::path& file) {
                      "2014/2021 calib.txt files have one)");
   }
   if ((vmin_line == 0) != (vmax_line == 0)) {
-    throw InputError(file.string() + ": vmin and vmax go together (found only " +
-                     (vmin_line != 0 ? "vmin, line " + std::to_string(vmin_line)
-                                     : "vmax, line " + std::to_string(vmax_line)) +
-                     ")");
+    throw InputError(
+        file.string() + ": vmin and vmax go together (found only " +
+        (vmin_line != 0 ? "vmin, line " + std::to_string(vmin_line) : "vmax, line " + std::to_string(vmax_line)) + ")");
   }
   if (vmin_line != 0) {
     if (calib.vmax_px < calib.vmin_px) {
-      throw InputError(file.string() + " line " + std::to_string(vmax_line) + ", vmax: " +
-                       std::to_string(calib.vmax_px) + " is below vmin " +
-                       std::to_string(calib.vmin_px));
+      throw InputError(file.string() + " line " + std::to_string(vmax_line) +
+                       ", vmax: " + std::to_string(calib.vmax_px) + " is below vmin " + std::to_string(calib.vmin_px));
     }
     calib.has_disparity_range = true;
   }
@@ -164,8 +161,7 @@ MiddleburyCalib read_middlebury_calib(const fs::path& file) {
   return calib;
 }
 
-StereoCalibration read_kitti_calib(const fs::path& file, const std::string& left_key,
-                                   const std::string& right_key) {
+StereoCalibration read_kitti_calib(const fs::path& file, const std::string& left_key, const std::string& right_key) {
   std::ifstream in = open_text(file, "calibration file");
   std::map<std::string, std::vector<double>> found;
   std::map<std::string, int> found_line;
@@ -183,8 +179,7 @@ StereoCalibration read_kitti_calib(const fs::path& file, const std::string& left
       throw InputError(where + ": a value is not a number");
     }
     if (p.size() != 12) {
-      throw InputError(where + ": expected 12 numbers (a 3x4 projection matrix), got " +
-                       std::to_string(p.size()));
+      throw InputError(where + ": expected 12 numbers (a 3x4 projection matrix), got " + std::to_string(p.size()));
     }
     found[key] = p;
     found_line[key] = line_number;
@@ -202,14 +197,13 @@ StereoCalibration read_kitti_calib(const fs::path& file, const std::string& left
   c.focal_px = pl[0];
   c.cx_px = pl[2];
   c.cy_px = pl[6];
-  const std::string left_where =
-      file.string() + " line " + std::to_string(found_line[left_key]) + ", " + left_key;
+  const std::string left_where = file.string() + " line " + std::to_string(found_line[left_key]) + ", " + left_key;
   if (!(c.focal_px > 0.0)) throw InputError(left_where + ": focal length P[0] must be > 0");
   c.baseline_m = (pl[3] - pr[3]) / c.focal_px;
   if (!(c.baseline_m > 0.0)) {
-    throw InputError(file.string() + " line " + std::to_string(found_line[right_key]) + ", " +
-                     right_key + ": baseline (" + left_key + "[3] - " + right_key +
-                     "[3]) / f must be > 0, got " + std::to_string(c.baseline_m) + " m");
+    throw InputError(file.string() + " line " + std::to_string(found_line[right_key]) + ", " + right_key +
+                     ": baseline (" + left_key + "[3] - " + right_key + "[3]) / f must be > 0, got " +
+                     std::to_string(c.baseline_m) + " m");
   }
   c.doffs_px = pr[2] - pl[2];
   c.known = true;
@@ -223,8 +217,8 @@ int read_middlebury_dmin(const fs::path& file) {
   const std::string text = trim(all.str());
   std::vector<double> v;
   if (!parse_numbers(text, v) || v.size() != 1 || v[0] != std::floor(v[0]) || std::fabs(v[0]) > 1e6) {
-    throw InputError(file.string() + ": expected one integer (the disparity offset dmin), got '" +
-                     text.substr(0, 40) + "'");
+    throw InputError(file.string() + ": expected one integer (the disparity offset dmin), got '" + text.substr(0, 40) +
+                     "'");
   }
   return static_cast<int>(v[0]);
 }

@@ -23,9 +23,8 @@ using dataset_detail::read_raw;
 using dataset_detail::select_frames;
 using dataset_detail::size_text;
 
-CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filter,
-                         const std::vector<GtKind>& gt_kinds, int roi_w, int roi_h,
-                         const fs::path& out_dir) {
+CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filter, const std::vector<GtKind>& gt_kinds,
+                         int roi_w, int roi_h, const fs::path& out_dir) {
   const Dataset dataset = open_dataset(src_dir);
   if (dataset.layout == DatasetLayout::middlebury) {
     throw InputError(src_dir.string() + ": crop_dataset supports KITTI datasets only");
@@ -69,17 +68,16 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
     const cv::Mat left = read_raw(left_path, "left image");
     const cv::Mat right = read_raw(right_path, "right image");
     if (right.size() != left.size()) {
-      throw InputError(right_path.string() + ": right image is " + size_text(right) +
-                       " but the left image " + left_path.string() + " is " + size_text(left));
+      throw InputError(right_path.string() + ": right image is " + size_text(right) + " but the left image " +
+                       left_path.string() + " is " + size_text(left));
     }
     const Roi roi = centred_roi(left.cols, left.rows, roi_w, roi_h);
     struct Output {
       cv::Mat image;
       fs::path file;
     };
-    std::vector<Output> outputs = {
-        {crop_to_roi(left, roi).clone(), out_frames / dst.left / name},
-        {crop_to_roi(right, roi).clone(), out_frames / dst.right / name}};
+    std::vector<Output> outputs = {{crop_to_roi(left, roi).clone(), out_frames / dst.left / name},
+                                   {crop_to_roi(right, roi).clone(), out_frames / dst.right / name}};
     for (GtKind kind : kinds) {
       if (has_gt[kind].count(id) == 0) continue;
       const fs::path gt_path = dataset.frames_dir / gt_dir_name(dataset.layout, kind) / name;
@@ -88,12 +86,12 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
         throw InputError(gt_path.string() + ": ground truth must be a 16-bit single-channel PNG");
       }
       if (gt.size() != left.size()) {
-        throw InputError(gt_path.string() + ": ground truth is " + size_text(gt) +
-                         " but the left image " + left_path.string() + " is " + size_text(left));
+        throw InputError(gt_path.string() + ": ground truth is " + size_text(gt) + " but the left image " +
+                         left_path.string() + " is " + size_text(left));
       }
       // Raw uint16 values are copied unchanged: the crop's GT is bit-identical to the source.
-      outputs.push_back({crop_to_roi(gt, roi).clone(),
-                         out_frames / gt_dir_name(DatasetLayout::kitti2015, kind) / name});
+      outputs.push_back(
+          {crop_to_roi(gt, roi).clone(), out_frames / gt_dir_name(DatasetLayout::kitti2015, kind) / name});
     }
     for (const Output& o : outputs) {
       write_png(o.file, o.image);
@@ -113,8 +111,7 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
     std::ofstream out(target, std::ios::binary);
     out << in.rdbuf();
     out.close();
-    if (!out)
-      throw InputError(target.string() + ": cannot write a copy of " + licence.string());
+    if (!out) throw InputError(target.string() + ": cannot write a copy of " + licence.string());
     summary.files_written.push_back(target);
   }
   return summary;

@@ -19,8 +19,12 @@ namespace fs = std::filesystem;
 
 namespace dataset_detail {
 
-std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
-std::string size_text(const cv::Mat& m) { return size_text(m.cols, m.rows); }
+std::string size_text(int w, int h) {
+  return std::to_string(w) + "x" + std::to_string(h);
+}
+std::string size_text(const cv::Mat& m) {
+  return size_text(m.cols, m.rows);
+}
 
 bool is_dir(const fs::path& p) {
   std::error_code ec;
@@ -47,9 +51,8 @@ std::vector<std::string> split(const std::string& s, char sep) {
 }
 
 bool all_digits(const std::string& s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
-    return std::isdigit(static_cast<unsigned char>(c)) != 0;
-  });
+  return !s.empty() &&
+         std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
 }
 
 std::vector<fs::path> sub_folders(const fs::path& dir) {
@@ -63,9 +66,8 @@ std::vector<fs::path> sub_folders(const fs::path& dir) {
   return out;
 }
 
-std::vector<std::size_t> select_frames(const std::vector<std::string>& ids,
-                                       const std::vector<std::string>& aliases, bool numeric,
-                                       const std::string& filter, const std::string& what) {
+std::vector<std::size_t> select_frames(const std::vector<std::string>& ids, const std::vector<std::string>& aliases,
+                                       bool numeric, const std::string& filter, const std::string& what) {
   std::vector<std::size_t> all(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) all[i] = i;
   const std::string f = trim(filter);
@@ -190,7 +192,9 @@ std::string to_string(DatasetLayout layout) {
   return "unknown";
 }
 
-std::string to_string(GtKind kind) { return kind == GtKind::noc ? "noc" : "occ"; }
+std::string to_string(GtKind kind) {
+  return kind == GtKind::noc ? "noc" : "occ";
+}
 
 GtKind parse_gt_kind(const std::string& text) {
   const std::string t = trim(text);
@@ -229,13 +233,13 @@ Dataset open_dataset(const fs::path& dir) {
       }
     }
     throw InputError(
-        dir.string() + ": unknown dataset layout (expected KITTI 2015 image_2/ + image_3/, KITTI "
-                       "2012 image_0/ + image_1/ or colored_0/ + colored_1/, a Middlebury scene "
-                       "folder (im0.png, im1.png, disp0.pfm, calib.txt; or view1.png, view5.png, "
-                       "disp1.png, dmin.txt), a folder of such scenes, or a pairs.tsv, in the "
-                       "folder or its training/ subfolder)" +
-        (nested.empty() ? std::string()
-                        : "; its sub-folders " + nested + " hold Middlebury scenes: give one"));
+        dir.string() +
+        ": unknown dataset layout (expected KITTI 2015 image_2/ + image_3/, KITTI "
+        "2012 image_0/ + image_1/ or colored_0/ + colored_1/, a Middlebury scene "
+        "folder (im0.png, im1.png, disp0.pfm, calib.txt; or view1.png, view5.png, "
+        "disp1.png, dmin.txt), a folder of such scenes, or a pairs.tsv, in the "
+        "folder or its training/ subfolder)" +
+        (nested.empty() ? std::string() : "; its sub-folders " + nested + " hold Middlebury scenes: give one"));
   }
   if (dataset.layout == DatasetLayout::middlebury) {
     dataset.middlebury_scenes = read_middlebury_scenes(dataset);
@@ -243,10 +247,9 @@ Dataset open_dataset(const fs::path& dir) {
   return dataset;
 }
 
-std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind,
-                                  const std::string& frame_filter) {
-  const std::string what = to_string(dataset.layout) + " dataset " + dataset.frames_dir.string() +
-                           " (" + to_string(gt_kind) + " GT)";
+std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind, const std::string& frame_filter) {
+  const std::string what =
+      to_string(dataset.layout) + " dataset " + dataset.frames_dir.string() + " (" + to_string(gt_kind) + " GT)";
   std::vector<FrameRef> candidates;
   std::vector<std::string> ids;
   std::vector<std::string> aliases;

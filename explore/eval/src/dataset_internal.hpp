@@ -36,9 +36,8 @@ std::vector<std::filesystem::path> sub_folders(const std::filesystem::path& dir)
 // Selects among candidate frames (ids in dataset order; aliases: other accepted names of each
 // frame, may be empty) by a filter. Returns indices into ids, in dataset order. `numeric` =
 // KITTI rules (numbers, ranges), else exact names. `what` describes the candidates for errors.
-std::vector<std::size_t> select_frames(const std::vector<std::string>& ids,
-                                       const std::vector<std::string>& aliases, bool numeric,
-                                       const std::string& filter, const std::string& what);
+std::vector<std::size_t> select_frames(const std::vector<std::string>& ids, const std::vector<std::string>& aliases,
+                                       bool numeric, const std::string& filter, const std::string& what);
 
 // ---------------------------------------------------------------------------------------------
 // KITTI 2015 / 2012 (kitti.cpp)

@@ -20,8 +20,7 @@ namespace {
 
 constexpr int kPngCompressionLevel = 9;  // zlib level; fixed so that outputs are reproducible
 
-void require_disparity_and_mask(const cv::Mat& disparity_px, const cv::Mat& valid_mask,
-                                const std::string& where) {
+void require_disparity_and_mask(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const std::string& where) {
   if (disparity_px.empty() || disparity_px.type() != CV_32FC1) {
     throw std::invalid_argument(where + ": disparity must be a non-empty CV_32FC1 matrix");
   }
@@ -87,8 +86,7 @@ void write_png(const std::filesystem::path& file, const cv::Mat& image) {
   if (!ok) throw InputError(file.string() + ": cannot write PNG");
 }
 
-void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& disparity_px,
-                           const cv::Mat& valid_mask) {
+void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& disparity_px, const cv::Mat& valid_mask) {
   require_disparity_and_mask(disparity_px, valid_mask, file.string());
   cv::Mat encoded(disparity_px.size(), CV_16UC1, cv::Scalar(0));
   for (int y = 0; y < disparity_px.rows; ++y) {
@@ -100,8 +98,8 @@ void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& dis
       const double scaled = 256.0 * static_cast<double>(d[x]);
       const double value = std::isfinite(scaled) ? std::round(scaled) : -1.0;
       if (!(value >= 0.0 && value <= 65535.0)) {
-        throw std::invalid_argument(file.string() + ": disparity " + std::to_string(d[x]) +
-                                    " px at (x " + std::to_string(x) + ", y " + std::to_string(y) +
+        throw std::invalid_argument(file.string() + ": disparity " + std::to_string(d[x]) + " px at (x " +
+                                    std::to_string(x) + ", y " + std::to_string(y) +
                                     ") is outside the KITTI range [0, 65535/256]");
       }
       out[x] = static_cast<std::uint16_t>(std::max(1.0, value));  // valid 0 -> 1
@@ -132,8 +130,8 @@ DisparityMap read_kitti_disparity(const std::filesystem::path& file) {
     throw InputError(file.string() +
                      ": not a KITTI disparity map (expected a 16-bit "
                      "single-channel PNG, got " +
-                     std::to_string(encoded.channels()) + " channel(s) of " +
-                     std::to_string(8 * encoded.elemSize1()) + " bits)");
+                     std::to_string(encoded.channels()) + " channel(s) of " + std::to_string(8 * encoded.elemSize1()) +
+                     " bits)");
   }
   DisparityMap map{cv::Mat(encoded.size(), CV_32FC1), cv::Mat(encoded.size(), CV_8UC1)};
   for (int y = 0; y < encoded.rows; ++y) {
@@ -170,8 +168,7 @@ cv::Mat read_pfm(const std::filesystem::path& file) {
   auto next_token = [&](const char* field) {
     skip_space();
     const std::size_t start = pos;
-    while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos])) == 0 &&
-           pos - start < 32) {
+    while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos])) == 0 && pos - start < 32) {
       ++pos;
     }
     if (start == pos) {
@@ -189,15 +186,13 @@ cv::Mat read_pfm(const std::filesystem::path& file) {
     std::string shown = bytes.substr(0, std::min<std::size_t>(bytes.size(), 8));
     for (char& c : shown)
       if (std::isprint(static_cast<unsigned char>(c)) == 0) c = '?';
-    throw InputError(file.string() + ": not a PFM file (header starts with '" + shown +
-                     "', expected 'Pf')");
+    throw InputError(file.string() + ": not a PFM file (header starts with '" + shown + "', expected 'Pf')");
   }
   pos = 2;
   auto dimension = [&](const char* field) {
     const std::string token = next_token(field);
-    const bool digits = std::all_of(token.begin(), token.end(), [](char c) {
-      return std::isdigit(static_cast<unsigned char>(c)) != 0;
-    });
+    const bool digits = std::all_of(token.begin(), token.end(),
+                                    [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
     if (!digits || token.size() > 6 || std::stoi(token) <= 0) {
       throw InputError(file.string() + ": PFM header field " + field + ": '" + token +
                        "' is not a positive integer (at most 6 digits)");
@@ -227,9 +222,9 @@ cv::Mat read_pfm(const std::filesystem::path& file) {
   const std::size_t needed = std::size_t(width) * std::size_t(height) * 4u;
   const std::size_t have = bytes.size() - pos;
   if (have < needed) {
-    throw InputError(file.string() + ": truncated PFM: " + std::to_string(width) + " x " +
-                     std::to_string(height) + " floats need " + std::to_string(needed) +
-                     " bytes of pixel data, the file has " + std::to_string(have));
+    throw InputError(file.string() + ": truncated PFM: " + std::to_string(width) + " x " + std::to_string(height) +
+                     " floats need " + std::to_string(needed) + " bytes of pixel data, the file has " +
+                     std::to_string(have));
   }
   cv::Mat image(height, width, CV_32FC1);
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data() + pos);
@@ -239,10 +234,10 @@ cv::Mat read_pfm(const std::filesystem::path& file) {
     for (int x = 0; x < width; ++x) {
       const unsigned char* b = in_row + 4 * x;
       const std::uint32_t bits =
-          little_endian ? (std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 |
-                           std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24)
-                        : (std::uint32_t(b[3]) | std::uint32_t(b[2]) << 8 |
-                           std::uint32_t(b[1]) << 16 | std::uint32_t(b[0]) << 24);
+          little_endian
+              ? (std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24)
+              : (std::uint32_t(b[3]) | std::uint32_t(b[2]) << 8 | std::uint32_t(b[1]) << 16 |
+                 std::uint32_t(b[0]) << 24);
       std::memcpy(&out[x], &bits, sizeof bits);
     }
   }
@@ -265,8 +260,7 @@ DisparityMap read_pfm_disparity(const std::filesystem::path& file) {
   return map;
 }
 
-cv::Mat colourize_disparity(const cv::Mat& disparity_px, const cv::Mat& valid_mask,
-                            double max_disparity_px) {
+cv::Mat colourize_disparity(const cv::Mat& disparity_px, const cv::Mat& valid_mask, double max_disparity_px) {
   require_disparity_and_mask(disparity_px, valid_mask, "colourize_disparity");
   if (!(max_disparity_px > 0.0) || !std::isfinite(max_disparity_px)) {
     throw std::invalid_argument("colourize_disparity: max_disparity_px must be > 0");

@@ -64,7 +64,9 @@ Baseline parse_baseline(const std::string& name) {
   throw InputError("unknown baseline '" + name + "' (known: opencv-hh4, opencv-sgbm)");
 }
 
-std::string to_string(Baseline b) { return b == Baseline::opencv_hh4 ? "opencv-hh4" : "opencv-sgbm"; }
+std::string to_string(Baseline b) {
+  return b == Baseline::opencv_hh4 ? "opencv-hh4" : "opencv-sgbm";
+}
 
 DisparityMap run_baseline(Baseline b, const BaselineParams& bp, const cv::Mat& left, const cv::Mat& right) {
   const int num_disp = ((std::max(bp.disparities, 16) + 15) / 16) * 16;
@@ -132,7 +134,8 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
         }
         if (!opt.save_dir.empty()) {
           write_kitti_disparity(opt.save_dir / (f.id + "_10.png"), d.disparity_px, d.valid_mask);
-          write_png(opt.save_dir / (f.id + "_colour.png"), colourize_disparity(d.disparity_px, d.valid_mask, opt.colour_max_disparity_px));
+          write_png(opt.save_dir / (f.id + "_colour.png"),
+                    colourize_disparity(d.disparity_px, d.valid_mask, opt.colour_max_disparity_px));
         }
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(mu);
@@ -162,8 +165,9 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
     }
   }
   if (converted > 0)
-    result.notes.push_back(std::to_string(converted) + " of " + std::to_string(refs.size()) +
-                           " frames had colour images, converted to grey with cv::cvtColor(COLOR_BGR2GRAY) as OpenCV does");
+    result.notes.push_back(
+        std::to_string(converted) + " of " + std::to_string(refs.size()) +
+        " frames had colour images, converted to grey with cv::cvtColor(COLOR_BGR2GRAY) as OpenCV does");
   // The design's D against the frames' disparities: one warning, naming the frame reaching
   // farthest.
   int uncovered = 0;
@@ -209,7 +213,8 @@ RectifyMaps load_rectify_maps(const config::PipelineConfig& cfg) {
       maps.height_px = mx.rows;
     } else if (mx.cols != maps.width_px || mx.rows != maps.height_px) {
       throw InputError(file + ": remap table is " + std::to_string(mx.cols) + "x" + std::to_string(mx.rows) +
-                       ", the left camera's is " + std::to_string(maps.width_px) + "x" + std::to_string(maps.height_px));
+                       ", the left camera's is " + std::to_string(maps.width_px) + "x" +
+                       std::to_string(maps.height_px));
     }
     const double scale = double(1 << frac);
     out.resize(std::size_t(mx.total()));
@@ -217,7 +222,8 @@ RectifyMaps load_rectify_maps(const config::PipelineConfig& cfg) {
       for (int x = 0; x < mx.cols; ++x) {
         const double sx = std::round(mx.at<double>(y, x) * scale), sy = std::round(my.at<double>(y, x) * scale);
         if (!(std::abs(sx) < 1e9 && std::abs(sy) < 1e9))
-          throw InputError(file + ": map entry at (" + std::to_string(x) + ", " + std::to_string(y) + ") is not finite");
+          throw InputError(file + ": map entry at (" + std::to_string(x) + ", " + std::to_string(y) +
+                           ") is not finite");
         out[std::size_t(y) * mx.cols + x] = kern::MapEntry{int32_t(sx), int32_t(sy)};
       }
   };
@@ -257,12 +263,13 @@ EvalResult evaluate_design(const config::PipelineConfig& cfg, const Dataset& dat
       *misses += m;
     };
   }
-  EvalResult result = evaluate(dataset, roi,
-                  [&cfg]() -> Matcher {
-                    auto pipe = std::make_shared<sim::FuncPipeline>();
-                    return [&cfg, pipe](const cv::Mat& l, const cv::Mat& r) { return run_design(cfg, l, r, *pipe); };
-                  },
-                  opt);
+  EvalResult result = evaluate(
+      dataset, roi,
+      [&cfg]() -> Matcher {
+        auto pipe = std::make_shared<sim::FuncPipeline>();
+        return [&cfg, pipe](const cv::Mat& l, const cv::Mat& r) { return run_design(cfg, l, r, *pipe); };
+      },
+      opt);
   if (misses->load() > 0)
     result.notes.push_back("rectification: " + std::to_string(misses->load()) +
                            " map taps fell outside the line buffer's rows (read as 0); raise rectify_rows");

@@ -47,8 +47,8 @@ namespace {
 cv::Mat read_grey(const fs::path& file, const char* role, bool& converted) {
   cv::Mat image = read_raw(file, role);
   if (image.depth() != CV_8U) {
-    throw InputError(file.string() + ": " + role + " image has " +
-                     std::to_string(8 * image.elemSize1()) + "-bit samples, expected 8-bit");
+    throw InputError(file.string() + ": " + role + " image has " + std::to_string(8 * image.elemSize1()) +
+                     "-bit samples, expected 8-bit");
   }
   if (image.channels() == 1) return image;
   cv::Mat grey;
@@ -57,8 +57,8 @@ cv::Mat read_grey(const fs::path& file, const char* role, bool& converted) {
   } else if (image.channels() == 4) {
     cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY);
   } else {
-    throw InputError(file.string() + ": " + role + " image has " +
-                     std::to_string(image.channels()) + " channels, expected 1, 3 or 4");
+    throw InputError(file.string() + ": " + role + " image has " + std::to_string(image.channels()) +
+                     " channels, expected 1, 3 or 4");
   }
   converted = true;
   return grey;
@@ -69,8 +69,7 @@ void decode_integer_gt(const FrameRef& ref, Frame& frame, std::ostringstream& no
   const cv::Mat gt = read_raw(ref.gt_path, "ground-truth");
   const bool kitti = ref.layout != DatasetLayout::middlebury;
   if (kitti && gt.type() != CV_16UC1) {
-    throw InputError(ref.gt_path.string() + ": ground truth is a " +
-                     std::to_string(gt.channels()) + "-channel " +
+    throw InputError(ref.gt_path.string() + ": ground truth is a " + std::to_string(gt.channels()) + "-channel " +
                      std::to_string(8 * gt.elemSize1()) +
                      "-bit image, but KITTI disparity PNGs are 16-bit single-channel "
                      "(disparity = value / 256, 0 = no GT)");
@@ -79,32 +78,28 @@ void decode_integer_gt(const FrameRef& ref, Frame& frame, std::ostringstream& no
     throw InputError(ref.gt_path.string() +
                      ": ground truth must be a single-channel 8- or "
                      "16-bit image, got " +
-                     std::to_string(gt.channels()) + " channel(s) of " +
-                     std::to_string(8 * gt.elemSize1()) + " bits");
+                     std::to_string(gt.channels()) + " channel(s) of " + std::to_string(8 * gt.elemSize1()) + " bits");
   }
   if (gt.size() != frame.left.size()) {
-    throw InputError(ref.gt_path.string() + ": ground truth is " + size_text(gt) +
-                     " but the left image " + ref.left_path.string() + " is " +
-                     size_text(frame.left));
+    throw InputError(ref.gt_path.string() + ": ground truth is " + size_text(gt) + " but the left image " +
+                     ref.left_path.string() + " is " + size_text(frame.left));
   }
   double divisor = ref.gt_divisor;
   if (ref.gt_format == GtFormat::png_by_size) {
     if (gt.depth() != CV_8U) {
-      throw InputError(ref.gt_path.string() +
-                       ": a Middlebury 2005/2006 disparity map is 8-bit, this one is 16-bit");
+      throw InputError(ref.gt_path.string() + ": a Middlebury 2005/2006 disparity map is 8-bit, this one is 16-bit");
     }
     const int scale = middlebury_2006_scale(frame.left.rows);
     if (scale == 0) {
-      throw InputError(ref.left_path.string() + ": image height " +
-                       std::to_string(frame.left.rows) +
+      throw InputError(ref.left_path.string() + ": image height " + std::to_string(frame.left.rows) +
                        " px is none of the Middlebury 2005/2006 sizes (full 1110, half 555, "
                        "third 370 rows), so the scale of " +
                        ref.gt_path.filename().string() + " is unknown");
     }
     divisor = scale;
     static const char* const kSizes[] = {"", "full", "half", "third"};
-    note << ref.scene_kind << " ground truth " << ref.gt_path.filename().string() << " at "
-         << kSizes[scale] << " size: disparity = value / " << scale
+    note << ref.scene_kind << " ground truth " << ref.gt_path.filename().string() << " at " << kSizes[scale]
+         << " size: disparity = value / " << scale
          << ", 0 = no GT; it serves both noc and occ (dmin.txt, the offset by which the pair "
             "was cropped, is not added: the GT is relative to the images as given)";
   }
@@ -123,9 +118,8 @@ void decode_integer_gt(const FrameRef& ref, Frame& frame, std::ostringstream& no
     }
   }
   if (ref.gt_format == GtFormat::png && ref.layout == DatasetLayout::middlebury) {
-    note << "frame " << ref.id << ": Middlebury GT " << ref.gt_path.filename().string()
-         << " (disparity = value / " << ref.gt_divisor << ", value " << ref.gt_invalid_value
-         << " = no GT) serves both noc and occ";
+    note << "frame " << ref.id << ": Middlebury GT " << ref.gt_path.filename().string() << " (disparity = value / "
+         << ref.gt_divisor << ", value " << ref.gt_invalid_value << " = no GT) serves both noc and occ";
   }
 }
 
@@ -133,9 +127,8 @@ void decode_integer_gt(const FrameRef& ref, Frame& frame, std::ostringstream& no
 void decode_pfm_gt(const FrameRef& ref, Frame& frame, std::ostringstream& note) {
   DisparityMap gt = read_pfm_disparity(ref.gt_path);
   if (gt.disparity_px.size() != frame.left.size()) {
-    throw InputError(ref.gt_path.string() + ": ground truth is " + size_text(gt.disparity_px) +
-                     " but the left image " + ref.left_path.string() + " is " +
-                     size_text(frame.left));
+    throw InputError(ref.gt_path.string() + ": ground truth is " + size_text(gt.disparity_px) + " but the left image " +
+                     ref.left_path.string() + " is " + size_text(frame.left));
   }
   if (ref.gt_divisor != 1.0) gt.disparity_px /= ref.gt_divisor;
   frame.gt_disparity_px = gt.disparity_px;
@@ -155,13 +148,11 @@ void decode_pfm_gt(const FrameRef& ref, Frame& frame, std::ostringstream& note) 
 void apply_noc_mask(const FrameRef& ref, Frame& frame) {
   const cv::Mat mask = read_raw(ref.noc_mask_path, "non-occlusion mask");
   if (mask.type() != CV_8UC1) {
-    throw InputError(ref.noc_mask_path.string() +
-                     ": non-occlusion mask must be an 8-bit single-channel image");
+    throw InputError(ref.noc_mask_path.string() + ": non-occlusion mask must be an 8-bit single-channel image");
   }
   if (mask.size() != frame.left.size()) {
     throw InputError(ref.noc_mask_path.string() + ": non-occlusion mask is " + size_text(mask) +
-                     " but the left image " + ref.left_path.string() + " is " +
-                     size_text(frame.left));
+                     " but the left image " + ref.left_path.string() + " is " + size_text(frame.left));
   }
   for (int y = 0; y < mask.rows; ++y) {
     const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
@@ -186,25 +177,20 @@ Frame load_frame(const FrameRef& ref) {
   frame.left = read_grey(ref.left_path, "left image", left_colour);
   frame.right = read_grey(ref.right_path, "right image", right_colour);
   if (frame.right.size() != frame.left.size()) {
-    throw InputError(ref.right_path.string() + ": right image is " + size_text(frame.right) +
-                     " but the left image " + ref.left_path.string() + " is " +
-                     size_text(frame.left));
+    throw InputError(ref.right_path.string() + ": right image is " + size_text(frame.right) + " but the left image " +
+                     ref.left_path.string() + " is " + size_text(frame.left));
   }
   if (ref.expected_width_px > 0 && ref.expected_height_px > 0 &&
       (frame.left.cols != ref.expected_width_px || frame.left.rows != ref.expected_height_px)) {
-    throw InputError(ref.left_path.string() + ": left image is " + size_text(frame.left) +
-                     " but " +
-                     (ref.expected_size_source.empty() ? std::string("the dataset")
-                                                       : ref.expected_size_source) +
+    throw InputError(ref.left_path.string() + ": left image is " + size_text(frame.left) + " but " +
+                     (ref.expected_size_source.empty() ? std::string("the dataset") : ref.expected_size_source) +
                      " declares " + size_text(ref.expected_width_px, ref.expected_height_px));
   }
   if (left_colour || right_colour) {
     frame.converted_from_colour = true;
-    frame.notes.push_back("frame " + ref.id +
-                          ": colour images converted to grey with cv::cvtColor(COLOR_BGR2GRAY)");
+    frame.notes.push_back("frame " + ref.id + ": colour images converted to grey with cv::cvtColor(COLOR_BGR2GRAY)");
   }
-  if (ref.layout == DatasetLayout::kitti2012 &&
-      ref.left_path.parent_path().filename() == "colored_0") {
+  if (ref.layout == DatasetLayout::kitti2012 && ref.left_path.parent_path().filename() == "colored_0") {
     frame.notes.push_back(
         "KITTI 2012: no image_0/ + image_1/, so the colour pairs colored_0/ + colored_1/ are "
         "read (the same cameras)");
@@ -221,17 +207,15 @@ Frame load_frame(const FrameRef& ref) {
 
   if (cv::countNonZero(frame.gt_mask) == 0) {
     throw InputError(ref.gt_path.string() + ": ground truth has no valid pixel (" +
-                     (ref.gt_format == GtFormat::pfm
-                          ? std::string("every value is inf")
-                          : "every value is " + std::to_string(ref.gt_invalid_value)) +
+                     (ref.gt_format == GtFormat::pfm ? std::string("every value is inf")
+                                                     : "every value is " + std::to_string(ref.gt_invalid_value)) +
                      " = no GT" +
                      (ref.gt_kind == GtKind::noc && !ref.noc_mask_path.empty()
                           ? std::string(" after the non-occlusion mask")
                           : std::string()) +
                      "): nothing to score frame " + ref.id + " against");
   }
-  cv::minMaxLoc(frame.gt_disparity_px, nullptr, &frame.gt_max_disparity_px, nullptr, nullptr,
-                frame.gt_mask);
+  cv::minMaxLoc(frame.gt_disparity_px, nullptr, &frame.gt_max_disparity_px, nullptr, nullptr, frame.gt_mask);
 
   frame.ndisp = ref.ndisp;
   frame.calibration = ref.calibration;
@@ -266,15 +250,13 @@ std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disp
   std::ostringstream out;
   out.setf(std::ios::fixed);
   out.precision(1);
-  out << "frame " << frame.id << ": the design's D = " << disparities << " searches 0-"
-      << disparities - 1 << " px, but ";
+  out << "frame " << frame.id << ": the design's D = " << disparities << " searches 0-" << disparities - 1
+      << " px, but ";
   if (frame.ndisp > 0) out << "the scene's ndisp is " << frame.ndisp << " (calib.txt) and ";
   out << "its ground truth inside the ROI reaches " << max_px << " px: ";
   if (beyond > 0) {
-    out << 100.0 * static_cast<double>(beyond) /
-               static_cast<double>(std::max<std::int64_t>(gt_pixels, 1))
-        << " % of the ground-truth pixels (" << beyond << " of " << gt_pixels
-        << ") are out of its reach";
+    out << 100.0 * static_cast<double>(beyond) / static_cast<double>(std::max<std::int64_t>(gt_pixels, 1))
+        << " % of the ground-truth pixels (" << beyond << " of " << gt_pixels << ") are out of its reach";
   } else {
     out << "no ground-truth pixel is out of its reach, but the scene's bound is";
   }

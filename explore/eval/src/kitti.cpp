@@ -29,7 +29,9 @@ fs::path kitti_calib_file(const Dataset& dataset, const std::string& id) {
 
 }  // namespace
 
-std::string kitti_file(const std::string& id) { return id + "_10.png"; }
+std::string kitti_file(const std::string& id) {
+  return id + "_10.png";
+}
 
 // The default folders of a layout (KITTI 2012: the grey images).
 KittiDirs kitti_dirs(DatasetLayout layout) {

@@ -12,17 +12,15 @@ namespace {
 
 void require_same_size(const cv::Mat& a, const cv::Mat& b, const char* name_a, const char* name_b) {
   if (a.size() != b.size()) {
-    throw std::invalid_argument(std::string("metrics: ") + name_a + " is " +
-                                std::to_string(a.cols) + "x" + std::to_string(a.rows) + " but " +
-                                name_b + " is " + std::to_string(b.cols) + "x" +
+    throw std::invalid_argument(std::string("metrics: ") + name_a + " is " + std::to_string(a.cols) + "x" +
+                                std::to_string(a.rows) + " but " + name_b + " is " + std::to_string(b.cols) + "x" +
                                 std::to_string(b.rows));
   }
 }
 
 void require_type(const cv::Mat& m, int type, const char* name, const char* type_name) {
   if (m.empty() || m.type() != type) {
-    throw std::invalid_argument(std::string("metrics: ") + name + " must be a non-empty " +
-                                type_name + " matrix");
+    throw std::invalid_argument(std::string("metrics: ") + name + " must be a non-empty " + type_name + " matrix");
   }
 }
 
@@ -152,8 +150,8 @@ DisparityMap interpolate_background(const cv::Mat& disparity_px, const cv::Mat& 
   return DisparityMap{d, valid};
 }
 
-FrameCounts count_frame(const cv::Mat& disparity_px, const cv::Mat& valid_mask,
-                        const cv::Mat& gt_px, const cv::Mat& gt_mask) {
+FrameCounts count_frame(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const cv::Mat& gt_px,
+                        const cv::Mat& gt_mask) {
   require_type(disparity_px, CV_32FC1, "disparity", "CV_32FC1");
   require_type(valid_mask, CV_8UC1, "validity mask", "CV_8UC1");
   require_type(gt_px, CV_32FC1, "GT disparity", "CV_32FC1");

@@ -112,9 +112,7 @@ std::vector<FrameRef> read_pairs_tsv(const fs::path& tsv) {
   const int c_width = column("width", false);
   const int c_height = column("height", false);
   const int c_format = column("gt_format", false);
-  const int needed = std::max({c_scene, c_left, c_right, c_gt, c_divisor, c_invalid, c_width,
-                               c_height, c_format}) +
-                     1;
+  const int needed = std::max({c_scene, c_left, c_right, c_gt, c_divisor, c_invalid, c_width, c_height, c_format}) + 1;
 
   const fs::path base = tsv.parent_path();
   std::vector<FrameRef> pairs;
@@ -126,8 +124,8 @@ std::vector<FrameRef> read_pairs_tsv(const fs::path& tsv) {
     const std::string where = tsv.string() + " line " + std::to_string(line_number);
     std::vector<std::string> f = split(line, '\t');
     if (static_cast<int>(f.size()) < needed) {
-      throw InputError(where + ": " + std::to_string(f.size()) + " tab-separated fields, " +
-                       "expected at least " + std::to_string(needed));
+      throw InputError(where + ": " + std::to_string(f.size()) + " tab-separated fields, " + "expected at least " +
+                       std::to_string(needed));
     }
     for (std::string& s : f) s = trim(s);
     FrameRef ref;
@@ -149,19 +147,18 @@ std::vector<FrameRef> read_pairs_tsv(const fs::path& tsv) {
     if (pfm) {
       ref.gt_format = GtFormat::pfm;
       if (invalid != "inf" && invalid != "+inf") {
-        throw InputError(where + ", invalid: '" + f[c_invalid] + "': a PFM ground truth (" +
-                         f[c_gt] + ") marks unknown pixels with inf; write 'inf'");
+        throw InputError(where + ", invalid: '" + f[c_invalid] + "': a PFM ground truth (" + f[c_gt] +
+                         ") marks unknown pixels with inf; write 'inf'");
       }
     } else if (invalid == "inf" || invalid == "+inf") {
-      throw InputError(where + ", invalid: 'inf' marks unknown pixels of PFM ground truth only; " +
-                       f[c_gt] + " is an integer image: give the value meaning no GT (e.g. 0)");
+      throw InputError(where + ", invalid: 'inf' marks unknown pixels of PFM ground truth only; " + f[c_gt] +
+                       " is an integer image: give the value meaning no GT (e.g. 0)");
     } else {
       ref.gt_invalid_value = parse_int(f[c_invalid], where + ", invalid");
     }
     if (c_width >= 0) ref.expected_width_px = parse_int(f[c_width], where + ", width");
     if (c_height >= 0) ref.expected_height_px = parse_int(f[c_height], where + ", height");
-    if (c_width >= 0 || c_height >= 0) ref.expected_size_source = tsv.string() + " line " +
-                                                                  std::to_string(line_number);
+    if (c_width >= 0 || c_height >= 0) ref.expected_size_source = tsv.string() + " line " + std::to_string(line_number);
     pairs.push_back(ref);
     scenes.push_back(scene);
   }
@@ -193,8 +190,7 @@ void require_scene_file(const fs::path& file, const char* role, const char* layo
 }
 
 // The first of the names present in dir (a folder in its place is an error), else empty.
-fs::path optional_scene_file(const fs::path& dir, std::initializer_list<const char*> names,
-                             const char* role) {
+fs::path optional_scene_file(const fs::path& dir, std::initializer_list<const char*> names, const char* role) {
   for (const char* name : names) {
     fs::path file = dir / name;
     if (!path_exists(file)) continue;
@@ -208,8 +204,7 @@ fs::path optional_scene_file(const fs::path& dir, std::initializer_list<const ch
 
 constexpr const char* kHint2014 =
     "a Middlebury 2014/2021 scene holds im0.png, im1.png, disp0GT.pfm or disp0.pfm, calib.txt";
-constexpr const char* kHint2006 =
-    "a Middlebury 2005/2006 scene holds view1.png, view5.png, disp1.png, dmin.txt";
+constexpr const char* kHint2006 = "a Middlebury 2005/2006 scene holds view1.png, view5.png, disp1.png, dmin.txt";
 
 FrameRef middlebury_scene_ref(const fs::path& dir) {
   FrameRef ref;
@@ -234,8 +229,7 @@ FrameRef middlebury_scene_ref(const fs::path& dir) {
       if (calib.width_px > 0 && calib.height_px > 0) {
         ref.expected_width_px = calib.width_px;
         ref.expected_height_px = calib.height_px;
-        ref.expected_size_source = calib_file.string() + " lines " +
-                                   std::to_string(calib.width_line) + "-" +
+        ref.expected_size_source = calib_file.string() + " lines " + std::to_string(calib.width_line) + "-" +
                                    std::to_string(calib.height_line) + " (width, height)";
       }
     }

@@ -17,13 +17,15 @@ Roi centred_roi(int image_w, int image_h, int roi_w, int roi_h) {
     throw InputError("ROI " + size_text(roi_w, roi_h) + ": width and height must be > 0");
   }
   if (roi_w > image_w || roi_h > image_h) {
-    throw InputError("ROI " + size_text(roi_w, roi_h) + " is larger than the image (" +
-                     size_text(image_w, image_h) + "); use --roi full, or --set roi=WxH with a smaller size");
+    throw InputError("ROI " + size_text(roi_w, roi_h) + " is larger than the image (" + size_text(image_w, image_h) +
+                     "); use --roi full, or --set roi=WxH with a smaller size");
   }
   return Roi{(image_w - roi_w) / 2, (image_h - roi_h) / 2, roi_w, roi_h};
 }
 
-Roi full_roi(int image_w, int image_h) { return Roi{0, 0, image_w, image_h}; }
+Roi full_roi(int image_w, int image_h) {
+  return Roi{0, 0, image_w, image_h};
+}
 
 RoiSize parse_roi_size(const std::string& text) {
   const std::string t = trim(text);
@@ -51,11 +53,11 @@ Roi resolve_roi(const RoiSize& size, int image_w, int image_h) {
 }
 
 cv::Mat crop_to_roi(const cv::Mat& image, const Roi& roi) {
-  if (roi.x0 < 0 || roi.y0 < 0 || roi.width_px <= 0 || roi.height_px <= 0 ||
-      roi.x0 + roi.width_px > image.cols || roi.y0 + roi.height_px > image.rows) {
-    throw std::invalid_argument("crop_to_roi: ROI " + size_text(roi.width_px, roi.height_px) +
-                                " at (" + std::to_string(roi.x0) + ", " + std::to_string(roi.y0) +
-                                ") does not fit in a " + size_text(image) + " image");
+  if (roi.x0 < 0 || roi.y0 < 0 || roi.width_px <= 0 || roi.height_px <= 0 || roi.x0 + roi.width_px > image.cols ||
+      roi.y0 + roi.height_px > image.rows) {
+    throw std::invalid_argument("crop_to_roi: ROI " + size_text(roi.width_px, roi.height_px) + " at (" +
+                                std::to_string(roi.x0) + ", " + std::to_string(roi.y0) + ") does not fit in a " +
+                                size_text(image) + " image");
   }
   return image(cv::Rect(roi.x0, roi.y0, roi.width_px, roi.height_px));
 }

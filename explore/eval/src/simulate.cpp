@@ -81,10 +81,12 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
   if (cfg.rectify != "none") {
     maps = load_rectify_maps(cfg);
     if (maps.width_px != left.cols || maps.height_px != left.rows)
-      throw InputError(cfg.rectify_maps_left + ": the cycle model rectifies the frames it processes, so the remap "
-                       "tables must be of the processed size " + std::to_string(left.cols) + "x" +
-                       std::to_string(left.rows) + " (they are " + std::to_string(maps.width_px) + "x" +
-                       std::to_string(maps.height_px) + "); give roi: full with full-size maps");
+      throw InputError(cfg.rectify_maps_left +
+                       ": the cycle model rectifies the frames it processes, so the remap "
+                       "tables must be of the processed size " +
+                       std::to_string(left.cols) + "x" + std::to_string(left.rows) + " (they are " +
+                       std::to_string(maps.width_px) + "x" + std::to_string(maps.height_px) +
+                       "); give roi: full with full-size maps");
     opt.rectify = cfg.rectify_params(left.cols, left.rows);
     opt.rectify_map_left = &maps.left;
     opt.rectify_map_right = &maps.right;
@@ -147,7 +149,8 @@ void test_pattern(int w, int h, int disparities, uint32_t seed, cv::Mat& left, c
   left.create(h, w, CV_8UC1);
   right.create(h, w, CV_8UC1);
   for (int y = 0; y < h; ++y) {
-    const int d_row = y > h / 2 ? std::min(disparities - 1, 4 + (y - h / 2) * (disparities / 2) / std::max(1, h / 2)) : 4;
+    const int d_row =
+        y > h / 2 ? std::min(disparities - 1, 4 + (y - h / 2) * (disparities / 2) / std::max(1, h / 2)) : 4;
     for (int x = 0; x < w; ++x) {
       const bool box = x > w / 3 && x < w / 2 && y > h / 4 && y < 3 * h / 4;
       const int d = box ? std::min(disparities - 1, disparities * 3 / 4) : d_row;

@@ -40,8 +40,9 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
   }
   if (!n.IsMap()) throw InputError(source + ": expected a mapping of sweep fields");
   SweepSpec s;
-  static const std::set<std::string> known = {"name", "base", "strategy", "samples", "seed", "generations", "avoidance", "flight", "axes",
-                                              "constraints", "objectives", "frames", "gt"};
+  static const std::set<std::string> known = {"name",        "base",      "strategy", "samples", "seed",
+                                              "generations", "avoidance", "flight",   "axes",    "constraints",
+                                              "objectives",  "frames",    "gt"};
   for (const auto& kv : n) {
     const std::string key = kv.first.as<std::string>();
     if (!known.count(key)) throw InputError(source + ": unknown field '" + key + "'");
@@ -61,7 +62,8 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
     if (n["avoidance"]) s.avoidance = n["avoidance"].as<bool>();
     if (n["flight"]) {
       const YAML::Node f = n["flight"];
-      if (!f.IsMap()) throw InputError(source + ": field 'flight' must map scenario, seeds, speed_mps, size_px to values");
+      if (!f.IsMap())
+        throw InputError(source + ": field 'flight' must map scenario, seeds, speed_mps, size_px to values");
       for (const auto& kv : f) {
         const std::string k = kv.first.as<std::string>();
         if (k != "scenario" && k != "seeds" && k != "speed_mps" && k != "size_px")
@@ -108,8 +110,9 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
       if (c["min_fps"]) s.min_fps = c["min_fps"].as<double>();
       if (c["max_latency_ms"]) s.max_latency_ms = c["max_latency_ms"].as<double>();
     } catch (const YAML::Exception&) {
-      throw InputError(source + ": field 'constraints': device is a name, fits_device a bool, min_fps and "
-                                "max_latency_ms numbers");
+      throw InputError(source +
+                       ": field 'constraints': device is a name, fits_device a bool, min_fps and "
+                       "max_latency_ms numbers");
     }
     if (!res::find_device(s.device))
       throw InputError(source + ": constraints.device '" + s.device + "' is unknown; known: " + res::device_names());
@@ -157,9 +160,9 @@ std::string sweep_to_yaml(const SweepSpec& s) {
   e << YAML::EndSeq << YAML::Key << "frames" << YAML::Value << s.frames << YAML::Key << "gt" << YAML::Value << s.gt
     << YAML::Key << "avoidance" << YAML::Value << s.avoidance;
   if (!s.flight_scenario.empty())
-    e << YAML::Key << "flight" << YAML::Value << YAML::BeginMap << YAML::Key << "scenario" << YAML::Value << s.flight_scenario
-      << YAML::Key << "seeds" << YAML::Value << s.flight_seeds << YAML::Key << "speed_mps" << YAML::Value
-      << s.flight_speed_mps << YAML::Key << "size_px" << YAML::Value << s.flight_size_px << YAML::EndMap;
+    e << YAML::Key << "flight" << YAML::Value << YAML::BeginMap << YAML::Key << "scenario" << YAML::Value
+      << s.flight_scenario << YAML::Key << "seeds" << YAML::Value << s.flight_seeds << YAML::Key << "speed_mps"
+      << YAML::Value << s.flight_speed_mps << YAML::Key << "size_px" << YAML::Value << s.flight_size_px << YAML::EndMap;
   e << YAML::EndMap;
   return e.c_str();
 }
@@ -186,13 +189,14 @@ void add_axis(SweepSpec& s, const std::string& kv) {
 std::vector<std::string> metric_names(const SweepSpec& s) {
   std::vector<std::string> out;
   for (const auto& kv : named_metrics(DerivedMetrics{})) out.push_back(kv.first);
-  for (const char* k : {"frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "bram18k", "lut", "ff", "dsp",
-                        "fits_device", "power_w", "energy_mj_per_frame"})
+  for (const char* k : {"frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "bram18k", "lut", "ff",
+                        "dsp", "fits_device", "power_w", "energy_mj_per_frame"})
     out.emplace_back(k);
   if (s.avoidance)
     for (const auto& kv : AvoidAccumulator{}.metrics()) out.push_back(kv.first);
   if (!s.flight_scenario.empty())
-    for (const char* k : {"flight_success_rate", "flight_collisions", "flight_min_clearance_m", "flight_time_to_goal_s"})
+    for (const char* k :
+         {"flight_success_rate", "flight_collisions", "flight_min_clearance_m", "flight_time_to_goal_s"})
       out.emplace_back(k);
   return out;
 }
@@ -211,7 +215,8 @@ void check_sweep_spec(const SweepSpec& s, const config::PipelineConfig& base, bo
     if (std::find(fields.begin(), fields.end(), a.first) == fields.end()) {
       std::string known;
       for (const auto& f : fields) known += (known.empty() ? "" : ", ") + f;
-      throw InputError("sweep '" + s.name + "': axis '" + a.first + "' is not a configuration field (known: " + known + ")");
+      throw InputError("sweep '" + s.name + "': axis '" + a.first + "' is not a configuration field (known: " + known +
+                       ")");
     }
     for (const auto& v : a.second) {
       config::PipelineConfig c = base;
@@ -227,13 +232,14 @@ void check_sweep_spec(const SweepSpec& s, const config::PipelineConfig& base, bo
     if (std::find(metrics.begin(), metrics.end(), o.key) == metrics.end()) {
       std::string known;
       for (const auto& m : metrics) known += (known.empty() ? "" : ", ") + m;
-      throw InputError("sweep '" + s.name + "': objective '" + o.key + "' is not a metric of this sweep (known: " + known + ")");
+      throw InputError("sweep '" + s.name + "': objective '" + o.key +
+                       "' is not a metric of this sweep (known: " + known + ")");
     }
   const double n = requested_designs(s);
   if (n > kLargeSweepDesigns && !allow_large) {
     std::ostringstream m;
-    m << "sweep '" << s.name << "': the " << s.strategy << " strategy asks for " << std::fixed << std::setprecision(0) << n
-      << " designs (more than " << kLargeSweepDesigns
+    m << "sweep '" << s.name << "': the " << s.strategy << " strategy asks for " << std::fixed << std::setprecision(0)
+      << n << " designs (more than " << kLargeSweepDesigns
       << "); confirm with --yes, or draw a sample (--strategy lhs --samples N, or nsga2)";
     throw InputError(m.str());
   }

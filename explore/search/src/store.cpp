@@ -59,8 +59,9 @@ const char* kSchema =
     "CREATE TABLE IF NOT EXISTS claims(key TEXT PRIMARY KEY, owner TEXT NOT NULL, host TEXT NOT NULL,"
     " pid INTEGER NOT NULL, started INTEGER NOT NULL, claimed_at INTEGER NOT NULL);";
 
-
-int64_t unix_now() { return int64_t(std::time(nullptr)); }
+int64_t unix_now() {
+  return int64_t(std::time(nullptr));
+}
 
 std::string this_host() {
   char buf[256] = {};
@@ -110,7 +111,9 @@ struct Header {
   uint32_t user_version = 0, application_id = 0;
 };
 
-uint32_t be32(const unsigned char* p) { return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | p[3]; }
+uint32_t be32(const unsigned char* p) {
+  return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | p[3];
+}
 
 Header read_header(const std::string& path) {
   Header h;
@@ -135,8 +138,8 @@ std::string why_not_a_store(const std::string& path, const Header& h) {
   const std::string untouched = " The file was not changed.";
   if (h.application_id == uint32_t(kApplicationId)) {
     if (h.user_version > uint32_t(kSchemaVersion))
-      return path + ": a results store of a newer Parallax (schema " + std::to_string(h.user_version) + "; this one reads schema " +
-             std::to_string(kSchemaVersion) + "): use that version." + untouched;
+      return path + ": a results store of a newer Parallax (schema " + std::to_string(h.user_version) +
+             "; this one reads schema " + std::to_string(kSchemaVersion) + "): use that version." + untouched;
     return path + ": a results store of unknown schema " + std::to_string(h.user_version) + "." + untouched;
   }
   std::set<std::string> tables;
@@ -144,7 +147,8 @@ std::string why_not_a_store(const std::string& path, const Header& h) {
   if (sqlite3_open_v2(("file:" + uri_escape(path) + "?mode=ro&immutable=1").c_str(), &db,
                       SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, nullptr) == SQLITE_OK) {
     sqlite3_stmt* st = nullptr;
-    if (sqlite3_prepare_v2(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name", -1, &st, nullptr) == SQLITE_OK)
+    if (sqlite3_prepare_v2(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name", -1, &st, nullptr) ==
+        SQLITE_OK)
       while (sqlite3_step(st) == SQLITE_ROW) {
         const unsigned char* t = sqlite3_column_text(st, 0);
         if (t) tables.insert(reinterpret_cast<const char*>(t));
@@ -153,10 +157,12 @@ std::string why_not_a_store(const std::string& path, const Header& h) {
   }
   sqlite3_close(db);
   if (h.application_id == 0 && tables.count("sweeps") && tables.count("designs") && tables.count("frames"))
-    return path + ": a results store of an earlier Parallax (schema 1), whose results are keyed by design only: they do "
-                  "not say which dataset, frames and ground truth they were measured on, so they cannot be reused or "
-                  "trusted. Rerun the sweep into a new store (--db NEW.db); this version does not read or migrate "
-                  "schema 1." + untouched;
+    return path +
+           ": a results store of an earlier Parallax (schema 1), whose results are keyed by design only: they do "
+           "not say which dataset, frames and ground truth they were measured on, so they cannot be reused or "
+           "trusted. Rerun the sweep into a new store (--db NEW.db); this version does not read or migrate "
+           "schema 1." +
+           untouched;
   std::string names;
   int n = 0;
   for (const auto& t : tables) {
@@ -201,9 +207,13 @@ std::string metrics_text(const std::map<std::string, double>& m) {
   return j.dump();
 }
 
-void warn(const std::string& what) { std::fprintf(stderr, "parallax: warning: %s\n", what.c_str()); }
+void warn(const std::string& what) {
+  std::fprintf(stderr, "parallax: warning: %s\n", what.c_str());
+}
 
-bool reusable_status(const std::string& s) { return s == "ok" || s == "invalid"; }
+bool reusable_status(const std::string& s) {
+  return s == "ok" || s == "invalid";
+}
 
 }  // namespace
 
@@ -229,7 +239,8 @@ struct ResultStore::Impl {
     const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(now - busy_since).count();
     if (waited < notice_ms) return;
     if (noticed && now - last_notice < std::chrono::seconds(30)) return;
-    std::fprintf(stderr, "parallax: waiting for lock on %s (held by another connection for %.1f s; waiting without limit)\n",
+    std::fprintf(stderr,
+                 "parallax: waiting for lock on %s (held by another connection for %.1f s; waiting without limit)\n",
                  path.c_str(), double(waited) / 1000.0);
     noticed = true;
     last_notice = now;
@@ -371,8 +382,9 @@ ResultStore::ResultStore(const std::string& path, Access access) : impl_(new Imp
     if (h.size == 0) {
       if (im.read_only) throw InputError(path + ": an empty file, not a Parallax results store");
     } else if (!h.sqlite) {
-      throw InputError(path + ": not an SQLite file, so not a Parallax results store (give --db a store written by "
-                              "`parallax sweep`, or a new file). The file was not changed.");
+      throw InputError(path +
+                       ": not an SQLite file, so not a Parallax results store (give --db a store written by "
+                       "`parallax sweep`, or a new file). The file was not changed.");
     } else if (h.application_id != uint32_t(kApplicationId) || h.user_version != uint32_t(kSchemaVersion)) {
       throw InputError(why_not_a_store(path, h));
     }
@@ -396,8 +408,8 @@ ResultStore::ResultStore(const std::string& path, Access access) : impl_(new Imp
       if (ver == 0 && objects == 0) {
         // New (or empty) file: ours from now on.
         im.exec(kSchema);
-        im.exec("PRAGMA application_id = " + std::to_string(kApplicationId) + "; PRAGMA user_version = " +
-                std::to_string(kSchemaVersion));
+        im.exec("PRAGMA application_id = " + std::to_string(kApplicationId) +
+                "; PRAGMA user_version = " + std::to_string(kSchemaVersion));
       } else {
         check_schema(im);
       }
@@ -416,7 +428,8 @@ ResultStore::ResultStore(const std::string& path, Access access) : impl_(new Imp
   im.pid = long(getpid());
   im.started = process_start(im.pid);
   static std::atomic<int> instances{0};
-  im.owner = im.host + ":" + std::to_string(im.pid) + ":" + std::to_string(im.started) + ":" + std::to_string(++instances);
+  im.owner =
+      im.host + ":" + std::to_string(im.pid) + ":" + std::to_string(im.started) + ":" + std::to_string(++instances);
   (void)guard.release();  // constructed: the store owns impl_ from here on
 }
 
@@ -433,7 +446,9 @@ ResultStore::~ResultStore() {
   delete impl_;
 }
 
-const std::string& ResultStore::path() const { return impl_->path; }
+const std::string& ResultStore::path() const {
+  return impl_->path;
+}
 
 bool ResultStore::put_sweep(const SweepSpec& s, const std::string& dataset, const std::string& measurement) {
   std::lock_guard<std::mutex> lock(impl_->mu);
@@ -482,9 +497,10 @@ bool ResultStore::put_design(const Row& r) {
   if (!keep) {
     Stmt del(*impl_, "DELETE FROM frames WHERE key = ?1");
     del.text(1, key).run();
-    Stmt st(*impl_,
-            "INSERT OR REPLACE INTO results(key, hash, measurement, sweep, config, status, reason, metrics, model_version,"
-            " started_at, finished_at) VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
+    Stmt st(
+        *impl_,
+        "INSERT OR REPLACE INTO results(key, hash, measurement, sweep, config, status, reason, metrics, model_version,"
+        " started_at, finished_at) VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
     st.text(1, key).text(2, r.hash).text(3, r.measurement).text(4, r.sweep).text(5, r.config_yaml).text(6, r.status);
     st.text(7, r.reason).text(8, metrics_text(r.metrics)).text(9, r.model_version).text(10, r.started_at);
     st.text(11, r.finished_at).run();
@@ -529,8 +545,15 @@ std::vector<ResultStore::Claim> ResultStore::claim(const std::vector<std::string
         continue;
       }
     }
-    Stmt ins(im, "INSERT OR REPLACE INTO claims(key, owner, host, pid, started, claimed_at) VALUES(?1, ?2, ?3, ?4, ?5, ?6)");
-    ins.text(1, key).text(2, im.owner).text(3, im.host).integer(4, im.pid).integer(5, im.started).integer(6, unix_now()).run();
+    Stmt ins(
+        im, "INSERT OR REPLACE INTO claims(key, owner, host, pid, started, claimed_at) VALUES(?1, ?2, ?3, ?4, ?5, ?6)");
+    ins.text(1, key)
+        .text(2, im.owner)
+        .text(3, im.host)
+        .integer(4, im.pid)
+        .integer(5, im.started)
+        .integer(6, unix_now())
+        .run();
     out.push_back(Claim::mine);
   }
   t.commit();
@@ -548,13 +571,15 @@ std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep, boo
   Impl& im = *impl_;
   // A sweep lists its members measured as the sweep was last run (a store written through the
   // API without put_sweep: every member).
-  const char* sql =
-      sweep.empty()
-          ? "SELECT r.rowid, r.key, r.hash, r.sweep, r.config, r.status, r.reason, r.metrics, r.model_version, r.started_at,"
-            " r.finished_at, r.measurement FROM results r ORDER BY r.rowid"
-          : "SELECT r.rowid, r.key, r.hash, r.sweep, r.config, r.status, r.reason, r.metrics, r.model_version, r.started_at,"
-            " r.finished_at, r.measurement FROM members m JOIN results r ON r.key = m.key LEFT JOIN sweeps s ON s.name = m.sweep"
-            " WHERE m.sweep = ?1 AND (s.name IS NULL OR s.measurement = '' OR r.measurement = s.measurement) ORDER BY r.rowid";
+  const char* sql = sweep.empty() ? "SELECT r.rowid, r.key, r.hash, r.sweep, r.config, r.status, r.reason, r.metrics, "
+                                    "r.model_version, r.started_at,"
+                                    " r.finished_at, r.measurement FROM results r ORDER BY r.rowid"
+                                  : "SELECT r.rowid, r.key, r.hash, r.sweep, r.config, r.status, r.reason, r.metrics, "
+                                    "r.model_version, r.started_at,"
+                                    " r.finished_at, r.measurement FROM members m JOIN results r ON r.key = m.key LEFT "
+                                    "JOIN sweeps s ON s.name = m.sweep"
+                                    " WHERE m.sweep = ?1 AND (s.name IS NULL OR s.measurement = '' OR r.measurement = "
+                                    "s.measurement) ORDER BY r.rowid";
   Stmt st(im, sql);
   if (!sweep.empty()) st.text(1, sweep);
   std::vector<Row> out;
@@ -563,7 +588,8 @@ std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep, boo
   // A row whose stored metrics cannot be read: an error row saying so, and a warning.
   auto unreadable = [&](Row& r, const std::string& where, const std::string& what) {
     if (!flagged.insert(r.key).second) return;
-    warn(im.path + ": " + where + " (design " + r.hash + ", result " + r.key + "): " + what + "; shown as status error");
+    warn(im.path + ": " + where + " (design " + r.hash + ", result " + r.key + "): " + what +
+         "; shown as status error");
     r.status = "error";
     r.reason = "the store's " + where + " cannot be read: " + what;
     r.metrics.clear();
@@ -653,8 +679,10 @@ int64_t ResultStore::merge_from(const std::string& other) {
         "  AND key IN (SELECT key FROM src.results WHERE status IN ('ok', 'invalid'));"
         "INSERT OR IGNORE INTO main.sweeps(name, spec, dataset, measurement, created_at, updated_at)"
         "  SELECT name, spec, dataset, measurement, created_at, updated_at FROM src.sweeps ORDER BY rowid;"
-        "INSERT OR IGNORE INTO main.results(key, hash, measurement, sweep, config, status, reason, metrics, model_version,"
-        "  started_at, finished_at) SELECT key, hash, measurement, sweep, config, status, reason, metrics, model_version,"
+        "INSERT OR IGNORE INTO main.results(key, hash, measurement, sweep, config, status, reason, metrics, "
+        "model_version,"
+        "  started_at, finished_at) SELECT key, hash, measurement, sweep, config, status, reason, metrics, "
+        "model_version,"
         "  started_at, finished_at FROM src.results ORDER BY rowid;"
         "INSERT OR IGNORE INTO main.frames(key, frame, metrics) SELECT key, frame, metrics FROM src.frames;"
         "INSERT OR IGNORE INTO main.members(sweep, key, added_at) SELECT sweep, key, added_at FROM src.members;");

@@ -44,7 +44,8 @@ std::vector<DesignPoint> enumerate_designs(const SweepSpec& s) {
   if (s.strategy == "random") {
     for (int k = 0; k < n * 20 && int(out.size()) < n; ++k) {
       std::vector<std::size_t> idx;
-      for (const auto& a : s.axes) idx.push_back(std::uniform_int_distribution<std::size_t>(0, a.second.size() - 1)(rng));
+      for (const auto& a : s.axes)
+        idx.push_back(std::uniform_int_distribution<std::size_t>(0, a.second.size() - 1)(rng));
       if (seen.insert(idx).second) out.push_back(point(idx));
     }
     return out;
@@ -148,8 +149,10 @@ void rank_and_crowd(const std::vector<std::vector<double>>& f, std::vector<int>&
   std::vector<std::size_t> front;
   for (std::size_t p = 0; p < n; ++p) {
     for (std::size_t q = 0; q < n; ++q) {
-      if (dominates_vec(f[p], f[q])) dominated[p].push_back(q);
-      else if (dominates_vec(f[q], f[p])) ++count[p];
+      if (dominates_vec(f[p], f[q]))
+        dominated[p].push_back(q);
+      else if (dominates_vec(f[q], f[p]))
+        ++count[p];
     }
     if (count[p] == 0) front.push_back(p);
   }
@@ -163,7 +166,8 @@ void rank_and_crowd(const std::vector<std::vector<double>>& f, std::vector<int>&
       const double lo = f[order.front()][k], hi = f[order.back()][k];
       crowd[order.front()] = crowd[order.back()] = std::numeric_limits<double>::infinity();
       if (!(hi > lo) || !std::isfinite(hi - lo)) continue;
-      for (std::size_t i = 1; i + 1 < order.size(); ++i) crowd[order[i]] += (f[order[i + 1]][k] - f[order[i - 1]][k]) / (hi - lo);
+      for (std::size_t i = 1; i + 1 < order.size(); ++i)
+        crowd[order[i]] += (f[order[i + 1]][k] - f[order[i - 1]][k]) / (hi - lo);
     }
     std::vector<std::size_t> next;
     for (std::size_t p : front)

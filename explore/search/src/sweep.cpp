@@ -56,7 +56,8 @@ std::string absolute_path(const std::string& p) {
 
 }  // namespace
 
-std::string measurement_of(const SweepSpec& s, const std::string& dataset_dir, const std::vector<std::string>& frame_ids) {
+std::string measurement_of(const SweepSpec& s, const std::string& dataset_dir,
+                           const std::vector<std::string>& frame_ids) {
   json j;  // keys sorted: one text per measurement
   j["contract"] = kResultsContract;
   j["models"] = kModelVersion;
@@ -66,8 +67,10 @@ std::string measurement_of(const SweepSpec& s, const std::string& dataset_dir, c
   j["device"] = s.device;
   j["avoidance"] = s.avoidance;
   if (!s.flight_scenario.empty())
-    j["flight"] = {{"scenario", absolute_path(s.flight_scenario)}, {"seeds", s.flight_seeds},
-                   {"speed_mps", s.flight_speed_mps}, {"size_px", s.flight_size_px}};
+    j["flight"] = {{"scenario", absolute_path(s.flight_scenario)},
+                   {"seeds", s.flight_seeds},
+                   {"speed_mps", s.flight_speed_mps},
+                   {"size_px", s.flight_size_px}};
   return j.dump();
 }
 
@@ -128,7 +131,8 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
                                              const Dataset& dataset) {
   const GtKind gt = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
   const std::vector<FrameRef> refs = list_frames(dataset, gt, spec.frames);
-  if (refs.empty()) throw InputError(dataset.root.string() + ": no frame with ground truth matches '" + spec.frames + "'");
+  if (refs.empty())
+    throw InputError(dataset.root.string() + ": no frame with ground truth matches '" + spec.frames + "'");
   std::vector<ResultStore::Row> rows;
   for (const auto* m : group) rows.push_back(new_row(spec, *m));
   std::vector<AccuracyFigures> accuracy(group.size());
@@ -169,7 +173,8 @@ namespace {
 // (sim::cost_sharing_key) when share_costs, else one each; with fewer units than threads the
 // largest are halved so that every thread works.
 using Unit = std::vector<const MaterialisedDesign*>;
-std::vector<Unit> cost_sharing_units(const std::vector<const MaterialisedDesign*>& designs, bool share_costs, int jobs) {
+std::vector<Unit> cost_sharing_units(const std::vector<const MaterialisedDesign*>& designs, bool share_costs,
+                                     int jobs) {
   std::vector<Unit> units;
   std::map<std::string, std::size_t> unit_of_key;
   for (const auto* m : designs) {
@@ -186,7 +191,8 @@ std::vector<Unit> cost_sharing_units(const std::vector<const MaterialisedDesign*
     units.push_back({m});
   }
   while (int(units.size()) < jobs) {
-    auto big = std::max_element(units.begin(), units.end(), [](const Unit& a, const Unit& b) { return a.size() < b.size(); });
+    auto big =
+        std::max_element(units.begin(), units.end(), [](const Unit& a, const Unit& b) { return a.size() < b.size(); });
     if (big == units.end() || big->size() < 2) break;
     Unit half(big->begin() + std::ptrdiff_t(big->size() / 2), big->end());
     big->resize(big->size() / 2);
@@ -239,7 +245,8 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
   std::mutex problems_mu;
   auto note_problem = [&](const ResultStore::Row& r) {  // the first reasons, for the summary
     std::lock_guard<std::mutex> lock(problems_mu);
-    if (sum.first_problems.size() < 5) sum.first_problems.push_back("design " + r.hash + " (" + r.status + "): " + r.reason);
+    if (sum.first_problems.size() < 5)
+      sum.first_problems.push_back("design " + r.hash + " (" + r.status + "): " + r.reason);
   };
   auto key_of = [&](const MaterialisedDesign& m) { return result_key(m.hash, measurement); };
   auto reused = [&](const MaterialisedDesign& m) {
@@ -326,8 +333,10 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     if (mine.empty()) return;
     std::vector<ResultStore::Row> rows;
     try {
-      if (mine.size() == 1) rows.push_back(evaluate_one(spec, *mine.front(), dataset));
-      else rows = evaluate_group(spec, mine, dataset);
+      if (mine.size() == 1)
+        rows.push_back(evaluate_one(spec, *mine.front(), dataset));
+      else
+        rows = evaluate_group(spec, mine, dataset);
     } catch (const std::exception& e) {
       rows.clear();
       for (const auto* m : mine) rows.push_back(error_row(*m, e.what()));
@@ -347,8 +356,8 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     run_units(make_units(again));
     if (waiting.empty()) break;
     if (std::chrono::steady_clock::now() - last_note > std::chrono::seconds(60)) {
-      std::fprintf(stderr, "parallax: note: waiting for %zu designs that another sweep on %s is evaluating\n", waiting.size(),
-                   store.path().c_str());
+      std::fprintf(stderr, "parallax: note: waiting for %zu designs that another sweep on %s is evaluating\n",
+                   waiting.size(), store.path().c_str());
       last_note = std::chrono::steady_clock::now();
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -358,7 +367,6 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
   sum.invalid += invalid;
   sum.failed += failed;
 }
-
 
 }  // namespace
 
@@ -389,7 +397,8 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
   if (store.put_sweep(spec, dataset_dir, measurement)) {
     sum.notes.push_back("sweep '" + spec.name + "' in " + store.path() +
                         " was measured on other data (dataset, frames, ground truth or models) before: it now lists "
-                        "only the designs measured on " + dataset_dir + " frames '" + spec.frames + "' (" + spec.gt +
+                        "only the designs measured on " +
+                        dataset_dir + " frames '" + spec.frames + "' (" + spec.gt +
                         "); the earlier results stay in the store");
     std::fprintf(stderr, "parallax: note: %s\n", sum.notes.back().c_str());
   }
@@ -398,7 +407,8 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
     const int pop_n = std::max(4, spec.samples);
     auto random_genome = [&] {
       Genome g;
-      for (const auto& a : spec.axes) g.push_back(std::uniform_int_distribution<std::size_t>(0, a.second.size() - 1)(rng));
+      for (const auto& a : spec.axes)
+        g.push_back(std::uniform_int_distribution<std::size_t>(0, a.second.size() - 1)(rng));
       return g;
     };
     std::map<Genome, std::string> hash_of;  // genome -> design hash

@@ -18,11 +18,16 @@ namespace parallax::explore {
 
 const char* to_string(Manoeuvre m) {
   switch (m) {
-    case Manoeuvre::left: return "left";
-    case Manoeuvre::right: return "right";
-    case Manoeuvre::up: return "up";
-    case Manoeuvre::down: return "down";
-    default: return "fly_on";
+    case Manoeuvre::left:
+      return "left";
+    case Manoeuvre::right:
+      return "right";
+    case Manoeuvre::up:
+      return "up";
+    case Manoeuvre::down:
+      return "down";
+    default:
+      return "fly_on";
   }
 }
 
@@ -61,7 +66,8 @@ Rig load_rig(const std::string& path, int x0, int y0) {
     if (key == "P_rect_02" || key == "P2") p2 = v;
     if (key == "P_rect_03" || key == "P3") p3 = v;
   }
-  if (p2.empty() || p3.empty()) throw InputError(path + ": needs P_rect_02 and P_rect_03 (or P2 and P3) with 12 numbers");
+  if (p2.empty() || p3.empty())
+    throw InputError(path + ": needs P_rect_02 and P_rect_03 (or P2 and P3) with 12 numbers");
   r.focal_px = p2[0];
   r.cx_px = p2[2] - x0;
   r.cy_px = p2[6] - y0;
@@ -74,7 +80,9 @@ Rig load_rig(const std::string& path, int x0, int y0) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 struct LineResidual {
   double d, y;
@@ -139,8 +147,9 @@ void fit_ground(AvoidResult& res, int max_d, int top, const AvoidParams& p) {
       }
     }
     if (best_y < 0) continue;
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{double(d), double(best_y)}),
-                             new ceres::CauchyLoss(2.0), ab);
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{double(d), double(best_y)}),
+        new ceres::CauchyLoss(2.0), ab);
     ++points;
   }
   if (points >= 8) {
@@ -169,7 +178,8 @@ cv::Mat u_map_of(const cv::Mat& disp, const cv::Mat& valid, int max_d, int top, 
 cv::Mat u_binary_of(const cv::Mat& u_map, const AvoidParams& p) {
   cv::Mat bin = u_map >= p.u_threshold;
   if (p.dilate_px > 0)
-    cv::dilate(bin, bin, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * p.dilate_px + 1, 2 * p.dilate_px + 1)));
+    cv::dilate(bin, bin,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * p.dilate_px + 1, 2 * p.dilate_px + 1)));
   if (p.gaussian_sigma_px > 0) {
     cv::GaussianBlur(bin, bin, cv::Size(0, 0), p.gaussian_sigma_px);
     bin = bin >= 128;
@@ -183,9 +193,10 @@ cv::Mat u_binary_of(const cv::Mat& u_map, const AvoidParams& p) {
 bool obstacle_of(const std::vector<cv::Point>& c, const cv::Mat& disp, const cv::Mat& valid, int top,
                  const ObstacleTest& is_obstacle_px, const Rig& rig, const AvoidParams& p, Obstacle& o) {
   o.u_box = cv::boundingRect(c);
-  o.ellipse = c.size() >= 5 ? cv::fitEllipse(c) : cv::RotatedRect(cv::Point2f(float(o.u_box.x + o.u_box.width / 2.0),
-                                                                               float(o.u_box.y + o.u_box.height / 2.0)),
-                                                                   cv::Size2f(float(o.u_box.width), float(o.u_box.height)), 0);
+  o.ellipse = c.size() >= 5 ? cv::fitEllipse(c)
+                            : cv::RotatedRect(cv::Point2f(float(o.u_box.x + o.u_box.width / 2.0),
+                                                          float(o.u_box.y + o.u_box.height / 2.0)),
+                                              cv::Size2f(float(o.u_box.width), float(o.u_box.height)), 0);
   const cv::Moments m = cv::moments(c);
   o.centroid = m.m00 > 0 ? cv::Point2f(float(m.m10 / m.m00), float(m.m01 / m.m00)) : o.ellipse.center;
   int y0 = disp.rows, y1 = -1;
@@ -223,7 +234,8 @@ std::vector<Obstacle> find_obstacles(const cv::Mat& u_binary, const cv::Mat& dis
     Obstacle o;
     if (obstacle_of(c, disp, valid, top, is_obstacle_px, rig, p, o)) obstacles.push_back(o);
   }
-  std::sort(obstacles.begin(), obstacles.end(), [](const Obstacle& a, const Obstacle& b) { return a.range_m < b.range_m; });
+  std::sort(obstacles.begin(), obstacles.end(),
+            [](const Obstacle& a, const Obstacle& b) { return a.range_m < b.range_m; });
   return obstacles;
 }
 
@@ -237,7 +249,8 @@ void plan(AvoidResult& res, const AvoidParams& p) {
     if (o.range_m > p.critical_distance_m) continue;
     const double left_edge = o.lateral_m - o.width_m / 2, right_edge = o.lateral_m + o.width_m / 2;
     const double top_edge = o.centre_m.y() - o.height_m / 2, bottom_edge = o.centre_m.y() + o.height_m / 2;
-    if (left_edge > clear || right_edge < -clear || top_edge > clear || bottom_edge < -clear) continue;  // not in the way
+    if (left_edge > clear || right_edge < -clear || top_edge > clear || bottom_edge < -clear)
+      continue;  // not in the way
     struct Option {
       Manoeuvre m;
       double displacement_m;
@@ -249,8 +262,9 @@ void plan(AvoidResult& res, const AvoidParams& p) {
     if (!o.reaches_roi_top) options.push_back({Manoeuvre::up, clear - top_edge});
     // Below an obstacle that stands on the ground there is no way through.
     if (!res.ground_found) options.push_back({Manoeuvre::down, clear + bottom_edge});
-    const auto best = std::min_element(options.begin(), options.end(),
-                                       [](const Option& a, const Option& b) { return a.displacement_m < b.displacement_m; });
+    const auto best = std::min_element(options.begin(), options.end(), [](const Option& a, const Option& b) {
+      return a.displacement_m < b.displacement_m;
+    });
     res.manoeuvre = best->m;
     res.target = int(i);
     const double slow = std::clamp(o.range_m / p.critical_distance_m, 0.2, 1.0);
@@ -328,8 +342,8 @@ Rig kitti_default_rig(int x0, int y0) {
   return r;
 }
 
-AvoidScore AvoidAccumulator::add(const cv::Mat& disp, const cv::Mat& valid, const cv::Mat& gt, const cv::Mat& gm, int max_d,
-                                 const Rig& rig) {
+AvoidScore AvoidAccumulator::add(const cv::Mat& disp, const cv::Mat& valid, const cv::Mat& gt, const cv::Mat& gm,
+                                 int max_d, const Rig& rig) {
   last_design_ = avoid(disp, valid, max_d, rig);
   last_reference_ = avoid(gt, gm, max_d, rig);
   const AvoidScore s = score_avoidance(last_design_, last_reference_);
@@ -372,8 +386,16 @@ std::vector<uint8_t> frame(uint8_t seq, uint8_t sysid, uint8_t compid, uint32_t 
   while (payload.size() > 1 && payload.back() == 0) payload.pop_back();  // MAVLink 2 truncation
   const std::size_t n = payload.size();
   std::vector<uint8_t> f(10 + n + 2, 0);
-  const uint8_t header[10] = {0xFD, uint8_t(n), 0, 0, seq, sysid, compid, uint8_t(msgid & 0xFF),
-                              uint8_t((msgid >> 8) & 0xFF), uint8_t((msgid >> 16) & 0xFF)};
+  const uint8_t header[10] = {0xFD,
+                              uint8_t(n),
+                              0,
+                              0,
+                              seq,
+                              sysid,
+                              compid,
+                              uint8_t(msgid & 0xFF),
+                              uint8_t((msgid >> 8) & 0xFF),
+                              uint8_t((msgid >> 16) & 0xFF)};
   for (std::size_t i = 0; i < 10; ++i) f[i] = header[i];
   for (std::size_t i = 0; i < n; ++i) f[10 + i] = payload[i];
   uint16_t crc = mavlink_crc(f.data() + 1, 9 + n);
@@ -404,7 +426,8 @@ std::vector<uint8_t> mavlink_heartbeat(uint8_t seq, uint8_t sysid, uint8_t compi
 }
 
 std::vector<uint8_t> mavlink_velocity_setpoint(uint8_t seq, uint8_t sysid, uint8_t compid, uint32_t time_boot_ms,
-                                               const Eigen::Vector3d& v, uint8_t target_system, uint8_t target_component) {
+                                               const Eigen::Vector3d& v, uint8_t target_system,
+                                               uint8_t target_component) {
   std::vector<uint8_t> p;
   put<uint32_t>(p, time_boot_ms);
   put<float>(p, 0);  // x
@@ -414,7 +437,7 @@ std::vector<uint8_t> mavlink_velocity_setpoint(uint8_t seq, uint8_t sysid, uint8
   put<float>(p, float(v.y()));
   put<float>(p, float(v.z()));
   for (int i = 0; i < 5; ++i) put<float>(p, 0);  // afx, afy, afz, yaw, yaw_rate
-  put<uint16_t>(p, 0x0DC7);                       // type_mask: velocity only
+  put<uint16_t>(p, 0x0DC7);                      // type_mask: velocity only
   p.push_back(target_system);
   p.push_back(target_component);
   p.push_back(8);  // coordinate_frame: MAV_FRAME_BODY_NED

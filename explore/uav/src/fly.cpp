@@ -22,7 +22,8 @@ double stopping_distance_speed_bound(double a, double tau, double d) {
   return a * (std::sqrt(tau * tau + 2.0 * d / a) - tau);
 }
 
-FlightResult fly(const config::PipelineConfig& cfg_in, const Scene& scene, const FlightParams& fp, uint32_t noise_seed) {
+FlightResult fly(const config::PipelineConfig& cfg_in, const Scene& scene, const FlightParams& fp,
+                 uint32_t noise_seed) {
   config::PipelineConfig cfg = cfg_in;
   const int w = fp.width_px, h = fp.width_px * 9 / 16;
   cfg.roi_full = false;

@@ -117,7 +117,8 @@ Hit cast(const Scene& sc, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
   for (std::size_t k = 0; k < sc.cylinders.size(); ++k) {
     const Cylinder& c = sc.cylinders[k];
     const double ox = o.x() - c.x_m, oz = o.z() - c.z_m;
-    const double a = d.x() * d.x() + d.z() * d.z(), b = 2 * (ox * d.x() + oz * d.z()), cc = ox * ox + oz * oz - c.radius_m * c.radius_m;
+    const double a = d.x() * d.x() + d.z() * d.z(), b = 2 * (ox * d.x() + oz * d.z()),
+                 cc = ox * ox + oz * oz - c.radius_m * c.radius_m;
     const double disc = b * b - 4 * a * cc;
     if (a < 1e-12 || disc < 0) continue;
     const double t = (-b - std::sqrt(disc)) / (2 * a);
@@ -268,7 +269,8 @@ double clearance_m(const Scene& sc, const Eigen::Vector3d& p) {
     const double dx = std::max({b.x0_m - p.x(), 0.0, p.x() - b.x1_m});
     const double dz = std::max({b.z0_m - p.z(), 0.0, p.z() - b.z1_m});
     const double outside = std::hypot(dx, dz);
-    best = std::min(best, outside > 0 ? outside : -std::min({p.x() - b.x0_m, b.x1_m - p.x(), p.z() - b.z0_m, b.z1_m - p.z()}));
+    best = std::min(
+        best, outside > 0 ? outside : -std::min({p.x() - b.x0_m, b.x1_m - p.x(), p.z() - b.z0_m, b.z1_m - p.z()}));
   }
   return best;
 }

@@ -22,7 +22,8 @@ std::string device_for_part(const std::string& part) {
 }
 
 hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const cv::Mat& left, const cv::Mat& right,
-                                   const std::string& origin, const std::string& pair_source, const ExportOptions& opt) {
+                                   const std::string& origin, const std::string& pair_source,
+                                   const ExportOptions& opt) {
   hlsx::ExportRequest r;
   r.config = cfg_in;
   r.origin = origin;
@@ -41,8 +42,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   so.size_fifos = true;
   const SimulationResult sized = simulate(base, left, right, so);
   if (sized.cycle.deadlock)
-    throw hlsx::ExportError("design '" + cfg_in.name + "' deadlocks with its configured FIFO depths: " +
-                            sized.cycle.deadlock_message);
+    throw hlsx::ExportError("design '" + cfg_in.name +
+                            "' deadlocks with its configured FIFO depths: " + sized.cycle.deadlock_message);
   config::PipelineConfig cfg = base;
   for (const std::string& name : hlsx::export_fifo_names(cfg_in)) {
     hlsx::ExportFifo f;
@@ -53,11 +54,12 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
     f.stall_free = sf != sized.stall_free_depths.end() ? sf->second : -1;
     if (f.stall_free >= 0 && f.stall_free <= opt.max_fifo_depth) {
       f.depth = std::max<int64_t>(2, f.stall_free);
-      f.why = f.depth == f.stall_free ? "stall-free depth" : "stall-free depth " + std::to_string(f.stall_free) + ", at least 2";
+      f.why = f.depth == f.stall_free ? "stall-free depth"
+                                      : "stall-free depth " + std::to_string(f.stall_free) + ", at least 2";
     } else {
       f.depth = std::max<int64_t>(2, configured);
-      f.why = f.stall_free < 0 ? "not sized; configured depth"
-                               : "backlog behind a faster producer; configured depth kept";
+      f.why =
+          f.stall_free < 0 ? "not sized; configured depth" : "backlog behind a faster producer; configured depth kept";
     }
     cfg.fifo_depths[name] = int(f.depth);
     r.fifos.push_back(f);
@@ -67,7 +69,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   so.size_fifos = false;
   const SimulationResult res = simulate(cfg, left, right, so);
   if (res.cycle.deadlock)
-    throw hlsx::ExportError("design '" + cfg.name + "' deadlocks with the sized FIFO depths: " + res.cycle.deadlock_message);
+    throw hlsx::ExportError("design '" + cfg.name +
+                            "' deadlocks with the sized FIFO depths: " + res.cycle.deadlock_message);
   auto& pr = r.prediction;
   pr.clock_mhz = r.clock_mhz;
   pr.first_pixel_cycle = res.cycle.first_pixel_cycle - res.cycle.first_input_cycle;
@@ -105,7 +108,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   // remap tables (rectifying designs) cut to those rows as the images are.
   r.reduced_height_px = hlsx::reduced_frame_rows(r.height_px);
   {
-    const cv::Mat lr = left.rowRange(0, r.reduced_height_px).clone(), rr = right.rowRange(0, r.reduced_height_px).clone();
+    const cv::Mat lr = left.rowRange(0, r.reduced_height_px).clone(),
+                  rr = right.rowRange(0, r.reduced_height_px).clone();
     sim::CycleOptions o = cycle_options(cfg, sim_clock);
     RectifyMaps maps;
     if (cfg.rectify != "none") {
@@ -125,7 +129,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
     r.reduced_golden = reduced.codes.code;
     for (const auto& s : reduced.stages) r.reduced_stage_fires[s.name] = s.fires;
   }
-  r.golden_source = "the Parallax cycle model (`parallax sim`), which is bit-identical to its func run and golden model";
+  r.golden_source =
+      "the Parallax cycle model (`parallax sim`), which is bit-identical to its func run and golden model";
   r.pair_source = pair_source;
   if (cfg_in.rectify != "none") {
     const RectifyMaps maps = load_rectify_maps(cfg_in);  // the simulation above checked their size
@@ -140,7 +145,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   // 3. Resources on the part's device (the resource part of evaluate_point).
   pr.device = device_for_part(r.part);
   const res::Device* dev = pr.device.empty() ? nullptr : res::find_device(pr.device);
-  const ResourceFigures figures = resource_figures(cfg, r.width_px, r.height_px, dev, 1e3 / std::max(pr.fps, 1e-9));
+  const ResourceFigures figures =
+      resource_figures(cfg, r.width_px, r.height_px, dev, cfg.clock_mhz, 1e3 / std::max(pr.fps, 1e-9));
   const res::Estimate& est = figures.estimate;
   pr.bram18k = est.total.bram18k;
   pr.lut = est.total.lut;

@@ -31,8 +31,8 @@ int64_t to_int(const pugi::xml_node& n, const char* child, const std::string& pa
     used = 0;
   }
   if (used != t.size() || v < min_value)
-    throw InputError(path + ": <" + std::string(n.name()) + "><" + child + "> is '" + t + "', expected a whole number >= " +
-                     std::to_string(min_value));
+    throw InputError(path + ": <" + std::string(n.name()) + "><" + child + "> is '" + t +
+                     "', expected a whole number >= " + std::to_string(min_value));
   return v;
 }
 
@@ -106,9 +106,9 @@ HlsReport read_csynth_xml(const std::string& path) {
 }
 
 std::vector<std::string> calibrate_from_hls(config::PipelineConfig& cfg, const HlsReport& r) {
-  static const std::vector<std::string> stages = {"cost",         "aggregate_back", "aggregate",     "wta_lr",
-                                                  "median",       "rectify_left",   "rectify_right", "ddr_write",
-                                                  "ddr_read",     "source",         "sink"};
+  static const std::vector<std::string> stages = {"cost",     "aggregate_back", "aggregate",     "wta_lr",
+                                                  "median",   "rectify_left",   "rectify_right", "ddr_write",
+                                                  "ddr_read", "source",         "sink"};
   std::vector<std::string> set;
   for (const auto& l : r.loops) {
     std::string best;
@@ -155,7 +155,8 @@ std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& c
       if (l.name.rfind(kv.first, 0) == 0 && kv.first.size() > stage.size()) stage = kv.first;
     if (stage.empty()) continue;
     const sim::StageTiming& t = timing.at(stage);
-    if (l.pipeline_ii > 0) rows.push_back({"II " + l.name, double(t.ii_cycles), double(l.pipeline_ii), "stage " + stage});
+    if (l.pipeline_ii > 0)
+      rows.push_back({"II " + l.name, double(t.ii_cycles), double(l.pipeline_ii), "stage " + stage});
     const int64_t depth = l.pipeline_depth > 0 ? l.pipeline_depth : l.iteration_latency;
     if (depth > 0) rows.push_back({"depth " + l.name, double(t.latency_cycles), double(depth), "stage " + stage});
   }

@@ -106,7 +106,9 @@ kern::RectifyParams PipelineConfig::rectify_params(int width_px, int height_px) 
   kern::RectifyParams r{};
   r.width_px = width_px;
   r.height_px = height_px;
-  r.mode = rectify == "bilinear" ? kern::kRectifyBilinear : rectify == "nearest" ? kern::kRectifyNearest : kern::kRectifyNone;
+  r.mode = rectify == "bilinear"  ? kern::kRectifyBilinear
+           : rectify == "nearest" ? kern::kRectifyNearest
+                                  : kern::kRectifyNone;
   r.frac_bits = rectify == "bilinear" ? rectify_frac_bits : 0;
   r.buffer_rows = rectify_rows;
   return r;
@@ -124,7 +126,8 @@ PipelineConfig parse_config(const std::string& text, const std::string& source) 
   std::vector<std::string> problems;
   for (const auto& kv : root) {
     if (!kv.first.IsScalar()) {
-      problems.push_back("line " + std::to_string(kv.first.Mark().line + 1) + ": a key must be a field name, not a list or mapping");
+      problems.push_back("line " + std::to_string(kv.first.Mark().line + 1) +
+                         ": a key must be a field name, not a list or mapping");
       continue;
     }
     const std::string key = kv.first.Scalar();
@@ -169,7 +172,8 @@ std::string read_text_file(const std::string& path, const std::string& what, std
   const auto st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st)) throw ConfigError(path + ": " + what + " not found");
   if (std::filesystem::is_directory(st)) throw ConfigError(path + ": is a folder, not a " + what);
-  if (!std::filesystem::is_regular_file(st)) throw ConfigError(path + ": not a regular file (a " + what + " is a text file)");
+  if (!std::filesystem::is_regular_file(st))
+    throw ConfigError(path + ": not a regular file (a " + what + " is a text file)");
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) throw ConfigError(path + ": cannot read the " + what + ": " + ec.message());
   if (size > max_bytes)

@@ -14,13 +14,12 @@ namespace {
 
 // Internal invariants are checked in every build type (not only with assertions enabled): they
 // are part of the contract with the kernels (e.g. the derived bit widths).
-#define PARALLAX_REF_CHECK(cond)                                                               \
-  do {                                                                                         \
-    if (!(cond)) {                                                                             \
-      std::fprintf(stderr, "parallax::ref invariant violated: %s (%s:%d)\n", #cond, __FILE__, \
-                   __LINE__);                                                                  \
-      std::abort();                                                                            \
-    }                                                                                          \
+#define PARALLAX_REF_CHECK(cond)                                                                         \
+  do {                                                                                                   \
+    if (!(cond)) {                                                                                       \
+      std::fprintf(stderr, "parallax::ref invariant violated: %s (%s:%d)\n", #cond, __FILE__, __LINE__); \
+      std::abort();                                                                                      \
+    }                                                                                                    \
   } while (0)
 
 [[noreturn]] void fail(const std::string& message) {
@@ -31,10 +30,14 @@ std::size_t pixel_count(int width_px, int height_px) {
   return static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px);
 }
 
-int clamp_int(int v, int lo, int hi) { return std::min(std::max(v, lo), hi); }
+int clamp_int(int v, int lo, int hi) {
+  return std::min(std::max(v, lo), hi);
+}
 
 // Largest value that fits in `bits` bits (bits in [1, 63]).
-uint64_t max_for_bits(int bits) { return (uint64_t(1) << bits) - 1u; }
+uint64_t max_for_bits(int bits) {
+  return (uint64_t(1) << bits) - 1u;
+}
 
 void check_image(const Image8& img, const char* name) {
   if (img.width_px < 1 || img.height_px < 1) fail(std::string(name) + ": image size must be >= 1x1");
@@ -51,16 +54,14 @@ void check_image_matches(const Image8& img, const kern::StereoParams& p, const c
 void check_window(int window_w, int window_h) {
   if (window_w < 1 || window_h < 1) fail("window sides must be >= 1");
   if (window_w % 2 == 0 || window_h % 2 == 0)
-    fail("window sides must be odd (got " + std::to_string(window_w) + "x" +
-         std::to_string(window_h) + ")");
+    fail("window sides must be odd (got " + std::to_string(window_w) + "x" + std::to_string(window_h) + ")");
 }
 
-void check_volume(const std::vector<uint32_t>& volume, const kern::StereoParams& p,
-                  const char* name) {
+void check_volume(const std::vector<uint32_t>& volume, const kern::StereoParams& p, const char* name) {
   const std::size_t expected = pixel_count(p.width_px, p.height_px) * static_cast<std::size_t>(p.disparities);
   if (volume.size() != expected)
-    fail(std::string(name) + ": volume size must be width_px * height_px * disparities (" +
-         std::to_string(expected) + "), got " + std::to_string(volume.size()));
+    fail(std::string(name) + ": volume size must be width_px * height_px * disparities (" + std::to_string(expected) +
+         "), got " + std::to_string(volume.size()));
 }
 
 // One SGM path direction: the predecessor of p = (x, y) is q = (x + dx, y + dy) (docs §3).
@@ -72,9 +73,8 @@ struct PathDirection {
 };
 
 constexpr PathDirection kPathDirections[8] = {
-    {kern::kPath0, -1, 0, true},    {kern::kPath45, -1, -1, true},
-    {kern::kPath90, 0, -1, true},   {kern::kPath135, +1, -1, true},
-    {kern::kPath180, +1, 0, false}, {kern::kPath225, +1, +1, false},
+    {kern::kPath0, -1, 0, true},    {kern::kPath45, -1, -1, true},   {kern::kPath90, 0, -1, true},
+    {kern::kPath135, +1, -1, true}, {kern::kPath180, +1, 0, false},  {kern::kPath225, +1, +1, false},
     {kern::kPath270, 0, +1, false}, {kern::kPath315, -1, +1, false},
 };
 
@@ -107,8 +107,8 @@ RemapTable identity_map(int width_px, int height_px, int frac_bits) {
   const int32_t one = 1 << frac_bits;
   for (int y = 0; y < height_px; ++y) {
     for (int x = 0; x < width_px; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) +
-                            static_cast<std::size_t>(x);
+      const std::size_t i =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) + static_cast<std::size_t>(x);
       map.map_x[i] = x * one;
       map.map_y[i] = y * one;
     }
@@ -169,8 +169,7 @@ RectifyResult rectify(const Image8& in, const RemapTable& map, const kern::Recti
   const std::size_t n = pixel_count(in.width_px, in.height_px);
   if (map.map_x.size() != n || map.map_y.size() != n)
     fail("rectify: map_x / map_y must have width_px * height_px entries");
-  if (map.frac_bits != p.frac_bits)
-    fail("rectify: RemapTable frac_bits differs from RectifyParams frac_bits");
+  if (map.frac_bits != p.frac_bits) fail("rectify: RemapTable frac_bits differs from RectifyParams frac_bits");
   if (p.mode == kern::kRectifyNearest && p.frac_bits != 0)
     fail("rectify: nearest mode requires frac_bits == 0 (integer maps)");
   if (p.mode == kern::kRectifyBilinear && (p.frac_bits < 1 || p.frac_bits > 16))
@@ -179,9 +178,9 @@ RectifyResult rectify(const Image8& in, const RemapTable& map, const kern::Recti
 
   const int width = in.width_px;
   const int height = in.height_px;
-  const int rows = p.buffer_rows;   // R
-  const int ahead = rows / 2;       // A = R / 2
-  const int frac_bits = p.frac_bits;  // F
+  const int rows = p.buffer_rows;                 // R
+  const int ahead = rows / 2;                     // A = R / 2
+  const int frac_bits = p.frac_bits;              // F
   const int64_t scale = int64_t(1) << frac_bits;  // S = 2^F
 
   result.image = make_image(width, height, 0);
@@ -189,8 +188,7 @@ RectifyResult rectify(const Image8& in, const RemapTable& map, const kern::Recti
     // Rows available while producing output row y: [y + A - R + 1, y + A].
     const LineBufferReader reader{in, y + ahead - rows + 1, y + ahead, result.window_misses};
     for (int x = 0; x < width; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-                            static_cast<std::size_t>(x);
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
       const int64_t mx = map.map_x[i];
       const int64_t my = map.map_y[i];
       int value = 0;
@@ -206,8 +204,8 @@ RectifyResult rectify(const Image8& in, const RemapTable& map, const kern::Recti
         const int64_t t10 = reader.tap(ix + 1, iy);
         const int64_t t01 = reader.tap(ix, iy + 1);
         const int64_t t11 = reader.tap(ix + 1, iy + 1);
-        const int64_t sum = t00 * (scale - fx) * (scale - fy) + t10 * fx * (scale - fy) +
-                            t01 * (scale - fx) * fy + t11 * fx * fy;
+        const int64_t sum =
+            t00 * (scale - fx) * (scale - fy) + t10 * fx * (scale - fy) + t01 * (scale - fx) * fy + t11 * fx * fy;
         const int64_t half = int64_t(1) << (2 * frac_bits - 1);  // 2^(2F-1)
         value = static_cast<int>((sum + half) >> (2 * frac_bits));
       }
@@ -224,24 +222,20 @@ RectifyResult rectify(const Image8& in, const RemapTable& map, const kern::Recti
 
 void validate_stereo_params(const kern::StereoParams& p) {
   if (p.width_px < 1 || p.height_px < 1)
-    fail("image size must be >= 1x1, got " + std::to_string(p.width_px) + "x" +
-         std::to_string(p.height_px));
+    fail("image size must be >= 1x1, got " + std::to_string(p.width_px) + "x" + std::to_string(p.height_px));
   if (p.cost != kern::kCostCensus && p.cost != kern::kCostSad)
     fail("cost must be kCostCensus or kCostSad, got " + std::to_string(p.cost));
   check_window(p.window_w, p.window_h);
   const int64_t window_area = int64_t(p.window_w) * int64_t(p.window_h);
   if (p.cost == kern::kCostCensus && window_area - 1 > kern::kMaxCensusBits)
     fail("census window needs w*h-1 <= 64 bits, got " + std::to_string(window_area - 1));
-  if (p.cost == kern::kCostSad && window_area * 255 > int64_t(1) << 30)
-    fail("SAD window too large for 32-bit costs");
+  if (p.cost == kern::kCostSad && window_area * 255 > int64_t(1) << 30) fail("SAD window too large for 32-bit costs");
   if (p.disparities < 1 || p.disparities > kern::kMaxDisparities)
     fail("disparities must be in [1, 256], got " + std::to_string(p.disparities));
   if (p.path_mask == 0) fail("path_mask must select at least one path");
-  if ((p.path_mask & ~kern::kAllPaths) != 0)
-    fail("path_mask has bits outside the eight kern::PathBit values");
+  if ((p.path_mask & ~kern::kAllPaths) != 0) fail("path_mask has bits outside the eight kern::PathBit values");
   if (p.p1 < 0) fail("P1 must be >= 0, got " + std::to_string(p.p1));
-  if (!(p.p1 < p.p2))
-    fail("P1 must be < P2, got P1=" + std::to_string(p.p1) + " P2=" + std::to_string(p.p2));
+  if (!(p.p1 < p.p2)) fail("P1 must be < P2, got P1=" + std::to_string(p.p1) + " P2=" + std::to_string(p.p2));
   if (p.lr_tolerance < 0) fail("lr_tolerance must be >= 0");
   if (p.median != 0 && p.median != 1 && p.median != 3 && p.median != 5 && p.median != 7)
     fail("median must be 0 or 1 (off), 3, 5 or 7, got " + std::to_string(p.median));
@@ -257,8 +251,7 @@ void validate_stereo_params(const kern::StereoParams& p) {
 std::vector<uint64_t> census_codes(const Image8& img, int window_w, int window_h) {
   check_image(img, "census_codes");
   check_window(window_w, window_h);
-  if (int64_t(window_w) * int64_t(window_h) - 1 > kern::kMaxCensusBits)
-    fail("census window needs w*h-1 <= 64 bits");
+  if (int64_t(window_w) * int64_t(window_h) - 1 > kern::kMaxCensusBits) fail("census window needs w*h-1 <= 64 bits");
 
   const int width = img.width_px;
   const int height = img.height_px;
@@ -277,15 +270,13 @@ std::vector<uint64_t> census_codes(const Image8& img, int window_w, int window_h
           code = (code << 1) | (tap < centre ? 1u : 0u);
         }
       }
-      codes[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-            static_cast<std::size_t>(x)] = code;
+      codes[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] = code;
     }
   }
   return codes;
 }
 
-std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right,
-                                  const kern::StereoParams& p) {
+std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right, const kern::StereoParams& p) {
   validate_stereo_params(p);
   check_image_matches(left, p, "cost_volume left");
   check_image_matches(right, p, "cost_volume right");
@@ -307,8 +298,8 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right,
         for (int d = 0; d < num_disp; ++d) {
           uint32_t c = max_cost;  // x - d < 0: no right pixel to match
           if (x - d >= 0) {
-            const uint64_t diff = codes_l[row + static_cast<std::size_t>(x)] ^
-                                  codes_r[row + static_cast<std::size_t>(x - d)];
+            const uint64_t diff =
+                codes_l[row + static_cast<std::size_t>(x)] ^ codes_r[row + static_cast<std::size_t>(x - d)];
             c = static_cast<uint32_t>(std::bitset<64>(diff).count());
           }
           PARALLAX_REF_CHECK(c <= max_cost);
@@ -345,8 +336,7 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right,
 // §3 SGM aggregation
 // ---------------------------------------------------------------------------------------------
 
-std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::StereoParams& p,
-                                 unsigned path_bit) {
+std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::StereoParams& p, unsigned path_bit) {
   validate_stereo_params(p);
   check_volume(cost, p, "path_costs cost");
   const PathDirection& dir = direction_for(path_bit);
@@ -383,8 +373,8 @@ std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::
           lr[i] = cost[i];
         }
       } else {
-        PARALLAX_REF_CHECK(done[static_cast<std::size_t>(qy) * static_cast<std::size_t>(width) +
-                                static_cast<std::size_t>(qx)] != 0);
+        PARALLAX_REF_CHECK(
+            done[static_cast<std::size_t>(qy) * static_cast<std::size_t>(width) + static_cast<std::size_t>(qx)] != 0);
         // M = min_k Lr(q, k).
         uint64_t min_q = lr[volume_index(qx, qy, 0, width, num_disp)];
         for (int k = 1; k < num_disp; ++k)
@@ -392,10 +382,8 @@ std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::
 
         for (int d = 0; d < num_disp; ++d) {
           uint64_t best = lr[volume_index(qx, qy, d, width, num_disp)];
-          if (d - 1 >= 0)
-            best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d - 1, width, num_disp)] + p1);
-          if (d + 1 < num_disp)
-            best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d + 1, width, num_disp)] + p1);
+          if (d - 1 >= 0) best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d - 1, width, num_disp)] + p1);
+          if (d + 1 < num_disp) best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d + 1, width, num_disp)] + p1);
           best = std::min<uint64_t>(best, min_q + p2);
           PARALLAX_REF_CHECK(best >= min_q && best - min_q <= p2);
 
@@ -406,8 +394,7 @@ std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::
           lr[i] = static_cast<uint32_t>(value);
         }
       }
-      done[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-           static_cast<std::size_t>(x)] = 1;
+      done[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] = 1;
     }
   }
   return lr;
@@ -437,8 +424,7 @@ std::vector<uint32_t> aggregate(const std::vector<uint32_t>& cost, const kern::S
 // §4 Winner takes all and left-right check
 // ---------------------------------------------------------------------------------------------
 
-std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_volume,
-                                       const kern::StereoParams& p) {
+std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_volume, const kern::StereoParams& p) {
   validate_stereo_params(p);
   check_volume(aggregate_volume, p, "select_disparity aggregate");
 
@@ -474,8 +460,8 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
         valid = std::abs(dl - dr) <= p.lr_tolerance;
       }
       if (valid)
-        codes[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-              static_cast<std::size_t>(x)] = static_cast<uint16_t>(dl);
+        codes[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] =
+            static_cast<uint16_t>(dl);
     }
   }
   return codes;
@@ -485,14 +471,11 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
 // §5 Median
 // ---------------------------------------------------------------------------------------------
 
-std::vector<uint16_t> median_filter(const std::vector<uint16_t>& codes, int width_px,
-                                    int height_px, int k) {
+std::vector<uint16_t> median_filter(const std::vector<uint16_t>& codes, int width_px, int height_px, int k) {
   if (width_px < 1 || height_px < 1) fail("median_filter: size must be >= 1x1");
-  if (codes.size() != pixel_count(width_px, height_px))
-    fail("median_filter: codes.size() != width_px * height_px");
+  if (codes.size() != pixel_count(width_px, height_px)) fail("median_filter: codes.size() != width_px * height_px");
   if (k == 0 || k == 1) return codes;
-  if (k != 3 && k != 5 && k != 7)
-    fail("median_filter: k must be 0 or 1 (off), 3, 5 or 7, got " + std::to_string(k));
+  if (k != 3 && k != 5 && k != 7) fail("median_filter: k must be 0 or 1 (off), 3, 5 or 7, got " + std::to_string(k));
 
   const int radius = k / 2;
   const std::size_t rank = static_cast<std::size_t>((k * k - 1) / 2);
@@ -506,13 +489,13 @@ std::vector<uint16_t> median_filter(const std::vector<uint16_t>& codes, int widt
         const int yy = clamp_int(y + j, 0, height_px - 1);
         for (int i = -radius; i <= radius; ++i) {
           const int xx = clamp_int(x + i, 0, width_px - 1);
-          window.push_back(codes[static_cast<std::size_t>(yy) * static_cast<std::size_t>(width_px) +
-                                 static_cast<std::size_t>(xx)]);
+          window.push_back(
+              codes[static_cast<std::size_t>(yy) * static_cast<std::size_t>(width_px) + static_cast<std::size_t>(xx)]);
         }
       }
       std::sort(window.begin(), window.end());
-      out[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) +
-          static_cast<std::size_t>(x)] = window[rank];
+      out[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) + static_cast<std::size_t>(x)] =
+          window[rank];
     }
   }
   return out;
@@ -522,8 +505,7 @@ std::vector<uint16_t> median_filter(const std::vector<uint16_t>& codes, int widt
 // Full pipeline
 // ---------------------------------------------------------------------------------------------
 
-std::vector<uint16_t> compute_disparity(const Image8& left, const Image8& right,
-                                        const kern::StereoParams& p) {
+std::vector<uint16_t> compute_disparity(const Image8& left, const Image8& right, const kern::StereoParams& p) {
   validate_stereo_params(p);
   const std::vector<uint32_t> cost = cost_volume(left, right, p);
   const std::vector<uint32_t> s = aggregate(cost, p);

@@ -8,21 +8,20 @@ namespace parallax::res {
 namespace {
 
 void check_shape(const char* fn, int64_t depth, int width_bits) {
-  if (depth < 1)
-    throw std::invalid_argument(std::string(fn) + ": depth must be >= 1, got " + std::to_string(depth));
+  if (depth < 1) throw std::invalid_argument(std::string(fn) + ": depth must be >= 1, got " + std::to_string(depth));
   if (width_bits < 1)
-    throw std::invalid_argument(std::string(fn) + ": width_bits must be >= 1, got " +
-                                std::to_string(width_bits));
+    throw std::invalid_argument(std::string(fn) + ": width_bits must be >= 1, got " + std::to_string(width_bits));
 }
 
-int64_t ceil_div(int64_t a, int64_t b) { return a / b + (a % b != 0 ? 1 : 0); }
+int64_t ceil_div(int64_t a, int64_t b) {
+  return a / b + (a % b != 0 ? 1 : 0);
+}
 
 }  // namespace
 
 const std::vector<Ramb18Mode>& ramb18_modes() {
   static const std::vector<Ramb18Mode> modes = {
-      {16384, 1, true}, {8192, 2, true}, {4096, 4, true},
-      {2048, 9, true},  {1024, 18, true}, {512, 36, false},
+      {16384, 1, true}, {8192, 2, true}, {4096, 4, true}, {2048, 9, true}, {1024, 18, true}, {512, 36, false},
   };
   return modes;
 }
@@ -50,10 +49,14 @@ BramFit bram18k_for(int64_t depth, int width_bits, bool needs_true_dual_port) {
 
 const char* storage_name(Storage s) {
   switch (s) {
-    case Storage::registers: return "registers";
-    case Storage::lutram: return "lutram";
-    case Storage::srl: return "srl";
-    case Storage::bram: return "bram";
+    case Storage::registers:
+      return "registers";
+    case Storage::lutram:
+      return "lutram";
+    case Storage::srl:
+      return "srl";
+    case Storage::bram:
+      return "bram";
   }
   return "unknown";
 }

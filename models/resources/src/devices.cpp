@@ -27,8 +27,7 @@ std::string lower(std::string s) {
 std::string get_string(const YAML::Node& dev, const std::string& where, const char* field) {
   const YAML::Node v = dev[field];
   if (!v) fail(where, std::string("missing field '") + field + "'");
-  if (!v.IsScalar() || v.Scalar().empty())
-    fail(where, std::string("field '") + field + "' must be a non-empty string");
+  if (!v.IsScalar() || v.Scalar().empty()) fail(where, std::string("field '") + field + "' must be a non-empty string");
   return v.Scalar();
 }
 

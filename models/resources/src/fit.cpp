@@ -99,12 +99,12 @@ Coefficients fit_on(const std::vector<PublishedPoint>& pts, const Coefficients& 
   for (int i = 0; i < int(pts.size()); ++i) {
     if (i == skip) continue;
     const Features f = features(pts[std::size_t(i)].inventory, start);
-    lut.AddResidualBlock(new ceres::AutoDiffCostFunction<LutResidual, 1, 3>(
-                             new LutResidual{f.op_luts, f.memory_luts, f.stages, f.memories,
-                                             double(pts[std::size_t(i)].published.lut)}),
-                         new ceres::HuberLoss(0.1), x);
-    ff.AddResidualBlock(new ceres::AutoDiffCostFunction<FfResidual, 1, 2>(
-                            new FfResidual{f.register_bits, f.op_bits, f.stages, double(pts[std::size_t(i)].published.ff)}),
+    lut.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<LutResidual, 1, 3>(
+            new LutResidual{f.op_luts, f.memory_luts, f.stages, f.memories, double(pts[std::size_t(i)].published.lut)}),
+        new ceres::HuberLoss(0.1), x);
+    ff.AddResidualBlock(new ceres::AutoDiffCostFunction<FfResidual, 1, 2>(new FfResidual{
+                            f.register_bits, f.op_bits, f.stages, double(pts[std::size_t(i)].published.ff)}),
                         new ceres::HuberLoss(0.1), y);
   }
   for (int k = 0; k < 3; ++k) lut.SetParameterLowerBound(x, k, 0.0);

@@ -260,11 +260,12 @@ std::string coefficients_yaml(const Coefficients& c) {
     << "\n# Fitted by `parallax fit-resources` (Ceres, Huber loss on relative errors, non-negative):\n"
        "# lut = lut_scale x operator LUTs + memory LUTs + lut_per_stage x stages + lut_per_memory x memories;\n"
        "# ff = register bits + ff_per_op_bit x operator result bits + ff_per_stage x stages.\n"
-       "fitted:\n  fitted_on: \"" << c.fitted_on << "\"\n  lut_scale: "
-    << c.lut_scale << "\n  lut_per_stage: " << c.lut_per_stage << "\n  lut_per_memory: " << c.lut_per_memory
-    << "\n  ff_per_op_bit: " << c.ff_per_op_bit << "\n  ff_per_stage: " << c.ff_per_stage << "\npower:\n  source: \""
-    << c.power_source << "\"\n  static_w: " << c.static_w << "\n  dynamic_mw_per_mhz_per_klut: "
-    << c.dynamic_mw_per_mhz_per_klut << "\n  dynamic_mw_per_mhz_per_kff: " << c.dynamic_mw_per_mhz_per_kff
+       "fitted:\n  fitted_on: \""
+    << c.fitted_on << "\"\n  lut_scale: " << c.lut_scale << "\n  lut_per_stage: " << c.lut_per_stage
+    << "\n  lut_per_memory: " << c.lut_per_memory << "\n  ff_per_op_bit: " << c.ff_per_op_bit
+    << "\n  ff_per_stage: " << c.ff_per_stage << "\npower:\n  source: \"" << c.power_source
+    << "\"\n  static_w: " << c.static_w << "\n  dynamic_mw_per_mhz_per_klut: " << c.dynamic_mw_per_mhz_per_klut
+    << "\n  dynamic_mw_per_mhz_per_kff: " << c.dynamic_mw_per_mhz_per_kff
     << "\n  dynamic_mw_per_mhz_per_bram18k: " << c.dynamic_mw_per_mhz_per_bram18k
     << "\n  dynamic_mw_per_mhz_per_dsp: " << c.dynamic_mw_per_mhz_per_dsp << "\n  toggle_rate: " << c.toggle_rate
     << "\n";
@@ -277,8 +278,8 @@ namespace {
 
 int64_t dsp_for(const OpItem& o, const Coefficients& c) {
   if (o.kind != kern::kOpMul || o.b_bits < c.dsp_min_operand_bits) return 0;
-  const int64_t per = int64_t((o.width_bits + c.dsp_a_bits - 1) / c.dsp_a_bits) *
-                      int64_t((o.b_bits + c.dsp_b_bits - 1) / c.dsp_b_bits);
+  const int64_t per =
+      int64_t((o.width_bits + c.dsp_a_bits - 1) / c.dsp_a_bits) * int64_t((o.b_bits + c.dsp_b_bits - 1) / c.dsp_b_bits);
   return per * o.count;
 }
 
@@ -361,7 +362,9 @@ Estimate estimate(const Inventory& inv, const Coefficients& c) {
 Utilisation utilisation(const Usage& u, const Device& d) {
   Utilisation r;
   r.device = &d;
-  auto pct = [](int64_t used, int64_t avail) { return avail > 0 ? 100.0 * double(used) / double(avail) : (used > 0 ? 1e9 : 0.0); };
+  auto pct = [](int64_t used, int64_t avail) {
+    return avail > 0 ? 100.0 * double(used) / double(avail) : (used > 0 ? 1e9 : 0.0);
+  };
   r.bram18k_pct = pct(u.bram18k, d.bram18k);
   r.uram_pct = pct(u.uram, d.uram);
   r.lut_pct = pct(u.lut, d.lut);
@@ -375,9 +378,10 @@ Power power(const Usage& u, double clock_mhz, double frame_interval_ms, const Co
   Power p;
   p.static_w = c.static_w;
   const double activity = clock_mhz * c.toggle_rate / 0.125;  // coefficients are given at the default 12.5 %
-  p.dynamic_w = 1e-3 * activity *
-                (c.dynamic_mw_per_mhz_per_klut * double(u.lut) / 1000.0 + c.dynamic_mw_per_mhz_per_kff * double(u.ff) / 1000.0 +
-                 c.dynamic_mw_per_mhz_per_bram18k * double(u.bram18k) + c.dynamic_mw_per_mhz_per_dsp * double(u.dsp));
+  p.dynamic_w =
+      1e-3 * activity *
+      (c.dynamic_mw_per_mhz_per_klut * double(u.lut) / 1000.0 + c.dynamic_mw_per_mhz_per_kff * double(u.ff) / 1000.0 +
+       c.dynamic_mw_per_mhz_per_bram18k * double(u.bram18k) + c.dynamic_mw_per_mhz_per_dsp * double(u.dsp));
   p.total_w = p.static_w + p.dynamic_w;
   p.energy_mj_per_frame = p.total_w * frame_interval_ms;
   return p;

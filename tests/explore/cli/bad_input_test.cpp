@@ -57,7 +57,8 @@ std::string forged_png(uint32_t width, uint32_t height) {
 }
 
 std::string replace_all(std::string s, const std::string& from, const std::string& to) {
-  for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size())) s.replace(p, from.size(), to);
+  for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
+    s.replace(p, from.size(), to);
   return s;
 }
 
@@ -110,8 +111,10 @@ class BadInput : public ::testing::Test {
     write(t / "frames_empty.txt", "# nothing\n");
     write(t / "not_xml.xml", "this is not XML <<<");
     write(t / "no_profile.xml", "<report/>");
-    write(t / "clock_zero.xml", "<profile><UserAssignments><TargetClockPeriod>0</TargetClockPeriod></UserAssignments></profile>");
-    write(t / "clock_nan.xml", "<profile><UserAssignments><TargetClockPeriod>nan</TargetClockPeriod></UserAssignments></profile>");
+    write(t / "clock_zero.xml",
+          "<profile><UserAssignments><TargetClockPeriod>0</TargetClockPeriod></UserAssignments></profile>");
+    write(t / "clock_nan.xml",
+          "<profile><UserAssignments><TargetClockPeriod>nan</TargetClockPeriod></UserAssignments></profile>");
     write(t / "ii_zero.xml",
           "<profile><UserAssignments><TargetClockPeriod>5</TargetClockPeriod></UserAssignments><PerformanceEstimates>"
           "<SummaryOfTimingAnalysis><EstimatedClockPeriod>4</EstimatedClockPeriod></SummaryOfTimingAnalysis>"
@@ -186,19 +189,23 @@ const std::vector<Case>& cases() {
       // --- run
       {"run left missing", "run --config $C --left $T/none.png --right $T/small.png --out $T/o.png", "none.png"},
       {"run left not an image", "run --config $C --left $T/text.txt --right $T/small.png --out $T/o.png", "text.txt"},
-      {"run left fake png", "run --config $C --left $T/not_a_png.png --right $T/small.png --out $T/o.png", "not_a_png.png"},
+      {"run left fake png", "run --config $C --left $T/not_a_png.png --right $T/small.png --out $T/o.png",
+       "not_a_png.png"},
       {"run forged header", "run --config $C --left $T/huge.png --right $T/huge.png --out $T/o.png", "huge.png"},
-      {"run truncated png", "run --config $C --left $T/truncated.png --right $T/small.png --out $T/o.png", "truncated.png"},
-      {"run sizes differ", "run --config $C --left $T/small.png --right $T/other_size.png --out $T/o.png", "other_size.png"},
+      {"run truncated png", "run --config $C --left $T/truncated.png --right $T/small.png --out $T/o.png",
+       "truncated.png"},
+      {"run sizes differ", "run --config $C --left $T/small.png --right $T/other_size.png --out $T/o.png",
+       "other_size.png"},
       {"run 16-bit input", "run --config $C --left $T/deep.png --right $T/deep.png --out $T/o.png", "deep.png"},
       {"run 16-bit colour", "run --config $C --left $T/deep_colour.png --right $T/small.png --out $T/o.png",
        "deep_colour.png"},
       {"run out is a folder", "run --config $C --left $T/small.png --right $T/small.png --out $T/folder", "--out"},
       {"run out jpeg", "run --config $C --left $T/small.png --right $T/small.png --out $T/o.jpg", "o.jpg"},
       {"run out no parent", "run --config $C --left $T/small.png --right $T/small.png --out $T/no/o.png", "no"},
-      {"run colour folder", "run --config $C --left $T/small.png --right $T/small.png --out $T/o.png --colour $T/folder",
-       "--colour"},
-      {"run html folder", "run --config $C --left $T/small.png --right $T/small.png --out $T/o.png --html $T/folder", "--html"},
+      {"run colour folder",
+       "run --config $C --left $T/small.png --right $T/small.png --out $T/o.png --colour $T/folder", "--colour"},
+      {"run html folder", "run --config $C --left $T/small.png --right $T/small.png --out $T/o.png --html $T/folder",
+       "--html"},
       {"run left directory", "run --config $C --left $T/folder --right $T/small.png --out $T/o.png", "folder"},
       // --- eval / score / baseline / avoid / crop-dataset
       {"eval dataset missing", "eval --config $C --dataset $T/nowhere", "nowhere"},
@@ -256,14 +263,17 @@ const std::vector<Case>& cases() {
       {"sweep grid value", "sweep --base $C --grid p2=abc,def --dataset $D --db $T/s.db", "abc"},
       {"sweep grid axis", "sweep --base $C --grid bogus=1,2 --dataset $D --db $T/s.db", "bogus"},
       {"sweep grid form", "sweep --base $C --grid p2 --dataset $D --db $T/s.db", "--grid"},
-      {"sweep too large", "sweep --base $C --grid p1=1,2,3,4,5,6,7,8,9,10 --grid p2=100,101,102,103,104,105,106,107,108,109 "
-                          "--grid lr_tolerance=0,1,2,3,4,5,6,7,8,9,10 --grid median=0,3,5,7,1 --grid clock_mhz=100,200 "
-                          "--dataset $D --db $T/s.db", "--yes"},
+      {"sweep too large",
+       "sweep --base $C --grid p1=1,2,3,4,5,6,7,8,9,10 --grid p2=100,101,102,103,104,105,106,107,108,109 "
+       "--grid lr_tolerance=0,1,2,3,4,5,6,7,8,9,10 --grid median=0,3,5,7,1 --grid clock_mhz=100,200 "
+       "--dataset $D --db $T/s.db",
+       "--yes"},
       {"sweep no base", "sweep --grid p2=64,96 --dataset $D --db $T/s.db", "base"},
       {"sweep frames malformed", "sweep --base $C --grid p2=64,96 --dataset $D --db $T/s.db --frames abc", "abc"},
       {"sweep dataset missing", "sweep --base $C --grid p2=64,96 --dataset $T/nowhere --db $T/s.db", "nowhere"},
       {"sweep shard", "sweep --base $C --grid p2=64,96 --dataset $D --db $T/s.db --shard 3/2", "--shard"},
-      {"sweep all invalid", "sweep --base $C --grid p1=500,600 --dataset $D --db $T/invalid.db --frames 1", "no design"},
+      {"sweep all invalid", "sweep --base $C --grid p1=500,600 --dataset $D --db $T/invalid.db --frames 1",
+       "no design"},
       {"sweep db is a folder", "sweep --base $C --grid p2=64,96 --dataset $D --db $T/folder", "folder"},
       // --- store readers
       {"pareto missing store", "pareto --db $T/none.db", "none.db"},
@@ -318,7 +328,8 @@ TEST_F(BadInput, EveryCaseIsOneClearUserError) {
     EXPECT_NE(r.status, 70) << "internal error";
     EXPECT_EQ(r.status, 2) << "a user error exits 2";
     std::size_t errors = 0;
-    for (std::size_t p = r.output.find("parallax: error:"); p != std::string::npos; p = r.output.find("parallax: error:", p + 1))
+    for (std::size_t p = r.output.find("parallax: error:"); p != std::string::npos;
+         p = r.output.find("parallax: error:", p + 1))
       ++errors;
     EXPECT_EQ(errors, 1u) << "one message";
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << "the message names '" << c.expect << "'";

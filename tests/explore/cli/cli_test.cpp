@@ -27,7 +27,9 @@ namespace fs = std::filesystem;
 
 using CliRun = parallax::test::Shell;
 
-CliRun run_cli(const std::string& args) { return parallax::test::shell(std::string(PARALLAX_CLI) + " " + args); }
+CliRun run_cli(const std::string& args) {
+  return parallax::test::shell(std::string(PARALLAX_CLI) + " " + args);
+}
 
 fs::path temp_dir(const std::string& name) {
   // The pid: test runs of several checkouts share /tmp.
@@ -52,8 +54,8 @@ TEST(Cli, HelpOnEveryCommand) {
 TEST(Cli, RunWritesKittiPngAndColourAndScores) {
   const fs::path d = temp_dir("run");
   const CliRun r = run_cli("run --config " + kCensus + " --left " + kData + "/image_2/000001_10.png --right " + kData +
-                        "/image_3/000001_10.png --gt " + kData + "/disp_noc_0/000001_10.png --out " +
-                        (d / "d.png").string() + " --json");
+                           "/image_3/000001_10.png --gt " + kData + "/disp_noc_0/000001_10.png --out " +
+                           (d / "d.png").string() + " --json");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("\"correct_3px_pct\""), std::string::npos);
   EXPECT_NE(r.output.find("colour input converted to grey"), std::string::npos);
@@ -67,7 +69,7 @@ TEST(Cli, RunWritesKittiPngAndColourAndScores) {
 
 TEST(Cli, MissingImageNamesTheFile) {
   const CliRun r = run_cli("run --config " + kCensus + " --left /nonexistent/left.png --right " + kData +
-                        "/image_3/000001_10.png --out /tmp/x.png");
+                           "/image_3/000001_10.png --out /tmp/x.png");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("/nonexistent/left.png"), std::string::npos) << r.output;
 }
@@ -76,7 +78,7 @@ TEST(Cli, UnreadableImageNamesTheFile) {
   const fs::path d = temp_dir("unreadable");
   std::ofstream(d / "junk.png") << "not a png";
   const CliRun r = run_cli("run --config " + kCensus + " --left " + (d / "junk.png").string() + " --right " + kData +
-                        "/image_3/000001_10.png --out " + (d / "o.png").string());
+                           "/image_3/000001_10.png --out " + (d / "o.png").string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("junk.png"), std::string::npos) << r.output;
 }
@@ -86,7 +88,7 @@ TEST(Cli, SizeMismatchIsRejected) {
   cv::Mat small(100, 700, CV_8UC1, cv::Scalar(7));
   cv::imwrite((d / "small.png").string(), small);
   const CliRun r = run_cli("run --config " + kCensus + " --left " + kData + "/image_2/000001_10.png --right " +
-                        (d / "small.png").string() + " --out " + (d / "o.png").string());
+                           (d / "small.png").string() + " --out " + (d / "o.png").string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("small.png"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "o.png"));
@@ -95,8 +97,9 @@ TEST(Cli, SizeMismatchIsRejected) {
 TEST(Cli, GroundTruthOfAnotherSizeIsRejected) {
   const fs::path d = temp_dir("gt");
   cv::imwrite((d / "gt.png").string(), cv::Mat(50, 50, CV_16UC1, cv::Scalar(256)));
-  const CliRun r = run_cli("run --config " + kCensus + " --left " + kData + "/image_2/000001_10.png --right " + kData +
-                        "/image_3/000001_10.png --gt " + (d / "gt.png").string() + " --out " + (d / "o.png").string());
+  const CliRun r =
+      run_cli("run --config " + kCensus + " --left " + kData + "/image_2/000001_10.png --right " + kData +
+              "/image_3/000001_10.png --gt " + (d / "gt.png").string() + " --out " + (d / "o.png").string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("gt.png"), std::string::npos) << r.output;
 }
@@ -107,7 +110,8 @@ TEST(Cli, EveryViolatedConfigFieldIsNamed) {
                                    "median: 4\nfrobnicate: 1\n";
   const CliRun r = run_cli("config --config " + (d / "bad.yaml").string());
   EXPECT_EQ(r.status, 2);
-  for (const char* field : {"bad.yaml", "'window'", "'disparities'", "'parallel_units'", "'p2'", "'median'", "'frobnicate'"})
+  for (const char* field :
+       {"bad.yaml", "'window'", "'disparities'", "'parallel_units'", "'p2'", "'median'", "'frobnicate'"})
     EXPECT_NE(r.output.find(field), std::string::npos) << field << " not named in:\n" << r.output;
 }
 
@@ -175,7 +179,8 @@ TEST(Cli, RectifyWithIdentityMapsChangesNothing) {
                                       "rectify: bilinear\nrectify_rows: 4\nrectify_maps_left: id.yaml\n"
                                       "rectify_maps_right: id.yaml\n";
   const std::string pair = " --left " + kData + "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png";
-  const CliRun a = run_cli("run --config " + (d / "design.yaml").string() + pair + " --out " + (d / "a.png").string() + " --json");
+  const CliRun a =
+      run_cli("run --config " + (d / "design.yaml").string() + pair + " --out " + (d / "a.png").string() + " --json");
   ASSERT_EQ(a.status, 0) << a.output;
   EXPECT_NE(a.output.find("\"rectify_window_misses\": 0"), std::string::npos) << a.output;
   const CliRun b = run_cli("run --config " + (d / "design.yaml").string() + " --set rectify=none" + pair + " --out " +
@@ -191,9 +196,9 @@ TEST(Cli, RectifyReportsALineBufferTooSmallForTheMap) {
   write_maps(d / "down.yaml", 640, 360, 6.0f);  // reads 6 rows above: needs more than 2 buffered rows
   std::ofstream(d / "design.yaml") << "rectify: nearest\nrectify_rows: 2\nrectify_maps_left: down.yaml\n"
                                       "rectify_maps_right: down.yaml\n";
-  const CliRun r = run_cli("run --config " + (d / "design.yaml").string() + " --left " + kData +
-                           "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png --out " +
-                           (d / "o.png").string());
+  const CliRun r =
+      run_cli("run --config " + (d / "design.yaml").string() + " --left " + kData + "/image_2/000001_10.png --right " +
+              kData + "/image_3/000001_10.png --out " + (d / "o.png").string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("raise rectify_rows"), std::string::npos) << r.output;
 }
@@ -205,10 +210,11 @@ TEST(Cli, RectifyNeedsItsMapsAndTheRightSize) {
   EXPECT_EQ(a.status, 2);
   EXPECT_NE(a.output.find("'rectify_maps_left'"), std::string::npos) << a.output;
   write_maps(d / "small.yaml", 100, 50, 0.0f);
-  std::ofstream(d / "small_design.yaml") << "rectify: nearest\nrectify_maps_left: small.yaml\nrectify_maps_right: small.yaml\n";
-  const CliRun b = run_cli("run --config " + (d / "small_design.yaml").string() + " --left " + kData +
-                           "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png --out " +
-                           (d / "o.png").string());
+  std::ofstream(d / "small_design.yaml")
+      << "rectify: nearest\nrectify_maps_left: small.yaml\nrectify_maps_right: small.yaml\n";
+  const CliRun b =
+      run_cli("run --config " + (d / "small_design.yaml").string() + " --left " + kData +
+              "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png --out " + (d / "o.png").string());
   EXPECT_EQ(b.status, 2);
   EXPECT_NE(b.output.find("small.yaml"), std::string::npos) << b.output;
 }
@@ -278,7 +284,8 @@ TEST(CliSim, RectifyingDesignSimulatesItsRectifyStages) {
   EXPECT_NE(r.output.find("\"rectify_left\""), std::string::npos);
   EXPECT_NE(r.output.find("\"rectify_window_misses\": 0"), std::string::npos) << r.output.substr(0, 400);
   write_maps(d / "small.yaml", 320, 180, 0.0f);
-  std::ofstream(d / "small_design.yaml") << "rectify: nearest\nrectify_maps_left: small.yaml\nrectify_maps_right: small.yaml\n";
+  std::ofstream(d / "small_design.yaml")
+      << "rectify: nearest\nrectify_maps_left: small.yaml\nrectify_maps_right: small.yaml\n";
   const CliRun bad = run_cli("sim --config " + (d / "small_design.yaml").string() + " --no-sizing");
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.output.find("small.yaml"), std::string::npos) << bad.output;
@@ -295,7 +302,8 @@ const std::string kStoreDataset = PARALLAX_DATA_DIR "/kitti2015-640x360";
 // Every file of a folder with its bytes: to show that nothing was created or changed.
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
   std::map<std::string, std::string> m;
-  for (const auto& e : fs::directory_iterator(dir)) m[e.path().filename().string()] = parallax::test::read_file(e.path());
+  for (const auto& e : fs::directory_iterator(dir))
+    m[e.path().filename().string()] = parallax::test::read_file(e.path());
   return m;
 }
 
@@ -311,7 +319,8 @@ void sql(const std::string& db, const std::string& statements) {
 // A store of two designs on one frame.
 std::string small_store(const fs::path& dir) {
   const std::string db = (dir / "s.db").string();
-  const CliRun r = run_cli("sweep --base " + kCensus + " --grid p2=32,64 --dataset " + kStoreDataset + " --frames 1 --db " + db);
+  const CliRun r =
+      run_cli("sweep --base " + kCensus + " --grid p2=32,64 --dataset " + kStoreDataset + " --frames 1 --db " + db);
   EXPECT_EQ(r.status, 0) << r.output;
   return db;
 }
@@ -343,11 +352,10 @@ TEST(CliStore, ForeignFilesAreRefusedAndLeftByteIdentical) {
   std::ofstream(text) << "not a database\n";
   const auto before = snapshot(d);
   for (const std::string& db : {foreign, text}) {
-    for (const std::string& cmd :
-         {"pareto --db " + db, "report --db " + db + " --csv " + (d / "x.csv").string(),
-          "export-hls --db " + db + " --design abcd --out " + (d / "hls").string(),
-          "sweep --base " + kCensus + " --dataset " + kStoreDataset + " --frames 1 --db " + db,
-          "merge --db " + (d / "m.db").string() + " " + db}) {
+    for (const std::string& cmd : {"pareto --db " + db, "report --db " + db + " --csv " + (d / "x.csv").string(),
+                                   "export-hls --db " + db + " --design abcd --out " + (d / "hls").string(),
+                                   "sweep --base " + kCensus + " --dataset " + kStoreDataset + " --frames 1 --db " + db,
+                                   "merge --db " + (d / "m.db").string() + " " + db}) {
       const CliRun r = run_cli(cmd);
       EXPECT_EQ(r.status, 2) << cmd << "\n" << r.output;
       EXPECT_NE(r.output.find(db + ": "), std::string::npos) << r.output;
@@ -370,8 +378,9 @@ TEST(CliStore, OlderSchemaIsRefusedWithHowToProceed) {
       "CREATE TABLE frames(hash TEXT NOT NULL, frame TEXT NOT NULL, metrics TEXT NOT NULL, PRIMARY KEY(hash, frame));"
       "INSERT INTO sweeps VALUES('s', 'name: s', '2026-01-01');");
   const auto before = snapshot(d);
-  for (const std::string& cmd : {"pareto --db " + db, "report --db " + db + " --json " + (d / "x.json").string(),
-                                 "sweep --base " + kCensus + " --dataset " + kStoreDataset + " --frames 1 --db " + db}) {
+  for (const std::string& cmd :
+       {"pareto --db " + db, "report --db " + db + " --json " + (d / "x.json").string(),
+        "sweep --base " + kCensus + " --dataset " + kStoreDataset + " --frames 1 --db " + db}) {
     const CliRun r = run_cli(cmd);
     EXPECT_EQ(r.status, 2) << cmd << "\n" << r.output;
     EXPECT_NE(r.output.find(db + ": a results store of an earlier Parallax (schema 1)"), std::string::npos) << r.output;
@@ -422,10 +431,11 @@ TEST(CliStore, ReportNeverWritesOntoItsInputs) {
   struct Case {
     std::string args, option;
   };
-  for (const Case& c : {Case{"--csv " + db, "--csv"}, Case{"--html " + db, "--html"}, Case{"--json " + db, "--json"},
-                        Case{"--frames-csv " + db + "-journal", "--frames-csv"}, Case{"--csv " + in_dataset, "--csv"},
-                        Case{"--html " + kStoreDataset, "--html"},
-                        Case{"--csv " + (d / "a.csv").string() + " --frames-csv " + (d / "a.csv").string(), "--frames-csv"}}) {
+  for (const Case& c :
+       {Case{"--csv " + db, "--csv"}, Case{"--html " + db, "--html"}, Case{"--json " + db, "--json"},
+        Case{"--frames-csv " + db + "-journal", "--frames-csv"}, Case{"--csv " + in_dataset, "--csv"},
+        Case{"--html " + kStoreDataset, "--html"},
+        Case{"--csv " + (d / "a.csv").string() + " --frames-csv " + (d / "a.csv").string(), "--frames-csv"}}) {
     const CliRun r = run_cli("report --db " + db + " " + c.args);
     EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.option), std::string::npos) << r.output;
@@ -441,7 +451,8 @@ TEST(CliStore, UnreadableOrMissingMetricsNeverCrash) {
   const fs::path d = temp_dir("store_rows");
   const std::string db = small_store(d);
   sql(db,
-      "UPDATE results SET metrics = '{\"correct_3px_pct\": null, \"density_pct\": 80, \"fits_device\": 1}' WHERE rowid = 1;"
+      "UPDATE results SET metrics = '{\"correct_3px_pct\": null, \"density_pct\": 80, \"fits_device\": 1}' WHERE rowid "
+      "= 1;"
       "UPDATE frames SET metrics = NULL WHERE rowid = 1;");
   // export-hls (a simulation of a few seconds) only when asked.
   auto readers = [&](const std::string& tag, bool with_export) {
@@ -449,7 +460,8 @@ TEST(CliStore, UnreadableOrMissingMetricsNeverCrash) {
         run_cli("pareto --db " + db), run_cli("pareto --json --db " + db),
         run_cli("report --db " + db + " --csv " + (d / "d.csv").string() + " --frames-csv " + (d / "f.csv").string() +
                 " --json " + (d / "r.json").string() + " --html " + (d / "r.html").string())};
-    if (with_export) runs.push_back(run_cli("export-hls --db " + db + " --design " + tag + " --out " + (d / "hls").string()));
+    if (with_export)
+      runs.push_back(run_cli("export-hls --db " + db + " --design " + tag + " --out " + (d / "hls").string()));
     for (const auto& r : runs) EXPECT_TRUE(exited_cleanly(r));
     return runs;
   };
@@ -470,7 +482,8 @@ TEST(CliStore, UnreadableOrMissingMetricsNeverCrash) {
     sql(db, std::string("UPDATE results SET metrics = ") + bad + " WHERE rowid = 2;");
     auto runs = readers(hashes[1], bad[1] == 'n');
     EXPECT_EQ(runs[0].status, 0) << runs[0].output;
-    EXPECT_NE(runs[0].output.find(db + ": results row 2, metrics (design " + hashes[1]), std::string::npos) << runs[0].output;
+    EXPECT_NE(runs[0].output.find(db + ": results row 2, metrics (design " + hashes[1]), std::string::npos)
+        << runs[0].output;
     EXPECT_EQ(runs[2].status, 0) << runs[2].output;
     const std::string csv = parallax::test::read_file(d / "d.csv");
     EXPECT_NE(csv.find(hashes[1] + ",sweep,error,"), std::string::npos) << csv;

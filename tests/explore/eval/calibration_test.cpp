@@ -93,8 +93,8 @@ TEST(MiddleburyCalib, DoffsFromTheMatricesAndOptionalFields) {
 
 TEST(MiddleburyCalib, ErrorsNameTheFileAndLine) {
   TempDir dir;
-  const fs::path no_ndisp = write_text(dir.path() / "a" / "calib.txt",
-                                       "cam0=[1 0 2; 0 1 3; 0 0 1]\nbaseline=100\nwidth=20\n");
+  const fs::path no_ndisp =
+      write_text(dir.path() / "a" / "calib.txt", "cam0=[1 0 2; 0 1 3; 0 0 1]\nbaseline=100\nwidth=20\n");
   expect_error([&] { px::read_middlebury_calib(no_ndisp); }, {no_ndisp.string(), "ndisp"});
   const fs::path bad_ndisp = write_text(dir.path() / "b.txt", "width=20\nndisp=many\n");
   expect_error([&] { px::read_middlebury_calib(bad_ndisp); }, {"b.txt line 2", "ndisp", "many"});
@@ -115,19 +115,18 @@ TEST(MiddleburyCalib, ErrorsNameTheFileAndLine) {
 TEST(KittiCalib, Kitti2015CamToCam) {
   TempDir dir;
   // calib_cam_to_cam layout: other keys (K_02, S_rect_02, ...) around the P_rect lines.
-  const fs::path file = write_text(
-      dir.path() / "calib_cam_to_cam" / "000001.txt",
-      "calib_time: 09-Jan-2012 13:57:47\n"
-      "corner_dist: 9.950000e-02\n"
-      "S_02: 1.392000e+03 5.120000e+02\n"
-      "K_02: 9.597910e+02 0.000000e+00 6.960217e+02 0.000000e+00 9.569251e+02 "
-      "2.241806e+02 0.000000e+00 0.000000e+00 1.000000e+00\n"
-      "P_rect_02: 7.000000e+02 0.000000e+00 6.000000e+02 4.000000e+01 0.000000e+00 "
-      "7.000000e+02 1.800000e+02 2.000000e-01 0.000000e+00 0.000000e+00 1.000000e+00 "
-      "3.000000e-03\n"
-      "P_rect_03: 7.000000e+02 0.000000e+00 6.000000e+02 -3.380000e+02 0.000000e+00 "
-      "7.000000e+02 1.800000e+02 2.000000e+00 0.000000e+00 0.000000e+00 1.000000e+00 "
-      "5.000000e-03\n");
+  const fs::path file = write_text(dir.path() / "calib_cam_to_cam" / "000001.txt",
+                                   "calib_time: 09-Jan-2012 13:57:47\n"
+                                   "corner_dist: 9.950000e-02\n"
+                                   "S_02: 1.392000e+03 5.120000e+02\n"
+                                   "K_02: 9.597910e+02 0.000000e+00 6.960217e+02 0.000000e+00 9.569251e+02 "
+                                   "2.241806e+02 0.000000e+00 0.000000e+00 1.000000e+00\n"
+                                   "P_rect_02: 7.000000e+02 0.000000e+00 6.000000e+02 4.000000e+01 0.000000e+00 "
+                                   "7.000000e+02 1.800000e+02 2.000000e-01 0.000000e+00 0.000000e+00 1.000000e+00 "
+                                   "3.000000e-03\n"
+                                   "P_rect_03: 7.000000e+02 0.000000e+00 6.000000e+02 -3.380000e+02 0.000000e+00 "
+                                   "7.000000e+02 1.800000e+02 2.000000e+00 0.000000e+00 0.000000e+00 1.000000e+00 "
+                                   "5.000000e-03\n");
   const px::StereoCalibration c = px::read_kitti_calib(file, "P_rect_02", "P_rect_03");
   ASSERT_TRUE(c.known);
   EXPECT_DOUBLE_EQ(c.focal_px, 700.0);

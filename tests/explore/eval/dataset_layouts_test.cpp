@@ -37,9 +37,9 @@ cv::Mat colour_image(int w, int h, int seed) {
   cv::Mat m(h, w, CV_8UC3);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      m.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<std::uint8_t>((x * 7 + seed) % 256),
-                                        static_cast<std::uint8_t>((y * 13 + seed) % 256),
-                                        static_cast<std::uint8_t>((x + y + 3 * seed) % 256));
+      m.at<cv::Vec3b>(y, x) =
+          cv::Vec3b(static_cast<std::uint8_t>((x * 7 + seed) % 256), static_cast<std::uint8_t>((y * 13 + seed) % 256),
+                    static_cast<std::uint8_t>((x + y + 3 * seed) % 256));
   return m;
 }
 
@@ -72,8 +72,8 @@ std::string calib_text(int w, int h, int ndisp) {
 }
 
 // A Middlebury 2014/2021 scene: im0.png, im1.png, GT (disp0.pfm or disp0GT.pfm), calib.txt.
-void make_scene_2014(const fs::path& dir, bool little_endian = true,
-                     const char* gt_name = "disp0.pfm", int ndisp = 32) {
+void make_scene_2014(const fs::path& dir, bool little_endian = true, const char* gt_name = "disp0.pfm",
+                     int ndisp = 32) {
   write(dir / "im0.png", colour_image(kW, kH, 1));
   write(dir / "im1.png", colour_image(kW, kH, 2));
   parallax::test::write_pfm(dir / gt_name, pfm_gt(kW, kH), little_endian);
@@ -96,8 +96,7 @@ void make_scene_2006(const fs::path& dir, int h, int value_per_column, int dmin)
 cv::Mat kitti_gt(int w, int h) {
   cv::Mat m(h, w, CV_16UC1);
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      m.at<std::uint16_t>(y, x) = static_cast<std::uint16_t>(x == 0 ? 0 : 256 * (x + 1) + y);
+    for (int x = 0; x < w; ++x) m.at<std::uint16_t>(y, x) = static_cast<std::uint16_t>(x == 0 ? 0 : 256 * (x + 1) + y);
   return m;
 }
 
@@ -317,8 +316,9 @@ TEST(PairsTsv, PfmRowWithInf) {
   TempDir dir;
   make_scene_2014(dir.path() / "2014" / "Piano");
   const std::string header = "scene\tleft\tright\tgt_left\tgt_format\tdivisor\tinvalid\twidth\theight\n";
-  write_text(dir.path() / "pairs.tsv",
-             header + "2014/Piano\t2014/Piano/im0.png\t2014/Piano/im1.png\t2014/Piano/disp0.pfm\tpfm\t1\tinf\t20\t10\n");
+  write_text(
+      dir.path() / "pairs.tsv",
+      header + "2014/Piano\t2014/Piano/im0.png\t2014/Piano/im1.png\t2014/Piano/disp0.pfm\tpfm\t1\tinf\t20\t10\n");
   const px::Frame f = load_only(dir.path());
   EXPECT_EQ(f.id, "Piano");
   EXPECT_EQ(f.gt_mask.at<std::uint8_t>(2, 7), 0);
@@ -328,8 +328,9 @@ TEST(PairsTsv, PfmRowWithInf) {
              header + "2014/Piano\t2014/Piano/im0.png\t2014/Piano/im1.png\t2014/Piano/disp0.pfm\tpfm\t1\t0\t20\t10\n");
   expect_input_error([&] { px::open_dataset(dir.path()); }, {"pairs.tsv line 2", "invalid", "inf"});
   write(dir.path() / "2014" / "Piano" / "disp0.png", cv::Mat(kH, kW, CV_8UC1, cv::Scalar(4)));
-  write_text(dir.path() / "pairs.tsv",
-             header + "2014/Piano\t2014/Piano/im0.png\t2014/Piano/im1.png\t2014/Piano/disp0.png\tpng8\t4\tinf\t20\t10\n");
+  write_text(
+      dir.path() / "pairs.tsv",
+      header + "2014/Piano\t2014/Piano/im0.png\t2014/Piano/im1.png\t2014/Piano/disp0.png\tpng8\t4\tinf\t20\t10\n");
   expect_input_error([&] { px::open_dataset(dir.path()); }, {"pairs.tsv line 2", "'inf'", "PFM", "disp0.png"});
 }
 
@@ -368,14 +369,13 @@ TEST(Kitti2012, ColouredPairsAndCalibration) {
   write(t / "image_0" / "000070_10.png", cv::Mat(kH, kW, CV_8UC1, cv::Scalar(42)));
   write(t / "image_1" / "000070_10.png", cv::Mat(kH, kW, CV_8UC1, cv::Scalar(43)));
   EXPECT_EQ(px::open_dataset(dir.path()).kitti_left_dir, "image_0");
-  EXPECT_FALSE(px::load_frame(px::list_frames(px::open_dataset(dir.path()), px::GtKind::noc).at(0))
-                   .converted_from_colour);
+  EXPECT_FALSE(
+      px::load_frame(px::list_frames(px::open_dataset(dir.path()), px::GtKind::noc).at(0)).converted_from_colour);
   fs::remove_all(t / "image_0");
   fs::remove_all(t / "image_1");
   TempDir out;
   px::crop_dataset(dir.path(), "", {px::GtKind::noc}, 8, 4, out.path());
-  const cv::Mat cropped =
-      cv::imread((out.path() / "training/image_2/000070_10.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat cropped = cv::imread((out.path() / "training/image_2/000070_10.png").string(), cv::IMREAD_UNCHANGED);
   EXPECT_EQ(cropped.type(), CV_8UC3);
 
   // A malformed calibration file: the error names the file and the line.
@@ -414,8 +414,7 @@ TEST(Kitti2015, CalibrationAndGroundTruthChecks) {
   // A GT path that is a folder.
   fs::remove(t / "disp_noc_0" / "000003_10.png");
   fs::create_directories(t / "disp_noc_0" / "000003_10.png");
-  expect_input_error([&] { px::load_frame(frames[2]); },
-                     {(t / "disp_noc_0" / "000003_10.png").string(), "folder"});
+  expect_input_error([&] { px::load_frame(frames[2]); }, {(t / "disp_noc_0" / "000003_10.png").string(), "folder"});
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -31,9 +31,9 @@ cv::Mat colour_image(int w, int h, int seed) {
   cv::Mat m(h, w, CV_8UC3);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      m.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<std::uint8_t>((x * 7 + seed) % 256),
-                                        static_cast<std::uint8_t>((y * 13 + seed) % 256),
-                                        static_cast<std::uint8_t>((x + y + 3 * seed) % 256));
+      m.at<cv::Vec3b>(y, x) =
+          cv::Vec3b(static_cast<std::uint8_t>((x * 7 + seed) % 256), static_cast<std::uint8_t>((y * 13 + seed) % 256),
+                    static_cast<std::uint8_t>((x + y + 3 * seed) % 256));
   return m;
 }
 
@@ -41,8 +41,7 @@ cv::Mat colour_image(int w, int h, int seed) {
 cv::Mat kitti_gt(int w, int h) {
   cv::Mat m(h, w, CV_16UC1);
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      m.at<std::uint16_t>(y, x) = static_cast<std::uint16_t>(x == 0 ? 0 : 256 * (x + 1) + y);
+    for (int x = 0; x < w; ++x) m.at<std::uint16_t>(y, x) = static_cast<std::uint16_t>(x == 0 ? 0 : 256 * (x + 1) + y);
   return m;
 }
 
@@ -92,8 +91,8 @@ void make_middlebury(const fs::path& root) {
       << "2001/tsukuba\t2001/tsukuba/im3.png\t2001/tsukuba/im4.png\t2001/tsukuba/disp3.pgm\t"
          "pgm8\t16\t0\t"
       << kW << "\t" << kH << "\t0.9\n"
-      << "2003/teddy\t2003/teddy/im2.png\t2003/teddy/im6.png\t2003/teddy/disp2.png\tpng8\t4\t0\t"
-      << kW << "\t" << kH << "\t0.9\n";
+      << "2003/teddy\t2003/teddy/im2.png\t2003/teddy/im6.png\t2003/teddy/disp2.png\tpng8\t4\t0\t" << kW << "\t" << kH
+      << "\t0.9\n";
 }
 
 std::vector<std::string> ids_of(const std::vector<px::FrameRef>& frames) {
@@ -134,12 +133,10 @@ TEST(Dataset, ListsFramesByGtKindAndFilter) {
   make_kitti2015(dir.path());
   const px::Dataset ds = px::open_dataset(dir.path());
   using V = std::vector<std::string>;
-  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc)),
-            (V{"000000", "000001", "000002", "000046"}));
+  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc)), (V{"000000", "000001", "000002", "000046"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::occ)), (V{"000001"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "all")).size(), 4u);
-  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "46, 0-1")),
-            (V{"000000", "000001", "000046"}));
+  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "46, 0-1")), (V{"000000", "000001", "000046"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "000002,2,1-2")), (V{"000001", "000002"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "1-40")), (V{"000001", "000002"}));
   const std::vector<px::FrameRef> f = px::list_frames(ds, px::GtKind::occ, "1");
@@ -195,20 +192,17 @@ TEST(Dataset, LoadErrorsNameTheFile) {
   const std::vector<px::FrameRef> frames = px::list_frames(ds, px::GtKind::noc);
 
   fs::remove(t / "image_3" / "000000_10.png");
-  expect_input_error([&] { px::load_frame(frames[0]); },
-                     {(t / "image_3" / "000000_10.png").string(), "not found"});
+  expect_input_error([&] { px::load_frame(frames[0]); }, {(t / "image_3" / "000000_10.png").string(), "not found"});
 
   write(t / "image_3" / "000001_10.png", colour_image(kW - 2, kH, 0));
   expect_input_error([&] { px::load_frame(frames[1]); },
                      {(t / "image_3" / "000001_10.png").string(), "18x10", "20x10"});
 
   write(t / "disp_noc_0" / "000002_10.png", kitti_gt(kW, kH + 1));
-  expect_input_error([&] { px::load_frame(frames[2]); },
-                     {(t / "disp_noc_0" / "000002_10.png").string(), "20x11"});
+  expect_input_error([&] { px::load_frame(frames[2]); }, {(t / "disp_noc_0" / "000002_10.png").string(), "20x11"});
 
   std::ofstream(t / "image_2" / "000046_10.png") << "not a png";
-  expect_input_error([&] { px::load_frame(frames[3]); },
-                     {(t / "image_2" / "000046_10.png").string(), "decoded"});
+  expect_input_error([&] { px::load_frame(frames[3]); }, {(t / "image_2" / "000046_10.png").string(), "decoded"});
 }
 
 TEST(Dataset, UnknownLayoutAndMissingFolder) {
@@ -245,8 +239,7 @@ TEST(Dataset, MiddleburyPairsTsv) {
   using V = std::vector<std::string>;
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc)), (V{"tsukuba", "teddy"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::occ, "teddy")), (V{"teddy"}));
-  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "2003/teddy,tsukuba")),
-            (V{"tsukuba", "teddy"}));
+  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc, "2003/teddy,tsukuba")), (V{"tsukuba", "teddy"}));
   expect_input_error([&] { px::list_frames(ds, px::GtKind::noc, "cones"); }, {"cones"});
   expect_input_error([&] { px::list_frames(ds, px::GtKind::noc, "1-2"); }, {"1-2"});
 
@@ -269,8 +262,8 @@ TEST(Dataset, MiddleburyErrors) {
   expect_input_error([&] { px::open_dataset(dir.path()); }, {"pairs.tsv line 2", "four"});
   std::ofstream(dir.path() / "pairs.tsv")
       << "scene\tleft\tright\tgt_left\tdivisor\tinvalid\twidth\theight\n"
-      << "2003/teddy\t2003/teddy/im2.png\t2003/teddy/im6.png\t2003/teddy/disp2.png\t4\t0\t"
-      << kW + 1 << "\t" << kH << "\n";
+      << "2003/teddy\t2003/teddy/im2.png\t2003/teddy/im6.png\t2003/teddy/disp2.png\t4\t0\t" << kW + 1 << "\t" << kH
+      << "\n";
   const px::Dataset ds = px::open_dataset(dir.path());
   expect_input_error([&] { px::load_frame(px::list_frames(ds, px::GtKind::noc).at(0)); },
                      {"im2.png", "pairs.tsv", "21x10"});
@@ -281,20 +274,18 @@ TEST(Crop, WritesKitti2015LayoutWithCentredRoi) {
   TempDir out_holder;
   make_kitti2015(src.path(), 21, 11);
   const fs::path out = out_holder.path() / "crop";
-  const px::CropSummary s = px::crop_dataset(src.path() / "training", "1,46",
-                                             {px::GtKind::noc, px::GtKind::occ}, 10, 6, out);
+  const px::CropSummary s =
+      px::crop_dataset(src.path() / "training", "1,46", {px::GtKind::noc, px::GtKind::occ}, 10, 6, out);
   EXPECT_EQ(s.frame_ids, (std::vector<std::string>{"000001", "000046"}));
   EXPECT_EQ(s.files_written.size(), 3u + 4u + 1u);  // frame 1: 4 files, 46: 3, LICENSE
   EXPECT_TRUE(fs::is_regular_file(out / "LICENSE.txt"));
   EXPECT_FALSE(fs::exists(out / "training" / "disp_occ_0" / "000046_10.png"));
 
   const px::Roi roi = px::centred_roi(21, 11, 10, 6);  // x0 5, y0 2
-  const cv::Mat left =
-      cv::imread((out / "training/image_2/000046_10.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat left = cv::imread((out / "training/image_2/000046_10.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(left.type(), CV_8UC3);  // colour kept
   EXPECT_EQ(cv::norm(left, px::crop_to_roi(colour_image(21, 11, 46), roi), cv::NORM_INF), 0.0);
-  const cv::Mat gt =
-      cv::imread((out / "training/disp_occ_0/000001_10.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat gt = cv::imread((out / "training/disp_occ_0/000001_10.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(gt.type(), CV_16UC1);
   EXPECT_EQ(cv::norm(gt, px::crop_to_roi(kitti_gt(21, 11), roi), cv::NORM_INF), 0.0);
 
@@ -314,14 +305,11 @@ TEST(Crop, Errors) {
   TempDir src;
   TempDir out;
   make_kitti2015(src.path());
-  expect_input_error(
-      [&] { px::crop_dataset(src.path(), "", {px::GtKind::noc}, 30, 6, out.path()); }, {"larger"});
-  expect_input_error(
-      [&] { px::crop_dataset(src.path(), "2", {px::GtKind::occ}, 5, 5, out.path()); }, {"000002"});
+  expect_input_error([&] { px::crop_dataset(src.path(), "", {px::GtKind::noc}, 30, 6, out.path()); }, {"larger"});
+  expect_input_error([&] { px::crop_dataset(src.path(), "2", {px::GtKind::occ}, 5, 5, out.path()); }, {"000002"});
   TempDir mb;
   make_middlebury(mb.path());
-  expect_input_error([&] { px::crop_dataset(mb.path(), "", {px::GtKind::noc}, 5, 5, out.path()); },
-                     {"KITTI"});
+  expect_input_error([&] { px::crop_dataset(mb.path(), "", {px::GtKind::noc}, 5, 5, out.path()); }, {"KITTI"});
 }
 
 TEST(Crop, Kitti2012BecomesKitti2015Layout) {
@@ -345,8 +333,7 @@ TEST(ShippedData, Kitti2015Crop640x360Loads) {
   const px::Dataset ds = px::open_dataset(dir);
   EXPECT_EQ(ds.layout, px::DatasetLayout::kitti2015);
   using V = std::vector<std::string>;
-  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc)),
-            (V{"000001", "000005", "000010", "000020"}));
+  EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::noc)), (V{"000001", "000005", "000010", "000020"}));
   EXPECT_EQ(ids_of(px::list_frames(ds, px::GtKind::occ)), (V{"000001"}));
   for (const px::GtKind kind : {px::GtKind::noc, px::GtKind::occ}) {
     for (const px::FrameRef& ref : px::list_frames(ds, kind)) {

@@ -60,12 +60,10 @@ TEST(DisparityIo, RoundTripKeepsValuesZeroAndInvalid) {
 TEST(DisparityIo, OutOfRangeValuesAreRejected) {
   TempDir dir;
   const cv::Mat m(1, 1, CV_8UC1, cv::Scalar(255));
-  EXPECT_THROW(px::write_kitti_disparity(dir.path() / "a.png",
-                                         cv::Mat(1, 1, CV_32FC1, cv::Scalar(256.0)), m),
+  EXPECT_THROW(px::write_kitti_disparity(dir.path() / "a.png", cv::Mat(1, 1, CV_32FC1, cv::Scalar(256.0)), m),
                std::invalid_argument);
-  EXPECT_THROW(
-      px::write_kitti_disparity(dir.path() / "b.png", cv::Mat(1, 1, CV_32FC1, cv::Scalar(-1.0)), m),
-      std::invalid_argument);
+  EXPECT_THROW(px::write_kitti_disparity(dir.path() / "b.png", cv::Mat(1, 1, CV_32FC1, cv::Scalar(-1.0)), m),
+               std::invalid_argument);
   // An invalid pixel may hold anything.
   px::write_kitti_disparity(dir.path() / "c.png", cv::Mat(1, 1, CV_32FC1, cv::Scalar(-1.0)),
                             cv::Mat(1, 1, CV_8UC1, cv::Scalar(0)));
@@ -98,8 +96,7 @@ TEST(DisparityIo, WriteErrorNamesTheFile) {
   TempDir dir;
   const fs::path bad = dir.path() / "no_such_folder" / "d.png";
   try {
-    px::write_kitti_disparity(bad, cv::Mat(1, 1, CV_32FC1, cv::Scalar(1.0)),
-                              cv::Mat(1, 1, CV_8UC1, cv::Scalar(255)));
+    px::write_kitti_disparity(bad, cv::Mat(1, 1, CV_32FC1, cv::Scalar(1.0)), cv::Mat(1, 1, CV_8UC1, cv::Scalar(255)));
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();

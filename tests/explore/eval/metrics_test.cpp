@@ -15,8 +15,7 @@ constexpr float kNo = -1.0f;  // marks "invalid / no GT" in the literal maps bel
 
 // A CV_32F map and its CV_8U mask from row-major literals; kNo = invalid.
 px::DisparityMap make_map(int rows, int cols, const std::vector<float>& values) {
-  px::DisparityMap m{cv::Mat(rows, cols, CV_32FC1, cv::Scalar(0)),
-                     cv::Mat(rows, cols, CV_8UC1, cv::Scalar(0))};
+  px::DisparityMap m{cv::Mat(rows, cols, CV_32FC1, cv::Scalar(0)), cv::Mat(rows, cols, CV_8UC1, cv::Scalar(0))};
   for (int y = 0; y < rows; ++y) {
     for (int x = 0; x < cols; ++x) {
       const float v = values.at(static_cast<std::size_t>(y * cols + x));
@@ -33,8 +32,7 @@ std::vector<float> literal(const px::DisparityMap& m) {
   std::vector<float> out;
   for (int y = 0; y < m.disparity_px.rows; ++y)
     for (int x = 0; x < m.disparity_px.cols; ++x)
-      out.push_back(m.valid_mask.at<std::uint8_t>(y, x) != 0 ? m.disparity_px.at<float>(y, x)
-                                                             : kNo);
+      out.push_back(m.valid_mask.at<std::uint8_t>(y, x) != 0 ? m.disparity_px.at<float>(y, x) : kNo);
   return out;
 }
 
@@ -133,8 +131,7 @@ TEST(Metrics, RejectsMismatchedInputs) {
   const px::DisparityMap b = make_map(2, 3, {1, 2, 3, 4, 5, 6});
   EXPECT_THROW(count(a, b), std::invalid_argument);
   cv::Mat wrong_type(2, 2, CV_16UC1, cv::Scalar(0));
-  EXPECT_THROW(px::count_frame(a.disparity_px, wrong_type, a.disparity_px, a.valid_mask),
-               std::invalid_argument);
+  EXPECT_THROW(px::count_frame(a.disparity_px, wrong_type, a.disparity_px, a.valid_mask), std::invalid_argument);
 }
 
 // Pooled counts equal the counts of one frame made by putting the frames side by side. Each
@@ -214,8 +211,7 @@ TEST(DevkitFill, LeftAndRightExtrapolation) {
 
 TEST(DevkitFill, TopAndBottomExtrapolationAndEmptyRows) {
   // Rows: 0 empty, 1 = [1 . 3], 2 empty (between valid rows), 3 = [. . 9], 4 empty.
-  const std::vector<float> filled =
-      fill(5, 3, {kNo, kNo, kNo, 1, kNo, 3, kNo, kNo, kNo, kNo, kNo, 9, kNo, kNo, kNo});
+  const std::vector<float> filled = fill(5, 3, {kNo, kNo, kNo, 1, kNo, 3, kNo, kNo, kNo, kNo, kNo, 9, kNo, kNo, kNo});
   const std::vector<float> expected = {1,   1,   3,    // top: copies row 1 after its fill
                                        1,   1,   3,    // inner run: min(1, 3)
                                        kNo, kNo, kNo,  // between valid rows: the devkit leaves it

@@ -15,10 +15,8 @@ namespace parallax::test {
 
 // The PFM bytes of a CV_32FC1 image: header (default "Pf\nW H\n-1\n" for little-endian,
 // "Pf\nW H\n1\n" for big-endian), then the rows bottom to top.
-inline std::string pfm_bytes(const cv::Mat& values, bool little_endian,
-                             const std::string& header = "") {
-  std::string out = header.empty() ? "Pf\n" + std::to_string(values.cols) + " " +
-                                         std::to_string(values.rows) + "\n" +
+inline std::string pfm_bytes(const cv::Mat& values, bool little_endian, const std::string& header = "") {
+  std::string out = header.empty() ? "Pf\n" + std::to_string(values.cols) + " " + std::to_string(values.rows) + "\n" +
                                          (little_endian ? "-1" : "1") + "\n"
                                    : header;
   for (int row = values.rows - 1; row >= 0; --row) {

@@ -61,13 +61,12 @@ TEST(Quality, CensusBeatsSadOnTheOccFrames) {
 TEST(Quality, OpenCvHh4PeerMatchesTheDatasetReadme) {
   if (!std::filesystem::exists(kKitti2015)) GTEST_SKIP() << "no " << kKitti2015;
   const BaselineParams bp;
-  const EvalResult r = evaluate(open_dataset(kKitti2015), RoiSize{false, 640, 360},
-                                [&]() -> Matcher {
-                                  return [&](const cv::Mat& l, const cv::Mat& rr) {
-                                    return run_baseline(Baseline::opencv_hh4, bp, l, rr);
-                                  };
-                                },
-                                all_cores());
+  const EvalResult r = evaluate(
+      open_dataset(kKitti2015), RoiSize{false, 640, 360},
+      [&]() -> Matcher {
+        return [&](const cv::Mat& l, const cv::Mat& rr) { return run_baseline(Baseline::opencv_hh4, bp, l, rr); };
+      },
+      all_cores());
   // ../shared/datasets/README.md: 86.8 % density, 94.3 % correct (settings not all recorded).
   EXPECT_NEAR(r.pooled.metrics.density_pct, 86.8, 1.5);
   EXPECT_NEAR(r.pooled.metrics.correct_3px_pct, 94.3, 1.0);

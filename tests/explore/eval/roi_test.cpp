@@ -71,8 +71,7 @@ TEST(Roi, ParseAndPrint) {
 TEST(Roi, CropIsAView) {
   cv::Mat image(5, 7, CV_8UC1);
   for (int y = 0; y < 5; ++y)
-    for (int x = 0; x < 7; ++x)
-      image.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(10 * y + x);
+    for (int x = 0; x < 7; ++x) image.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(10 * y + x);
   const px::Roi roi = px::centred_roi(7, 5, 3, 2);  // x0 2, y0 1
   const cv::Mat crop = px::crop_to_roi(image, roi);
   ASSERT_EQ(crop.cols, 3);

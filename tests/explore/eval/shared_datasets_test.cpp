@@ -17,7 +17,9 @@ using parallax::test::TempDir;
 
 namespace {
 
-fs::path shared(const std::string& sub) { return fs::path(PARALLAX_SHARED_DATASETS) / sub; }
+fs::path shared(const std::string& sub) {
+  return fs::path(PARALLAX_SHARED_DATASETS) / sub;
+}
 
 #define SKIP_IF_MISSING(dir)                                                   \
   do {                                                                         \
@@ -110,8 +112,7 @@ TEST(SharedDatasets, Kitti2012ColouredOnly) {
   EXPECT_EQ(ds.kitti_left_dir, "colored_0");
   const px::Frame colour = px::load_frame(px::list_frames(ds, px::GtKind::noc).at(0));
   EXPECT_TRUE(colour.converted_from_colour);
-  const px::Frame grey =
-      px::load_frame(px::list_frames(px::open_dataset(dir), px::GtKind::noc).at(0));
+  const px::Frame grey = px::load_frame(px::list_frames(px::open_dataset(dir), px::GtKind::noc).at(0));
   ASSERT_EQ(colour.left.size(), grey.left.size());
   cv::Mat diff;
   cv::absdiff(colour.left, grey.left, diff);
@@ -138,12 +139,10 @@ TEST(SharedDatasets, Middlebury) {
   EXPECT_TRUE(teddy.converted_from_colour);
   // 8-bit value / 4: the file's largest value is 211, so 52.75 px (not 255 / 4 = 63.75).
   EXPECT_DOUBLE_EQ(max_gt(teddy), 211.0 / 4.0);
-  const double density =
-      cv::countNonZero(teddy.gt_mask) / static_cast<double>(teddy.gt_mask.total());
+  const double density = cv::countNonZero(teddy.gt_mask) / static_cast<double>(teddy.gt_mask.total());
   EXPECT_NEAR(density, 0.9798, 0.001);  // gt_density column of pairs.tsv
 
-  const px::Frame tsukuba =
-      px::load_frame(px::list_frames(ds, px::GtKind::noc, "2001/tsukuba").at(0));
+  const px::Frame tsukuba = px::load_frame(px::list_frames(ds, px::GtKind::noc, "2001/tsukuba").at(0));
   EXPECT_EQ(tsukuba.left.size(), cv::Size(384, 288));
   EXPECT_DOUBLE_EQ(max_gt(tsukuba), 224.0 / 16.0);  // value / 16
 

@@ -244,13 +244,13 @@ TEST(SweepScale, MpiTwoRanksEqualOneProcess) {
   // Under the sanitizers (debug preset): OpenMPI keeps its plugins loaded and allocations are
   // unwound fully, so that LeakSanitizer sees OpenMPI's own frames and its suppressions
   // (cmake/lsan.supp, by library file) apply; without a sanitizer these settings change nothing.
-  const std::string cmd = std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-                                      "OMPI_MCA_mca_base_component_disable_dlclose=1 "
-                                      "ASAN_OPTIONS=\"${ASAN_OPTIONS}:fast_unwind_on_malloc=0\" ") +
-                          PARALLAX_MPIEXEC +
-                          " --oversubscribe -np 2 " + PARALLAX_CLI + " sweep --base " + kCensus +
-                          " --grid p2=32,48,64 --grid median=0,5 --dataset " + kData + " --frames 1 --jobs 1 --mpi --db " +
-                          db + " >/dev/null 2>&1";
+  const std::string cmd = std::string(
+                              "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                              "OMPI_MCA_mca_base_component_disable_dlclose=1 "
+                              "ASAN_OPTIONS=\"${ASAN_OPTIONS}:fast_unwind_on_malloc=0\" ") +
+                          PARALLAX_MPIEXEC + " --oversubscribe -np 2 " + PARALLAX_CLI + " sweep --base " + kCensus +
+                          " --grid p2=32,48,64 --grid median=0,5 --dataset " + kData +
+                          " --frames 1 --jobs 1 --mpi --db " + db + " >/dev/null 2>&1";
   ASSERT_EQ(WEXITSTATUS(system(cmd.c_str())), 0) << cmd;
   ResultStore mpi(db);
   ResultStore one((d / "one.db").string());
@@ -298,7 +298,8 @@ TEST(SweepRun, AvoidanceScoresBecomeMetrics) {
   const auto rows = shared.designs();
   ASSERT_EQ(rows.size(), 6u);
   for (const auto& r : rows)
-    for (const char* k : {"obstacle_precision", "obstacle_recall", "range_error_m", "decision_agreement_pct", "mean_ms_per_frame"})
+    for (const char* k :
+         {"obstacle_precision", "obstacle_recall", "range_error_m", "decision_agreement_pct", "mean_ms_per_frame"})
       EXPECT_TRUE(r.metrics.count(k)) << k;
   // Timing differs run to run; everything else is the same either way.
   auto strip = [](std::map<std::string, std::map<std::string, double>> m) {
@@ -388,7 +389,7 @@ TEST(SweepPareto, NonDominatedUnderConstraints) {
     r.metrics = {{"correct_3px_pct", correct}, {"bram18k", bram}, {"fps", fps}, {"fits_device", fits}};
     return r;
   };
-  std::vector<ResultStore::Row> rows = {row("a", 90, 200, 40), row("b", 88, 100, 40), row("c", 87, 150, 40),
+  std::vector<ResultStore::Row> rows = {row("a", 90, 200, 40), row("b", 88, 100, 40),   row("c", 87, 150, 40),
                                         row("d", 95, 50, 20),  row("e", 99, 10, 40, 0), row("f", 90, 200, 40)};
   rows.push_back(row("g", 91, 300, 40));
   ResultStore::Row bad = row("h", 99, 1, 99);
@@ -408,7 +409,8 @@ namespace {
 
 // designs(sweep, with_frames): frames only of that sweep's designs, none when not wanted.
 TEST(SweepStore, DesignsFilterFramesBySweepAndCanSkipThem) {
-  const auto path = std::filesystem::temp_directory_path() / ("parallax_store_frames_" + std::to_string(::getpid()) + ".db");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("parallax_store_frames_" + std::to_string(::getpid()) + ".db");
   std::filesystem::remove(path);
   {
     explore::ResultStore store(path.string());
@@ -631,7 +633,8 @@ TEST(SweepStoreNan, MissingMetricsAreAbsentAndRankLast) {
   r.sweep = "n";
   r.config_yaml = "name: x\n";
   r.status = "ok";
-  r.metrics = {{"correct_3px_pct", std::nan("")}, {"density_pct", 70.0}, {"fps", std::numeric_limits<double>::infinity()}};
+  r.metrics = {
+      {"correct_3px_pct", std::nan("")}, {"density_pct", 70.0}, {"fps", std::numeric_limits<double>::infinity()}};
   r.frames = {{"000001", {{"correct_3px_pct", std::nan("")}, {"density_pct", 70.0}}}};
   store.put_design(r);
   const auto rows = store.designs("n");
@@ -650,10 +653,9 @@ TEST(SweepStoreNan, MissingMetricsAreAbsentAndRankLast) {
     return x;
   };
   const std::vector<ResultStore::Row> pts = {
-      row("a", {{"density_pct", 99}}),                                   // no correct: -inf there
-      row("b", {{"correct_3px_pct", 50}, {"density_pct", 50}}),
-      row("c", {}),                                                      // nothing: dominated
-      row("d", {{"correct_3px_pct", std::nan("")}, {"density_pct", 40}})};  // NaN in memory: as absent
+      row("a", {{"density_pct", 99}}),                                         // no correct: -inf there
+      row("b", {{"correct_3px_pct", 50}, {"density_pct", 50}}), row("c", {}),  // nothing: dominated
+      row("d", {{"correct_3px_pct", std::nan("")}, {"density_pct", 40}})};     // NaN in memory: as absent
   std::set<std::string> front;
   for (const auto& p : explore::pareto_front(s, pts)) front.insert(p.hash);
   EXPECT_EQ(front, (std::set<std::string>{"a", "b"}));
@@ -702,8 +704,9 @@ TEST(SweepStoreNan, NullMetricsNeverCrashNsga2OrTheReaders) {
   const Shell p = shell(kCli + " pareto --db " + db + " --sweep evo");
   EXPECT_EQ(p.status, 0) << p.output;
   EXPECT_EQ(shell(kCli + " pareto --json --db " + db + " --sweep evo").status, 0);
-  const Shell r = shell(kCli + " report --db " + db + " --sweep evo --csv " + (d / "d.csv").string() + " --frames-csv " +
-                        (d / "f.csv").string() + " --json " + (d / "r.json").string() + " --html " + (d / "r.html").string());
+  const Shell r =
+      shell(kCli + " report --db " + db + " --sweep evo --csv " + (d / "d.csv").string() + " --frames-csv " +
+            (d / "f.csv").string() + " --json " + (d / "r.json").string() + " --html " + (d / "r.html").string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(read_file(d / "r.json").find("null"), std::string::npos);
   EXPECT_EQ(read_file(d / "d.csv").find("nan"), std::string::npos);
@@ -716,8 +719,8 @@ TEST(SweepStoreNan, NullMetricsNeverCrashNsga2OrTheReaders) {
 TEST(SweepStoreConcurrency, IdenticalSweepsAtOnceEvaluateEachDesignOnce) {
   const fs::path d = store_dir("concurrent");
   const std::string db = (d / "c.db").string();
-  const std::string args = " sweep --base " + kStoreCensus + " --grid disparities=30,24,36,42,48,54 --dataset " + kStoreData +
-                           " --frames 1,5 --jobs 1 --no-sharing --db " + db;
+  const std::string args = " sweep --base " + kStoreCensus + " --grid disparities=30,24,36,42,48,54 --dataset " +
+                           kStoreData + " --frames 1,5 --jobs 1 --no-sharing --db " + db;
   const Shell both = shell("(" + kCli + args + " 2>/dev/null & " + kCli + args + " 2>/dev/null & wait)");
   EXPECT_EQ(evaluated_in(both.output), 6) << both.output;
   EXPECT_NE(both.output.find("already in"), std::string::npos) << both.output;
@@ -740,12 +743,11 @@ TEST(SweepStoreConcurrency, ClaimOfADeadProcessIsTakenOver) {
   char host[256] = {};
   gethostname(host, sizeof host - 1);
   const config::PipelineConfig base = config::load_config(kStoreCensus);
-  const std::string measurement =
-      explore::measurement_of(s, fs::canonical(kStoreData).string(), {"000001"});
+  const std::string measurement = explore::measurement_of(s, fs::canonical(kStoreData).string(), {"000001"});
   for (const auto& p : explore::enumerate_designs(s)) {
     const std::string key = explore::result_key(explore::materialise(base, p).hash, measurement);
-    sql(db, "INSERT INTO claims(key, owner, host, pid, started, claimed_at) VALUES('" + key + "', 'dead', '" + host + "', " +
-                std::to_string(child) + ", 12345, strftime('%s','now'))");
+    sql(db, "INSERT INTO claims(key, owner, host, pid, started, claimed_at) VALUES('" + key + "', 'dead', '" + host +
+                "', " + std::to_string(child) + ", 12345, strftime('%s','now'))");
   }
   ResultStore store(db);
   const auto sum = explore::run_sweep(s, store, on(kStoreData));
@@ -767,8 +769,8 @@ TEST(SweepStoreConcurrency, LockHeldByAnotherConnectionIsWaitedOut) {
     sqlite3_exec(c, "COMMIT", nullptr, nullptr, nullptr);
   });
   const auto t0 = std::chrono::steady_clock::now();
-  const Shell r = shell("PARALLAX_LOCK_NOTICE_MS=300 " + kCli + " sweep --base " + kStoreCensus + " --dataset " + kStoreData +
-                        " --frames 1 --db " + db);
+  const Shell r = shell("PARALLAX_LOCK_NOTICE_MS=300 " + kCli + " sweep --base " + kStoreCensus + " --dataset " +
+                        kStoreData + " --frames 1 --db " + db);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   holder.join();
   sqlite3_close(c);

@@ -210,12 +210,14 @@ TEST(Mavlink, VelocitySetpointFrame) {
 // velocities those of the planner's decisions.
 TEST(Mavlink, NodeMavlinkDecodesTheAvoidOutput) {
   const std::string dir = PARALLAX_MAVLINK_CHECK;
-  if (!std::filesystem::exists(dir + "/node_modules/node-mavlink")) GTEST_SKIP() << "npm install in " << dir << " first";
+  if (!std::filesystem::exists(dir + "/node_modules/node-mavlink"))
+    GTEST_SKIP() << "npm install in " << dir << " first";
   const auto tmp = std::filesystem::temp_directory_path() / "parallax_mavlink_test";
   std::filesystem::create_directories(tmp);
   const std::string bin = (tmp / "out.mav").string(), js = (tmp / "avoid.json").string();
-  const std::string cmd = std::string(PARALLAX_CLI) + " avoid --config " + PARALLAX_CONFIG_DIR + "/ruf2018-census.yaml --dataset " +
-                          PARALLAX_DATA_DIR + "/kitti2015-640x360 --json --mavlink-out " + bin + " > " + js + " 2>/dev/null";
+  const std::string cmd = std::string(PARALLAX_CLI) + " avoid --config " + PARALLAX_CONFIG_DIR +
+                          "/ruf2018-census.yaml --dataset " + PARALLAX_DATA_DIR +
+                          "/kitti2015-640x360 --json --mavlink-out " + bin + " > " + js + " 2>/dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   const std::string dec = (tmp / "decoded.json").string();
   ASSERT_EQ(std::system((std::string(PARALLAX_NODE) + " " + dir + "/verify.js " + bin + " > " + dec).c_str()), 0);
@@ -249,8 +251,10 @@ TEST(Rig, KittiAndOpenCvFiles) {
   std::filesystem::create_directories(dir);
   {
     std::ofstream k(dir / "calib.txt");
-    k << "P_rect_02: 7.215377e+02 0 6.095593e+02 4.485728e+01 0 7.215377e+02 1.72854e+02 2.163791e-01 0 0 1 2.745884e-03\n"
-         "P_rect_03: 7.215377e+02 0 6.095593e+02 -3.395242e+02 0 7.215377e+02 1.72854e+02 2.199936e+00 0 0 1 2.729905e-03\n";
+    k << "P_rect_02: 7.215377e+02 0 6.095593e+02 4.485728e+01 0 7.215377e+02 1.72854e+02 2.163791e-01 0 0 1 "
+         "2.745884e-03\n"
+         "P_rect_03: 7.215377e+02 0 6.095593e+02 -3.395242e+02 0 7.215377e+02 1.72854e+02 2.199936e+00 0 0 1 "
+         "2.729905e-03\n";
   }
   const Rig r = load_rig((dir / "calib.txt").string(), 301, 7);
   EXPECT_NEAR(r.focal_px, 721.5377, 1e-6);

@@ -106,11 +106,12 @@ TEST(Scene, ClearanceAndKittiExport) {
   s.cylinders.push_back({0, 10, 0.5, 5});
   s.boxes.push_back({2, 4, 20, 22, 3});
   EXPECT_NEAR(clearance_m(s, Eigen::Vector3d(0, -1, 7)), 2.5, 1e-9);
-  EXPECT_LT(clearance_m(s, Eigen::Vector3d(3, -1, 21)), 0.0);      // inside the box
-  EXPECT_GT(clearance_m(s, Eigen::Vector3d(0, -7, 10)), 1e6);      // above the pole: nothing
+  EXPECT_LT(clearance_m(s, Eigen::Vector3d(3, -1, 21)), 0.0);  // inside the box
+  EXPECT_GT(clearance_m(s, Eigen::Vector3d(0, -7, 10)), 1e6);  // above the pole: nothing
   const auto dir = std::filesystem::temp_directory_path() / "parallax_scene_export";
   std::filesystem::remove_all(dir);
-  std::vector<StereoFrame> frames = {render(s, rig640(), 96, 54, kCam), render(s, rig640(), 96, 54, kCam + Eigen::Vector3d(0, 0, 1))};
+  std::vector<StereoFrame> frames = {render(s, rig640(), 96, 54, kCam),
+                                     render(s, rig640(), 96, 54, kCam + Eigen::Vector3d(0, 0, 1))};
   export_kitti(frames, dir.string());
   const Dataset ds = open_dataset(dir);
   EXPECT_EQ(list_frames(ds, GtKind::noc, "").size(), 2u);

@@ -81,7 +81,8 @@ TEST(HlsReport, ComparesModelAndSynthesisSideBySide) {
   std::map<std::string, explore::ModelVsSynthesis> by;
   for (const auto& row : rows) by[row.figure] = row;
   ASSERT_TRUE(by.count("latency (cycles)"));
-  const explore::SimulationResult sim = explore::simulate_timing(config::load_config(PARALLAX_CONFIG_DIR "/ruf2018-census.yaml"), 640, 360);
+  const explore::SimulationResult sim =
+      explore::simulate_timing(config::load_config(PARALLAX_CONFIG_DIR "/ruf2018-census.yaml"), 640, 360);
   EXPECT_EQ(by["latency (cycles)"].model, double(sim.cycle.last_pixel_cycle - sim.cycle.first_input_cycle));
   EXPECT_NE(by["latency (cycles)"].note.find("200 MHz"), std::string::npos);
   EXPECT_EQ(by["latency (cycles)"].synthesis, 4631240.0);

@@ -87,15 +87,23 @@ TEST(Config, EveryViolationNamesItsField) {
     const char* yaml;
     const char* field;
   } cases[] = {
-      {"window: 4x5", "'window'"},       {"window: 11x3", "'window'"},
+      {"window: 4x5", "'window'"},
+      {"window: 11x3", "'window'"},
       {"cost: census\nwindow: 9x9", "'window'"},  // 80 census bits
-      {"disparities: 0", "'disparities'"}, {"disparities: 257", "'disparities'"},
-      {"parallel_units: 7", "'parallel_units'"}, {"p1: 32\np2: 32", "'p2'"},
-      {"p1: -1", "'p1'"},               {"median: 4", "'median'"},
-      {"lr_tolerance: -2", "'lr_tolerance'"},   {"cost: ncc", "'cost'"},
-      {"paths: 6", "'paths'"},          {"lr_check: maybe", "'lr_check'"},
-      {"roi: 0x10", "'roi'"},           {"disparities: sixty", "'disparities'"},
-      {"colour: red", "'colour'"},      {"clock_mhz: 0", "'clock_mhz'"},
+      {"disparities: 0", "'disparities'"},
+      {"disparities: 257", "'disparities'"},
+      {"parallel_units: 7", "'parallel_units'"},
+      {"p1: 32\np2: 32", "'p2'"},
+      {"p1: -1", "'p1'"},
+      {"median: 4", "'median'"},
+      {"lr_tolerance: -2", "'lr_tolerance'"},
+      {"cost: ncc", "'cost'"},
+      {"paths: 6", "'paths'"},
+      {"lr_check: maybe", "'lr_check'"},
+      {"roi: 0x10", "'roi'"},
+      {"disparities: sixty", "'disparities'"},
+      {"colour: red", "'colour'"},
+      {"clock_mhz: 0", "'clock_mhz'"},
   };
   for (const auto& c : cases) {
     try {

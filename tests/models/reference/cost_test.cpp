@@ -63,7 +63,7 @@ TEST(CensusCodes, ImageSmallerThanWindow) {
 TEST(CensusCodes, RejectsBadWindows) {
   EXPECT_THROW(census_codes(kGrid, 2, 3), std::invalid_argument);
   EXPECT_THROW(census_codes(kGrid, 9, 9), std::invalid_argument);  // 80 bits
-  EXPECT_NO_THROW(census_codes(kGrid, 9, 7));                       // 62 bits
+  EXPECT_NO_THROW(census_codes(kGrid, 9, 7));                      // 62 bits
 }
 
 TEST(CensusCost, HammingDistanceAndCostMaxLeftOfImage) {

@@ -24,8 +24,7 @@ const CostSetup kCensus{kern::kCostCensus, 2, 12, "census 5x5"};
 const CostSetup kSad{kern::kCostSad, 50, 800, "SAD 5x5"};
 
 // Left = texture, right = texture shifted so that L(x, y) = R(x - shift, y).
-void make_shifted_pair(int width_px, int height_px, int shift_px, std::mt19937& rng, Image8& left,
-                       Image8& right) {
+void make_shifted_pair(int width_px, int height_px, int shift_px, std::mt19937& rng, Image8& left, Image8& right) {
   const Image8 texture = test::random_image(width_px + shift_px, height_px, rng);
   left = make_image(width_px, height_px);
   right = make_image(width_px, height_px);
@@ -41,8 +40,7 @@ TEST(ComputeDisparity, ShiftedTextureGivesTheShift) {
   for (const unsigned seed : {1u, 2u, 3u}) {
     for (const CostSetup& setup : {kCensus, kSad}) {
       for (const unsigned mask : {kern::kForwardPaths, kern::kAllPaths}) {
-        SCOPED_TRACE(testing::Message() << "seed " << seed << ", " << setup.name << ", paths mask "
-                                        << mask);
+        SCOPED_TRACE(testing::Message() << "seed " << seed << ", " << setup.name << ", paths mask " << mask);
         std::mt19937 rng(seed);
         Image8 left, right;
         make_shifted_pair(w, h, shift, rng, left, right);
@@ -84,8 +82,7 @@ struct OcclusionScene {
         const bool fg_left = rows && x >= kX0 && x < kX1;
         const bool fg_right = rows && x + kFgDisp >= kX0 && x + kFgDisp < kX1;
         left.px[static_cast<std::size_t>(y * kW + x)] = fg_left ? fg.at(x, y) : bg.at(x, y);
-        right.px[static_cast<std::size_t>(y * kW + x)] =
-            fg_right ? fg.at(x + kFgDisp, y) : bg.at(x + kBgDisp, y);
+        right.px[static_cast<std::size_t>(y * kW + x)] = fg_right ? fg.at(x + kFgDisp, y) : bg.at(x + kBgDisp, y);
       }
   }
 };
@@ -97,8 +94,8 @@ TEST(ComputeDisparity, LeftRightCheckInvalidatesOccludedPixels) {
       std::mt19937 rng(seed);
       const OcclusionScene scene(rng);
       const int w = OcclusionScene::kW;
-      kern::StereoParams p = make_params(w, OcclusionScene::kH, setup.cost, 5, OcclusionScene::kD,
-                                         kern::kAllPaths, setup.p1, setup.p2);
+      kern::StereoParams p =
+          make_params(w, OcclusionScene::kH, setup.cost, 5, OcclusionScene::kD, kern::kAllPaths, setup.p1, setup.p2);
       const std::vector<uint16_t> no_lr = compute_disparity(scene.left, scene.right, p);
       p.lr_check = true;
       const std::vector<uint16_t> with_lr = compute_disparity(scene.left, scene.right, p);
@@ -198,7 +195,12 @@ TEST(ValidateStereoParams, RejectsBadParameters) {
   rejects([](kern::StereoParams& p) { p.cost = 2; }, "unknown cost");
   rejects([](kern::StereoParams& p) { p.window_w = 4; }, "even window width");
   rejects([](kern::StereoParams& p) { p.window_h = 0; }, "window height 0");
-  rejects([](kern::StereoParams& p) { p.window_w = 9; p.window_h = 9; }, "census 80 bits");
+  rejects(
+      [](kern::StereoParams& p) {
+        p.window_w = 9;
+        p.window_h = 9;
+      },
+      "census 80 bits");
   rejects([](kern::StereoParams& p) { p.disparities = 0; }, "D 0");
   rejects([](kern::StereoParams& p) { p.disparities = 257; }, "D 257");
   rejects([](kern::StereoParams& p) { p.path_mask = 0; }, "no paths");
@@ -209,16 +211,31 @@ TEST(ValidateStereoParams, RejectsBadParameters) {
   rejects([](kern::StereoParams& p) { p.lr_tolerance = -1; }, "negative tolerance");
   rejects([](kern::StereoParams& p) { p.median = 4; }, "median 4");
   rejects([](kern::StereoParams& p) { p.median = 9; }, "median 9");
-  rejects([](kern::StereoParams& p) { p.cost = kern::kCostSad; p.p2 = 0x7fffffff; p.path_mask = kern::kAllPaths; },
-          "aggregate wider than 32 bits");
+  rejects(
+      [](kern::StereoParams& p) {
+        p.cost = kern::kCostSad;
+        p.p2 = 0x7fffffff;
+        p.path_mask = kern::kAllPaths;
+      },
+      "aggregate wider than 32 bits");
 
   auto accepts = [&](auto change, const char* what) {
     kern::StereoParams p = good;
     change(p);
     EXPECT_NO_THROW(validate_stereo_params(p)) << what;
   };
-  accepts([](kern::StereoParams& p) { p.window_w = 9; p.window_h = 7; }, "census 62 bits");
-  accepts([](kern::StereoParams& p) { p.window_w = 5; p.window_h = 13; }, "census 64 bits");
+  accepts(
+      [](kern::StereoParams& p) {
+        p.window_w = 9;
+        p.window_h = 7;
+      },
+      "census 62 bits");
+  accepts(
+      [](kern::StereoParams& p) {
+        p.window_w = 5;
+        p.window_h = 13;
+      },
+      "census 64 bits");
   accepts([](kern::StereoParams& p) { p.disparities = 256; }, "D 256");
   accepts([](kern::StereoParams& p) { p.disparities = 1; }, "D 1");
   accepts([](kern::StereoParams& p) { p.median = 1; }, "median 1 = off");

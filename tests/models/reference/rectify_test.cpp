@@ -92,20 +92,17 @@ TEST(Rectify, IdentityMapReproducesTheImage) {
   const int w = 13, h = 7;
   const Image8 in = test::random_image(w, h, rng);
 
-  const RectifyResult nearest =
-      rectify(in, identity_map(w, h, 0), rectify_params(w, h, kern::kRectifyNearest, 0, 1));
+  const RectifyResult nearest = rectify(in, identity_map(w, h, 0), rectify_params(w, h, kern::kRectifyNearest, 0, 1));
   EXPECT_EQ(nearest.image.px, in.px);
   EXPECT_EQ(nearest.window_misses, 0);
 
-  const RectifyResult bilinear =
-      rectify(in, identity_map(w, h, 5), rectify_params(w, h, kern::kRectifyBilinear, 5, 2));
+  const RectifyResult bilinear = rectify(in, identity_map(w, h, 5), rectify_params(w, h, kern::kRectifyBilinear, 5, 2));
   EXPECT_EQ(bilinear.image.px, in.px);
   EXPECT_EQ(bilinear.window_misses, 0);
 
   // With R = 1 the zero-weight taps of row y+1 are still taps: counted as misses (t01 for
   // every x, t11 for x < W-1, on rows y < H-1), without changing the image.
-  const RectifyResult one_row =
-      rectify(in, identity_map(w, h, 5), rectify_params(w, h, kern::kRectifyBilinear, 5, 1));
+  const RectifyResult one_row = rectify(in, identity_map(w, h, 5), rectify_params(w, h, kern::kRectifyBilinear, 5, 1));
   EXPECT_EQ(one_row.image.px, in.px);
   EXPECT_EQ(one_row.window_misses, int64_t(h - 1) * (2 * w - 1));
 

@@ -16,13 +16,11 @@ using test::at;
 using test::make_params;
 using test::volume_from;
 
-constexpr unsigned kAllPathBits[8] = {kern::kPath0,   kern::kPath45,  kern::kPath90,
-                                      kern::kPath135, kern::kPath180, kern::kPath225,
-                                      kern::kPath270, kern::kPath315};
+constexpr unsigned kAllPathBits[8] = {kern::kPath0,   kern::kPath45,  kern::kPath90,  kern::kPath135,
+                                      kern::kPath180, kern::kPath225, kern::kPath270, kern::kPath315};
 
 // One row, W = 3, D = 4, P1 = 1, P2 = 3. SAD 1x1 so that cost_max = 255 allows these costs.
-const std::vector<std::vector<uint32_t>> kRowCosts = {
-    {9, 0, 9, 9}, {1, 8, 8, 2}, {0, 6, 6, 6}};
+const std::vector<std::vector<uint32_t>> kRowCosts = {{9, 0, 9, 9}, {1, 8, 8, 2}, {0, 6, 6, 6}};
 
 kern::StereoParams row_params(unsigned mask) {
   return make_params(3, 1, kern::kCostSad, 1, 4, mask, 1, 3);
@@ -31,8 +29,7 @@ kern::StereoParams row_params(unsigned mask) {
 void expect_pixel(const std::vector<uint32_t>& v, int x, int y, const kern::StereoParams& p,
                   const std::vector<uint32_t>& expected) {
   for (int d = 0; d < p.disparities; ++d)
-    EXPECT_EQ(at(v, x, y, d, p), expected[static_cast<std::size_t>(d)])
-        << "pixel (" << x << ", " << y << ") d=" << d;
+    EXPECT_EQ(at(v, x, y, d, p), expected[static_cast<std::size_t>(d)]) << "pixel (" << x << ", " << y << ") d=" << d;
 }
 
 TEST(PathCosts, LeftToRightByHand) {
@@ -68,8 +65,8 @@ TEST(PathCosts, RightToLeftByHand) {
 
 TEST(PathCosts, OneRowNonHorizontalPathsAreTheCost) {
   const std::vector<uint32_t> c = volume_from({kRowCosts});
-  for (const unsigned bit : {kern::kPath45, kern::kPath90, kern::kPath135, kern::kPath225,
-                             kern::kPath270, kern::kPath315}) {
+  for (const unsigned bit :
+       {kern::kPath45, kern::kPath90, kern::kPath135, kern::kPath225, kern::kPath270, kern::kPath315}) {
     EXPECT_EQ(path_costs(c, row_params(bit), bit), c) << "path bit " << bit;
   }
 }
@@ -77,8 +74,7 @@ TEST(PathCosts, OneRowNonHorizontalPathsAreTheCost) {
 TEST(PathCosts, TopToBottomOnOneColumnByHand) {
   // The same numbers as LeftToRightByHand, transposed into a column.
   const kern::StereoParams p = make_params(1, 3, kern::kCostSad, 1, 4, kern::kPath90, 1, 3);
-  const std::vector<uint32_t> c =
-      volume_from({{kRowCosts[0]}, {kRowCosts[1]}, {kRowCosts[2]}});
+  const std::vector<uint32_t> c = volume_from({{kRowCosts[0]}, {kRowCosts[1]}, {kRowCosts[2]}});
   const std::vector<uint32_t> l = path_costs(c, p, kern::kPath90);
   expect_pixel(l, 0, 0, p, {9, 0, 9, 9});
   expect_pixel(l, 0, 1, p, {2, 8, 9, 5});
@@ -97,7 +93,10 @@ TEST(PathCosts, DiagonalPredecessorsOnTwoByTwo) {
   const std::vector<uint32_t> a = {9, 0, 9, 9};
   const std::vector<uint32_t> b = {1, 8, 8, 2};
   const std::vector<uint32_t> z = {4, 4, 4, 4};
-  struct Case { unsigned bit; int qx, qy, px, py; };
+  struct Case {
+    unsigned bit;
+    int qx, qy, px, py;
+  };
   const Case cases[] = {{kern::kPath45, 0, 0, 1, 1},
                         {kern::kPath135, 1, 0, 0, 1},
                         {kern::kPath225, 1, 1, 0, 0},
@@ -120,8 +119,7 @@ TEST(PathCosts, DiagonalPredecessorsOnTwoByTwo) {
 }
 
 // Flips a volume: mirror_x maps x -> W-1-x, mirror_y maps y -> H-1-y.
-std::vector<uint32_t> flip(const std::vector<uint32_t>& v, const kern::StereoParams& p,
-                           bool mirror_x, bool mirror_y) {
+std::vector<uint32_t> flip(const std::vector<uint32_t>& v, const kern::StereoParams& p, bool mirror_x, bool mirror_y) {
   std::vector<uint32_t> out(v.size());
   for (int y = 0; y < p.height_px; ++y)
     for (int x = 0; x < p.width_px; ++x)
@@ -170,8 +168,7 @@ TEST(PathCosts, DirectionsAreMirrorImagesOfEachOther) {
   kern::StereoParams pt = p;
   pt.width_px = p.height_px;
   pt.height_px = p.width_px;
-  EXPECT_EQ(transpose(path(c, kern::kPath90), p),
-            path_costs(transpose(c, p), pt, kern::kPath0));
+  EXPECT_EQ(transpose(path(c, kern::kPath90), p), path_costs(transpose(c, p), pt, kern::kPath0));
 }
 
 TEST(Aggregate, IsTheSumOfTheActivePaths) {
@@ -183,8 +180,8 @@ TEST(Aggregate, IsTheSumOfTheActivePaths) {
   std::vector<uint32_t> c(static_cast<std::size_t>(6 * 4 * 5));
   for (uint32_t& v : c) v = dist(rng);
 
-  const unsigned masks[] = {kern::kPath0, kern::kPath0 | kern::kPath90, kern::kForwardPaths,
-                           kern::kAllPaths, kern::kPath45 | kern::kPath270};
+  const unsigned masks[] = {kern::kPath0, kern::kPath0 | kern::kPath90, kern::kForwardPaths, kern::kAllPaths,
+                            kern::kPath45 | kern::kPath270};
   for (const unsigned mask : masks) {
     p.path_mask = mask;
     std::vector<uint32_t> expected(c.size(), 0);
@@ -246,8 +243,7 @@ TEST(BitWidths, HoldForMaxCostImagesAndLargeP2) {
           EXPECT_LE(uint64_t(biggest), path_limit);
         }
         const std::vector<uint32_t> s = aggregate(c, p);
-        EXPECT_LE(uint64_t(*std::max_element(s.begin(), s.end())),
-                  (uint64_t(1) << kern::aggregate_bits(p)) - 1);
+        EXPECT_LE(uint64_t(*std::max_element(s.begin(), s.end())), (uint64_t(1) << kern::aggregate_bits(p)) - 1);
       }
     }
   }

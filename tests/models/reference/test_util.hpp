@@ -11,8 +11,8 @@
 namespace parallax::ref::test {
 
 // Parameters with every field set: no LR check, no median, PU 1.
-inline kern::StereoParams make_params(int width_px, int height_px, int cost, int window,
-                                      int disparities, unsigned path_mask, int p1, int p2) {
+inline kern::StereoParams make_params(int width_px, int height_px, int cost, int window, int disparities,
+                                      unsigned path_mask, int p1, int p2) {
   kern::StereoParams p{};
   p.width_px = width_px;
   p.height_px = height_px;

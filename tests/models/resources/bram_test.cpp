@@ -19,7 +19,7 @@ struct Shape {
   int64_t bits;
   bool tdp;
 };
-const Shape kShapes[] = {{16384, 1, true}, {8192, 2, true}, {4096, 4, true},
+const Shape kShapes[] = {{16384, 1, true}, {8192, 2, true},  {4096, 4, true},
                          {2048, 9, true},  {1024, 18, true}, {512, 36, false}};
 
 // Brute force: for each shape, tile the memory by laying down RAMB18s one at a time, a column
@@ -48,9 +48,9 @@ TEST(Bram, ModesAreTheSixRamb18AspectRatios) {
 }
 
 TEST(Bram, MatchesBruteForceOnEveryModeBoundary) {
-  const std::vector<int64_t> depths = {1,    2,    511,  512,  513,   1023,  1024,  1025,  2047,
-                                       2048, 2049, 4095, 4096, 4097,  8191,  8192,  8193,  16383,
-                                       16384, 16385, 20000, 65536, 640, 1920, 1280};
+  const std::vector<int64_t> depths = {1,     2,     511,   512,   513,  1023, 1024, 1025, 2047,
+                                       2048,  2049,  4095,  4096,  4097, 8191, 8192, 8193, 16383,
+                                       16384, 16385, 20000, 65536, 640,  1920, 1280};
   int checked = 0;
   for (const bool tdp : {false, true})
     for (const int64_t d : depths)

@@ -82,11 +82,9 @@ void expect_logic_error(const std::string& yaml, const std::string& needle) {
 }
 
 TEST(Devices, MalformedYamlNamesTheField) {
-  const std::string ok =
-      "- {name: A, family: zynq-7000, source: s, bram18k: 1, uram: 0, dsp: 1, ff: 2, lut: 1}\n";
+  const std::string ok = "- {name: A, family: zynq-7000, source: s, bram18k: 1, uram: 0, dsp: 1, ff: 2, lut: 1}\n";
   EXPECT_EQ(parse_devices(ok).size(), 1u);
-  expect_logic_error("- {name: A, family: zynq-7000, source: s, uram: 0, dsp: 1, ff: 2, lut: 1}\n",
-                     "'bram18k'");
+  expect_logic_error("- {name: A, family: zynq-7000, source: s, uram: 0, dsp: 1, ff: 2, lut: 1}\n", "'bram18k'");
   expect_logic_error("- {name: A, family: zynq-7000, source: s, bram18k: x, uram: 0, dsp: 1, ff: 2, lut: 1}\n",
                      "'bram18k'");
   expect_logic_error("- {name: A, family: zynq-7000, source: s, bram18k: 1, uram: -1, dsp: 1, ff: 2, lut: 1}\n",

@@ -30,7 +30,8 @@ const res::PublishedPoint& point(const std::string& name) {
 }
 
 TEST(ResourcesPublished, BramExactForTheVitisKernels) {
-  for (const char* name : {"vitis-sgbm-1080p", "vitis-medianblur-5x5", "vitis-medianblur-3x3", "vitis-remap-64-bilinear"}) {
+  for (const char* name :
+       {"vitis-sgbm-1080p", "vitis-medianblur-5x5", "vitis-medianblur-3x3", "vitis-remap-64-bilinear"}) {
     const auto& p = point(name);
     EXPECT_EQ(res::estimate(p.inventory).total.bram18k, p.published.bram18k) << name;
   }
@@ -136,12 +137,16 @@ std::string breakdown_json(const std::string& config_name) {
   const res::Estimate e = res::estimate(res::design_inventory(cfg, 640, 360));
   nlohmann::json j;
   j["config"] = config_name;
-  j["total"] = {{"bram18k", e.total.bram18k}, {"lut", e.total.lut}, {"ff", e.total.ff}, {"dsp", e.total.dsp},
-                {"lutram_luts", e.total.lutram_luts}, {"srl_luts", e.total.srl_luts}};
+  j["total"] = {
+      {"bram18k", e.total.bram18k},         {"lut", e.total.lut},          {"ff", e.total.ff}, {"dsp", e.total.dsp},
+      {"lutram_luts", e.total.lutram_luts}, {"srl_luts", e.total.srl_luts}};
   j["stages"] = nlohmann::json::array();
   for (const auto& s : e.stages)
-    j["stages"].push_back({{"stage", s.stage}, {"bram18k", s.usage.bram18k}, {"lut", s.usage.lut},
-                           {"ff", s.usage.ff}, {"dsp", s.usage.dsp}});
+    j["stages"].push_back({{"stage", s.stage},
+                           {"bram18k", s.usage.bram18k},
+                           {"lut", s.usage.lut},
+                           {"ff", s.usage.ff},
+                           {"dsp", s.usage.dsp}});
   return j.dump(2) + "\n";
 }
 
@@ -160,8 +165,12 @@ void expect_golden(const std::string& config_name) {
                            << "PARALLAX_UPDATE_GOLDEN=1 and review the diff";
 }
 
-TEST(ResourcesGolden, Ruf2018Census) { expect_golden("ruf2018-census"); }
-TEST(ResourcesGolden, Ruf2018Sad) { expect_golden("ruf2018-sad"); }
+TEST(ResourcesGolden, Ruf2018Census) {
+  expect_golden("ruf2018-census");
+}
+TEST(ResourcesGolden, Ruf2018Sad) {
+  expect_golden("ruf2018-sad");
+}
 
 }  // namespace
 }  // namespace parallax::test

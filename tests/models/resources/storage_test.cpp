@@ -56,7 +56,8 @@ struct StorageCheck {
   template <class M>
   void width_ok(const char* name, int bits, int per_element) {
     const int have = int(8 * sizeof(typename Extent<M>::elem)) * per_element;
-    if (bits < 1 || bits > have) fail(name, "width " + std::to_string(bits) + " bits, the member holds " + std::to_string(have));
+    if (bits < 1 || bits > have)
+      fail(name, "width " + std::to_string(bits) + " bits, the member holds " + std::to_string(have));
   }
   template <class M>
   void registers(const char* name, const M&, int count, int bits) {
@@ -79,9 +80,11 @@ struct StorageCheck {
     bytes += int64_t(sizeof(M));
     static_assert(std::rank<M>::value == 2, "window registers are [rows][cols]");
     if (rows != int(std::extent<M, 0>::value))
-      fail(name, "declares " + std::to_string(rows) + " rows, the member has " + std::to_string(std::extent<M, 0>::value));
+      fail(name,
+           "declares " + std::to_string(rows) + " rows, the member has " + std::to_string(std::extent<M, 0>::value));
     if (cols < 1 || cols > int(std::extent<M, 1>::value))
-      fail(name, "declares " + std::to_string(cols) + " columns, the member has " + std::to_string(std::extent<M, 1>::value));
+      fail(name,
+           "declares " + std::to_string(cols) + " columns, the member has " + std::to_string(std::extent<M, 1>::value));
     width_ok<M>(name, bits, 1);
     regs.emplace_back(name, bits, int64_t(cols) * rows, 1);
   }
@@ -103,7 +106,8 @@ struct StorageCheck {
 
 // Registers a kernel declares that are no member (stream tokens, raster counters, outputs).
 bool non_member(const std::string& name) {
-  for (const char* n : {"counters", "cost_token", "cost_in", "sum_token", "median_out", "map_entry", "taps", "rectify_out"})
+  for (const char* n :
+       {"counters", "cost_token", "cost_in", "sum_token", "median_out", "map_entry", "taps", "rectify_out"})
     if (name == n) return true;
   return false;
 }
@@ -128,7 +132,8 @@ std::vector<std::string> compare(const res::Inventory& inv, const std::string& s
   if (regs != want_regs) out.push_back(stage + ": declared registers differ from the members' description");
   if (mems != want_mems) out.push_back(stage + ": declared memories differ from the members' description");
   if (object_bytes - c.bytes > kControlBytes)
-    out.push_back(stage + ": " + std::to_string(object_bytes - c.bytes) + " bytes of the kernel object are not described");
+    out.push_back(stage + ": " + std::to_string(object_bytes - c.bytes) +
+                  " bytes of the kernel object are not described");
   return out;
 }
 
@@ -156,7 +161,9 @@ std::vector<Row> regs_of(const res::Inventory& inv, const std::string& stage) {
   return v;
 }
 
-config::PipelineConfig seed() { return config::load_config(kRoot + "/configs/ruf2018-census.yaml"); }
+config::PipelineConfig seed() {
+  return config::load_config(kRoot + "/configs/ruf2018-census.yaml");
+}
 
 // Instantiates the design's kernels with FIXED capacities (as parallax_config.hpp.in does),
 // checks every stage and returns the failures; also checks the model's inventory against them.
@@ -239,7 +246,9 @@ void check_design(const config::PipelineConfig& cfg) {
   }
 }
 
-TEST(ResourcesStorage, SeedDesignDeclaresItsMembers) { check_design<640, 60, 6, 5, 5>(seed()); }
+TEST(ResourcesStorage, SeedDesignDeclaresItsMembers) {
+  check_design<640, 60, 6, 5, 5>(seed());
+}
 
 TEST(ResourcesStorage, SadVariant) {
   auto cfg = seed();

@@ -63,9 +63,12 @@ void write_run_page(const RunOptions& o, const Invocation& inv, const config::Pi
   section.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities));
   add_avoidance_images(section, d.disparity_px, d.valid_mask, cfg.disparities, roi.x0, roi.y0);
   if (!section.metrics.count("density_pct")) section.metrics["density_pct"] = density_pct;
-  section.cycle = simulate_timing(cfg, l.cols, l.rows).cycle;
-  section.resources = res::estimate(res::design_inventory(cfg, l.cols, l.rows));
-  section.device = res::find_device("XCZU3EG");
+  DesignResult figures;  // timing and resources at the pair's ROI, on the default device
+  figures.config = cfg;
+  figures.width_px = l.cols;
+  figures.height_px = l.rows;
+  complete_point(figures, PointRequest{});
+  add_figures(section, figures);
   write_text_file(o.html, standalone_page("Parallax: " + section.title, design_section_html(section)));
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "parallax/design/result.hpp"
 #include "parallax/eval/disparity_io.hpp"
 #include "parallax/eval/input_error.hpp"
 #include "parallax/eval/simulate.hpp"
@@ -36,37 +37,25 @@ struct SimOptions {
   double cal_latency = 0, cal_fps = 0;
 };
 
-// Resources, utilisation and power of a design at its processed size (models/resources).
-struct ResourceReport {
-  res::Estimate estimate;
-  res::Utilisation util;
-  res::Power power;
-};
-
-ResourceReport resource_report(const config::PipelineConfig& cfg, int width_px, int height_px, const res::Device& dev,
-                               int clock_mhz, double frame_interval_ms) {
-  ResourceReport r;
-  r.estimate = res::estimate(res::design_inventory(cfg, width_px, height_px));
-  r.util = res::utilisation(r.estimate.total, dev);
-  r.power = res::power(r.estimate.total, clock_mhz, frame_interval_ms);
-  return r;
-}
+// Resources, utilisation and power of a design at its processed size: the resource part of the
+// one evaluation (explore/design).
+using ResourceReport = ResourceFigures;
 
 // Adds the resource report's fields to the JSON object `j`.
 void add_resources_json(json& j, const ResourceReport& r) {
   const res::Usage& u = r.estimate.total;
-  j["device"] = r.util.device->name;
+  j["device"] = r.utilisation.device->name;
   j["bram18k"] = u.bram18k;
   j["uram"] = u.uram;
   j["lut"] = u.lut;
   j["ff"] = u.ff;
   j["dsp"] = u.dsp;
-  j["fits_device"] = r.util.fits;
-  j["utilisation_pct"] = {{"bram18k", r.util.bram18k_pct},
-                          {"uram", r.util.uram_pct},
-                          {"lut", r.util.lut_pct},
-                          {"ff", r.util.ff_pct},
-                          {"dsp", r.util.dsp_pct}};
+  j["fits_device"] = r.utilisation.fits;
+  j["utilisation_pct"] = {{"bram18k", r.utilisation.bram18k_pct},
+                          {"uram", r.utilisation.uram_pct},
+                          {"lut", r.utilisation.lut_pct},
+                          {"ff", r.utilisation.ff_pct},
+                          {"dsp", r.utilisation.dsp_pct}};
   j["resource_stages"] = json::array();
   for (const auto& s : r.estimate.stages)
     j["resource_stages"].push_back({{"stage", s.stage},
@@ -83,7 +72,7 @@ void add_resources_json(json& j, const ResourceReport& r) {
 // The resource report as a table on stdout: per stage, total, the device, utilisation, fit, power.
 void print_resources(const ResourceReport& r) {
   const res::Usage& u = r.estimate.total;
-  const res::Device& d = *r.util.device;
+  const res::Device& d = *r.utilisation.device;
   std::printf("\nresources (estimate)  %-8s %8s %8s %8s %8s\n", "BRAM_18K", "LUT", "FF", "DSP", "URAM");
   for (const auto& s : r.estimate.stages)
     std::printf("  %-19s %8lld %8lld %8lld %8lld %8d\n", s.stage.c_str(), (long long)s.usage.bram18k,
@@ -92,9 +81,9 @@ void print_resources(const ResourceReport& r) {
               (long long)u.ff, (long long)u.dsp, (long long)u.uram);
   std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", d.name.c_str(), (long long)d.bram18k, (long long)d.lut,
               (long long)d.ff, (long long)d.dsp, (long long)d.uram);
-  std::printf("  %-19s %7.1f%% %7.1f%% %7.1f%% %7.1f%% %7.1f%%\n", "utilisation", r.util.bram18k_pct, r.util.lut_pct,
-              r.util.ff_pct, r.util.dsp_pct, r.util.uram_pct);
-  std::printf("fits %s: %s\n", d.name.c_str(), r.util.fits ? "yes" : "no");
+  std::printf("  %-19s %7.1f%% %7.1f%% %7.1f%% %7.1f%% %7.1f%%\n", "utilisation", r.utilisation.bram18k_pct,
+              r.utilisation.lut_pct, r.utilisation.ff_pct, r.utilisation.dsp_pct, r.utilisation.uram_pct);
+  std::printf("fits %s: %s\n", d.name.c_str(), r.utilisation.fits ? "yes" : "no");
   std::printf("power (estimate)     %.2f W static + %.2f W dynamic = %.2f W; %.1f mJ per frame\n", r.power.static_w,
               r.power.dynamic_w, r.power.total_w, r.power.energy_mj_per_frame);
 }
@@ -262,7 +251,7 @@ void write_sim_page(const SimOptions& o, const Invocation& inv, const config::Pi
                {"lut", double(rr.estimate.total.lut)},
                {"ff", double(rr.estimate.total.ff)},
                {"dsp", double(rr.estimate.total.dsp)},
-               {"fits_device", rr.util.fits ? 1.0 : 0.0},
+               {"fits_device", rr.utilisation.fits ? 1.0 : 0.0},
                {"power_w", rr.power.total_w},
                {"energy_mj_per_frame", rr.power.energy_mj_per_frame}};
   s.cycle = result.cycle;
@@ -297,7 +286,7 @@ int finish_sim(const SimOptions& o, const Invocation& inv, config::PipelineConfi
     write_kitti_disparity(o.out, d.disparity_px, d.valid_mask);
   }
   print_notes(notes);
-  const ResourceReport rr = resource_report(cfg, l.cols, l.rows, *device, clock, result.frame_interval_ms);
+  const ResourceReport rr = resource_figures(cfg, l.cols, l.rows, device, clock, result.frame_interval_ms);
   if (!o.html.empty()) write_sim_page(o, inv, cfg, clock, l, result, rr, device);
   if (o.json)
     std::cout << sim_json(cfg, clock, l, result, rr).dump(2) << "\n";

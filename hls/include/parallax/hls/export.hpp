@@ -28,23 +28,23 @@ class ExportError : public UserError {
 
 // One FIFO between two stages of the top, with the depth chosen from the simulator's sizing.
 struct ExportFifo {
-  std::string name;            // cycle-model name (export_fifo_names)
-  int64_t depth = 2;           // STREAM depth in the exported top
-  int64_t stall_free = -1;     // the simulator's stall-free depth (-1: not sized)
-  std::string why;             // how the depth was chosen, one line
+  std::string name;         // cycle-model name (export_fifo_names)
+  int64_t depth = 2;        // STREAM depth in the exported top
+  int64_t stall_free = -1;  // the simulator's stall-free depth (-1: not sized)
+  std::string why;          // how the depth was chosen, one line
 };
 
 // What the cycle model and the resource model predict for the exported design.
 struct ExportPrediction {
-  std::string device;                 // resource model's device (e.g. XCZU3EG)
+  std::string device;  // resource model's device (e.g. XCZU3EG)
   double clock_mhz = 0;
-  int64_t first_pixel_cycle = 0;      // first output pixel after the first input pixel
-  int64_t last_pixel_cycle = 0;       // last output pixel after the first input pixel
+  int64_t first_pixel_cycle = 0;  // first output pixel after the first input pixel
+  int64_t last_pixel_cycle = 0;   // last output pixel after the first input pixel
   int64_t unbounded_last_pixel_cycle = -1;
   int64_t cycles_per_frame = 0;
   std::string bottleneck;
-  double fpga_latency_ms = 0;         // last pixel, at clock_mhz
-  double fps = 0;                     // one call per frame: clock / max(busiest stage, one call)
+  double fpga_latency_ms = 0;  // last pixel, at clock_mhz
+  double fps = 0;              // one call per frame: clock / max(busiest stage, one call)
   int64_t bram18k = 0, lut = 0, ff = 0, dsp = 0, uram = 0;
   double bram18k_pct = 0, lut_pct = 0, ff_pct = 0, dsp_pct = 0;
   bool fits = false;
@@ -56,19 +56,19 @@ struct ExportPrediction {
 };
 
 struct ExportRequest {
-  config::PipelineConfig config;      // valid (config::validate); every valid design exports
-  std::string origin;                 // where the design came from (a file, or a store and hash)
+  config::PipelineConfig config;  // valid (config::validate); every valid design exports
+  std::string origin;             // where the design came from (a file, or a store and hash)
   std::string part = "xczu3eg-sbva484-1-e";
-  double clock_mhz = 200;             // synthesis clock (run_hls.tcl, hls_config.cfg)
-  std::vector<ExportFifo> fifos;      // one per FIFO of the top, cycle-model names
+  double clock_mhz = 200;         // synthesis clock (run_hls.tcl, hls_config.cfg)
+  std::vector<ExportFifo> fifos;  // one per FIFO of the top, cycle-model names
   ExportPrediction prediction;
   // The testbench's stereo pair at the design's size (row-major grey) and the simulator's codes
   // for it (code D = invalid).
   int width_px = 0, height_px = 0;
   std::vector<uint8_t> left, right;
   std::vector<uint16_t> golden;
-  std::string pair_source;            // e.g. "data/kitti2015-640x360/.../000000_10.png"
-  std::string golden_source;          // e.g. "parallax cycle model (sim::run_cycle)"
+  std::string pair_source;    // e.g. "data/kitti2015-640x360/.../000000_10.png"
+  std::string golden_source;  // e.g. "parallax cycle model (sim::run_cycle)"
   // Rectifying designs: the remap tables of the pair's size in the kernels' fixed point (the
   // pair is then the raw, unrectified images).
   std::vector<kern::MapEntry> map_left, map_right;

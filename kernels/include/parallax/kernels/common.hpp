@@ -70,9 +70,15 @@ struct NoStream {
   void write(const T&) {}
 };
 
-inline int clamp_int(int v, int lo, int hi) { return v < lo ? lo : (v > hi ? hi : v); }
-inline int min_int(int a, int b) { return a < b ? a : b; }
-inline int max_int(int a, int b) { return a > b ? a : b; }
+inline int clamp_int(int v, int lo, int hi) {
+  return v < lo ? lo : (v > hi ? hi : v);
+}
+inline int min_int(int a, int b) {
+  return a < b ? a : b;
+}
+inline int max_int(int a, int b) {
+  return a > b ? a : b;
+}
 
 // Population count of the low BITS bits of v. Synthesis sees an explicit adder tree: level 1
 // adds the bits in pairs (2-bit sums), level 2 adds pairs of those (4-bit sums), and so on,
@@ -143,9 +149,12 @@ class ShiftReg<T, N, true> {
   // N (the whole register) or less when the last entries are never shifted into (n < N).
   template <class V>
   void storage(V& v, const char* name, int used, int width_bits) const {
-    if (used == N) v.registers(name, v_, used, width_bits);
-    else if (used > 0) v.registers_part(name, v_, used, width_bits);
-    else v.unused(name, v_);
+    if (used == N)
+      v.registers(name, v_, used, width_bits);
+    else if (used > 0)
+      v.registers_part(name, v_, used, width_bits);
+    else
+      v.unused(name, v_);
   }
 
  private:
@@ -170,8 +179,10 @@ class ShiftReg<T, N, false> {
   // Storage descriptor (resources.hpp): the hardware is the literal form's used registers.
   template <class V>
   void storage(V& v, const char* name, int used, int width_bits) const {
-    if (used > 0) v.registers_part(name, v_, used, width_bits);
-    else v.unused(name, v_);
+    if (used > 0)
+      v.registers_part(name, v_, used, width_bits);
+    else
+      v.unused(name, v_);
   }
 
  private:

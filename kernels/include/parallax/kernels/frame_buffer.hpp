@@ -50,7 +50,9 @@ constexpr int kMapCodeBytes = 2;         // the map's elements in memory: DispCo
 
 // --- widths ------------------------------------------------------------------------------------
 
-constexpr int frame_pair_bits_of(int lanes, int cost_bits, int sum_bits) { return lanes * (cost_bits + sum_bits); }
+constexpr int frame_pair_bits_of(int lanes, int cost_bits, int sum_bits) {
+  return lanes * (cost_bits + sum_bits);
+}
 // The DDR word: the next power of two >= the pair, in [32, 1024].
 constexpr int frame_word_bits_of(int pair_bits) {
   int w = kFrameWordMinBits;
@@ -61,7 +63,9 @@ constexpr int frame_word_bits_of(int pair_bits) {
 constexpr int frame_beats_of(int pair_bits) {
   return (pair_bits + frame_word_bits_of(pair_bits) - 1) / frame_word_bits_of(pair_bits);
 }
-constexpr int frame_limbs_of(int bits) { return (bits + 31) / 32; }
+constexpr int frame_limbs_of(int bits) {
+  return (bits + 31) / 32;
+}
 // The longest burst of elements of this size: 256 beats, 4 KB.
 constexpr int burst_elements_of(int element_bytes) {
   return kAxiMaxBurstBytes / element_bytes < kAxiMaxBurstBeats ? kAxiMaxBurstBytes / element_bytes : kAxiMaxBurstBeats;
@@ -74,24 +78,42 @@ constexpr int64_t segment_units_of(int64_t units, int64_t unit_elements, int64_t
   return s < 1 ? 1 : s;
 }
 
-inline int frame_chunks(const StereoParams& p) { return p.disparities / p.parallel_units; }
+inline int frame_chunks(const StereoParams& p) {
+  return p.disparities / p.parallel_units;
+}
 inline int frame_pair_bits(const StereoParams& p) {
   return frame_pair_bits_of(p.parallel_units, cost_bits(p), aggregate_bits(p));
 }
-inline int frame_word_bits(const StereoParams& p) { return frame_word_bits_of(frame_pair_bits(p)); }
-inline int frame_word_bytes(const StereoParams& p) { return frame_word_bits(p) / 8; }
-inline int frame_beats(const StereoParams& p) { return frame_beats_of(frame_pair_bits(p)); }
-inline int64_t frame_pixels(const StereoParams& p) { return int64_t(p.width_px) * p.height_px; }
+inline int frame_word_bits(const StereoParams& p) {
+  return frame_word_bits_of(frame_pair_bits(p));
+}
+inline int frame_word_bytes(const StereoParams& p) {
+  return frame_word_bits(p) / 8;
+}
+inline int frame_beats(const StereoParams& p) {
+  return frame_beats_of(frame_pair_bits(p));
+}
+inline int64_t frame_pixels(const StereoParams& p) {
+  return int64_t(p.width_px) * p.height_px;
+}
 // Words of one pixel: its chunks' pairs, each `beats` words.
-inline int frame_pixel_words(const StereoParams& p) { return frame_chunks(p) * frame_beats(p); }
+inline int frame_pixel_words(const StereoParams& p) {
+  return frame_chunks(p) * frame_beats(p);
+}
 // Words of one frame buffer (each is written once by pass 1 and read once by pass 2).
-inline int64_t frame_words(const StereoParams& p) { return frame_pixels(p) * frame_pixel_words(p); }
-inline int64_t frame_bytes(const StereoParams& p) { return frame_words(p) * frame_word_bytes(p); }
+inline int64_t frame_words(const StereoParams& p) {
+  return frame_pixels(p) * frame_pixel_words(p);
+}
+inline int64_t frame_bytes(const StereoParams& p) {
+  return frame_words(p) * frame_word_bytes(p);
+}
 // Pixels per reversal segment and the segment's words (one burst).
 inline int64_t frame_segment_pixels(const StereoParams& p) {
   return segment_units_of(frame_pixels(p), frame_pixel_words(p), burst_elements_of(frame_word_bytes(p)));
 }
-inline int64_t frame_segment_words(const StereoParams& p) { return frame_segment_pixels(p) * frame_pixel_words(p); }
+inline int64_t frame_segment_words(const StereoParams& p) {
+  return frame_segment_pixels(p) * frame_pixel_words(p);
+}
 // Codes per segment of the disparity map's reversal.
 inline int64_t map_segment_pixels(const StereoParams& p) {
   return segment_units_of(frame_pixels(p), 1, burst_elements_of(kMapCodeBytes));
@@ -197,7 +219,8 @@ frame_unpack_lanes:
 // Beat b of a pair as a word of word_limbs (<= kWordLimbs) limbs, limbs past the pair zero; and
 // back (the decoder collects a pair's beats before unpacking it).
 template <int kPairLimbs, int kWordLimbs>
-PX_INLINE void frame_beat_of(const uint32_t (&pair)[kPairLimbs], int beat, int word_limbs, uint32_t (&word)[kWordLimbs]) {
+PX_INLINE void frame_beat_of(const uint32_t (&pair)[kPairLimbs], int beat, int word_limbs,
+                             uint32_t (&word)[kWordLimbs]) {
 frame_beat_limbs:
   for (int i = 0; i < kWordLimbs; ++i) {
     PX_PRAGMA("HLS UNROLL")
@@ -206,7 +229,8 @@ frame_beat_limbs:
   }
 }
 template <int kPairLimbs, int kWordLimbs>
-PX_INLINE void frame_set_beat(uint32_t (&pair)[kPairLimbs], int beat, int word_limbs, const uint32_t (&word)[kWordLimbs]) {
+PX_INLINE void frame_set_beat(uint32_t (&pair)[kPairLimbs], int beat, int word_limbs,
+                              const uint32_t (&word)[kWordLimbs]) {
 frame_set_beat_limbs:
   for (int i = 0; i < kWordLimbs; ++i) {
     PX_PRAGMA("HLS UNROLL")

@@ -53,7 +53,9 @@ class LineBuffer {
     ++in_row_;
     if (++in_slot_ == rows_) in_slot_ = 0;
   }
-  int64_t written() const { return written_; }
+  int64_t written() const {
+    return written_;
+  }
 
   // Control-state access for a scheduler that advances periodic rows at once (sim/, never
   // synthesised): visit(v) calls v(field) on every counter of the control path, by reference;
@@ -64,7 +66,9 @@ class LineBuffer {
     v(in_row_);
     v(in_col_);
   }
-  void resync() { in_slot_ = slot(in_row_); }
+  void resync() {
+    in_slot_ = slot(in_row_);
+  }
 
   // Hardware: one memory per row slot (the window reads all rows in one cycle), W words deep
   // (storage descriptor, resources.hpp: the slots in use of mem_).
@@ -77,7 +81,9 @@ class LineBuffer {
     DeclareStorage<R> s(r);
     storage(s, name, value_bits);
   }
-  bool input_done() const { return in_row_ >= height_px_; }
+  bool input_done() const {
+    return in_row_ >= height_px_;
+  }
 
   // Pixel (x, y) with both coordinates clamped to the image; it must be resident.
   T at_clamped(int x, int y) const {
@@ -87,10 +93,16 @@ class LineBuffer {
   }
 
   // The resident row holding image row clamp(y); columns are not clamped.
-  const T* row_clamped(int y) const { return mem_[slot(clamp_int(y, 0, height_px_ - 1))]; }
+  const T* row_clamped(int y) const {
+    return mem_[slot(clamp_int(y, 0, height_px_ - 1))];
+  }
   // row % rows by a multiply: exact for row < 4096 and rows <= 10 (error < 4096 * 10 / 2^16).
-  int slot(int row) const { return row - int((uint32_t(row) * reciprocal_) >> 16) * rows_; }
-  int clamp_x(int x) const { return clamp_int(x, 0, width_px_ - 1); }
+  int slot(int row) const {
+    return row - int((uint32_t(row) * reciprocal_) >> 16) * rows_;
+  }
+  int clamp_x(int x) const {
+    return clamp_int(x, 0, width_px_ - 1);
+  }
 
   // True when every pixel of the clamped window of radius (rx, ry) around (x, y) is resident.
   bool window_ready(int x, int y, int rx, int ry) const {
@@ -118,7 +130,7 @@ class LineBuffer {
   int rows_ = 1;
   int64_t written_ = 0;
   int in_row_ = 0, in_col_ = 0, in_slot_ = 0;  // position of the next input pixel: row, column, slot
-  uint32_t reciprocal_ = 65536u;  // ceil(2^16 / rows)
+  uint32_t reciprocal_ = 65536u;               // ceil(2^16 / rows)
 };
 
 }  // namespace kern

@@ -55,9 +55,11 @@ class Median {
     if (pl.write) {
       if (k_ > 1) win_.step_to(lb_, x_, y_, k_, k_, r_);
       // Only the sizes the window registers hold are instantiated (kRows = k of the export).
-      out.write(k_ == 1 ? lb_.at_clamped(x_, y_)
-                        : k_ == 3 ? window_median<kRows < 3 ? 1 : 3>()
-                                  : k_ == 5 ? window_median<kRows < 5 ? 1 : 5>() : window_median<kRows < 7 ? 1 : 7>());
+      out.write(k_ == 1                     ? lb_.at_clamped(x_, y_)
+                : k_ == 3                   ? window_median < kRows < 3 ? 1 : 3 > ()
+                                  : k_ == 5 ? window_median < kRows < 5 ? 1 : 5 > ()
+                                  : window_median < kRows < 7 ? 1
+                                            : 7 > ());
       advance();
     }
     if (pl.read) lb_.push(in.read());
@@ -131,9 +133,12 @@ class Median {
   };
   RankNetwork rank_network() const {
     PairCount c;
-    if (k_ == 3) rank_pairs<fitted(3) * fitted(3)>(c);
-    else if (k_ == 5) rank_pairs<fitted(5) * fitted(5)>(c);
-    else if (k_ > 1) rank_pairs<fitted(7) * fitted(7)>(c);
+    if (k_ == 3)
+      rank_pairs<fitted(3) * fitted(3)>(c);
+    else if (k_ == 5)
+      rank_pairs<fitted(5) * fitted(5)>(c);
+    else if (k_ > 1)
+      rank_pairs<fitted(7) * fitted(7)>(c);
     RankNetwork n;
     n.keys = c.keys;
     n.pairs = c.pairs;

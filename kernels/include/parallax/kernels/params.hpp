@@ -29,7 +29,7 @@ constexpr unsigned kAllPaths = kForwardPaths | kBackwardPaths;
 constexpr int kMaxWidthPx = 4096;
 constexpr int kMaxHeightPx = 4096;
 constexpr int kMaxDisparities = 256;
-constexpr int kMaxWindow = 9;       // census/SAD window side; census also needs w*h-1 <= 64
+constexpr int kMaxWindow = 9;  // census/SAD window side; census also needs w*h-1 <= 64
 constexpr int kMaxCensusBits = 64;
 constexpr int kMaxMedian = 7;
 
@@ -48,8 +48,8 @@ struct StereoParams {
   int p1;              // register, 0 <= p1 < p2
   int p2;              // register
   bool lr_check;
-  int lr_tolerance;    // register
-  int median;          // 0 = off, 3, 5, 7
+  int lr_tolerance;  // register
+  int median;        // 0 = off, 3, 5, 7
 };
 
 // The register fields of StereoParams on their own: the values a hardware register holds, which
@@ -101,11 +101,12 @@ constexpr int popcount_u32(unsigned v) {
   return n;
 }
 
-inline int path_count(const StereoParams& p) { return popcount_u32(p.path_mask); }
+inline int path_count(const StereoParams& p) {
+  return popcount_u32(p.path_mask);
+}
 
 inline uint32_t cost_max(const StereoParams& p) {
-  return p.cost == kCostCensus ? uint32_t(p.window_w * p.window_h - 1)
-                               : uint32_t(255 * p.window_w * p.window_h);
+  return p.cost == kCostCensus ? uint32_t(p.window_w * p.window_h - 1) : uint32_t(255 * p.window_w * p.window_h);
 }
 
 // Largest value the P2 register can hold at the width needed for the configured P2.
@@ -113,16 +114,26 @@ inline uint32_t p2_register_max(const StereoParams& p) {
   return (uint32_t(1) << bits_for(uint64_t(p.p2 < 0 ? 0 : p.p2))) - 1u;
 }
 
-inline int cost_bits(const StereoParams& p) { return bits_for(cost_max(p)); }
-inline int penalty_bits(const StereoParams& p) { return bits_for(uint64_t(p.p2 < 0 ? 0 : p.p2)); }
+inline int cost_bits(const StereoParams& p) {
+  return bits_for(cost_max(p));
+}
+inline int penalty_bits(const StereoParams& p) {
+  return bits_for(uint64_t(p.p2 < 0 ? 0 : p.p2));
+}
 // Lr <= cost_max + P2 (docs/algorithm.md §3).
-inline int path_bits(const StereoParams& p) { return bits_for(uint64_t(cost_max(p)) + p2_register_max(p)); }
+inline int path_bits(const StereoParams& p) {
+  return bits_for(uint64_t(cost_max(p)) + p2_register_max(p));
+}
 inline int aggregate_bits(const StereoParams& p) {
   return bits_for(uint64_t(path_count(p)) * (uint64_t(cost_max(p)) + p2_register_max(p)));
 }
 // Disparity codes are [0, D]; the code D means invalid.
-inline int disparity_bits(const StereoParams& p) { return bits_for(uint64_t(p.disparities)); }
-inline int invalid_code(const StereoParams& p) { return p.disparities; }
+inline int disparity_bits(const StereoParams& p) {
+  return bits_for(uint64_t(p.disparities));
+}
+inline int invalid_code(const StereoParams& p) {
+  return p.disparities;
+}
 
 }  // namespace kern
 }  // namespace parallax

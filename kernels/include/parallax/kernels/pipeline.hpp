@@ -89,7 +89,9 @@ inline unsigned pipeline_conditions(const StereoParams& p, bool rectify) {
   return ((p.path_mask & kBackwardPaths) != 0 ? kWhenTwoPass : kWhenOnePass) |
          (rectify ? kWhenRectify : kWhenNoRectify);
 }
-inline bool pipeline_has(unsigned when, unsigned conditions) { return (when & ~conditions) == 0; }
+inline bool pipeline_has(unsigned when, unsigned conditions) {
+  return (when & ~conditions) == 0;
+}
 
 // Width in bits of one token of this kind for the design.
 inline int token_bits(TokenKind t, const StereoParams& p) {

@@ -53,7 +53,9 @@ class Rectify {
     const int r = p_.buffer_rows;
     base_slot_ = ((base_row_ % r) + r) % r;  // once per frame, outside the pipelined loop
   }
-  bool done() const { return done_; }
+  bool done() const {
+    return done_;
+  }
 
   // Resources of this configuration (resources.hpp): the R-row line buffer (bilinear reads two
   // adjacent columns of a row per cycle: true dual port), the window test of each tap, and for
@@ -75,7 +77,9 @@ class Rectify {
     }
     r.registers("rectify_out", 8, 1);
   }
-  int64_t window_misses() const { return window_misses_; }
+  int64_t window_misses() const {
+    return window_misses_;
+  }
 
   // Schedule of one firing (resources.hpp): per row memory either the write of the input pixel
   // or the reads of one tap row (two adjacent columns for bilinear, on a true dual-port RAM; one
@@ -180,8 +184,12 @@ class Rectify {
     t[2] = ok[2] ? a1 : 0;
     t[3] = ok[3] ? b1 : 0;
   }
-  static int clamp_col(int c, int w) { return c < 0 ? 0 : (c >= w ? w - 1 : c); }
-  static int clamp_slot(int s, int r) { return s < 0 || s >= r ? 0 : s; }
+  static int clamp_col(int c, int w) {
+    return c < 0 ? 0 : (c >= w ? w - 1 : c);
+  }
+  static int clamp_slot(int s, int r) {
+    return s < 0 || s >= r ? 0 : s;
+  }
 
   uint8_t nearest(const MapEntry& m) {
     const int ix = int(m.x), iy = int(m.y);
@@ -206,8 +214,7 @@ class Rectify {
     read_pair(clamp_slot(slot_of(iy), p_.buffer_rows), clamp_slot(slot_of(iy + 1), p_.buffer_rows),
               clamp_col(ix, p_.width_px), clamp_col(ix + 1, p_.width_px), ok, t);
     const int32_t t00 = t[0], t10 = t[1], t01 = t[2], t11 = t[3];
-    const int32_t acc = t00 * (one - fx) * (one - fy) + t10 * fx * (one - fy) +
-                        t01 * (one - fx) * fy + t11 * fx * fy;
+    const int32_t acc = t00 * (one - fx) * (one - fy) + t10 * fx * (one - fy) + t01 * (one - fx) * fy + t11 * fx * fy;
     const int32_t round = f > 0 ? (int32_t(1) << (2 * f - 1)) : 0;
     return uint8_t((acc + round) >> (2 * f));
   }

@@ -27,24 +27,24 @@ namespace parallax {
 namespace kern {
 
 enum OpKind {
-  kOpAdd = 0,    // adder / subtractor / incrementer (a carry chain)
-  kOpCompare,    // magnitude or equality comparator
-  kOpMux,        // 2:1 multiplexer per bit (select of a min, a clamp)
-  kOpPopcount,   // population count of width_bits inputs
-  kOpXor,        // bitwise XOR
-  kOpMul,        // multiplier; width_bits = the wider operand, see the name's suffix for both
+  kOpAdd = 0,   // adder / subtractor / incrementer (a carry chain)
+  kOpCompare,   // magnitude or equality comparator
+  kOpMux,       // 2:1 multiplexer per bit (select of a min, a clamp)
+  kOpPopcount,  // population count of width_bits inputs
+  kOpXor,       // bitwise XOR
+  kOpMul,       // multiplier; width_bits = the wider operand, see the name's suffix for both
   kOpKindCount,
   kOpMemRead = kOpKindCount,  // a memory read (schedule chains only)
   kOpRegister                 // a register write (schedule chains only)
 };
 
 inline const char* op_kind_name(OpKind k) {
-  return k == kOpAdd ? "add"
-         : k == kOpCompare ? "compare"
-         : k == kOpMux ? "mux"
+  return k == kOpAdd        ? "add"
+         : k == kOpCompare  ? "compare"
+         : k == kOpMux      ? "mux"
          : k == kOpPopcount ? "popcount"
-         : k == kOpXor ? "xor"
-                      : "mul";
+         : k == kOpXor      ? "xor"
+                            : "mul";
 }
 
 // Storage descriptors (issue 14, item 4). Every member array that becomes hardware is described

@@ -61,8 +61,8 @@ class SadMatcher {
   template <class LB>
   void prime(const LB& left, const LB& right, int x, int y) {
     const int rw = w_ / 2;
-    left_.step_to(left, x, y, w_ + 1, h_, rw);                 // columns x - 1 - rw .. x + rw
-    right_.step_to(right, x, y, disparities_ + w_, h_, rw);    // columns x + rw - (D + w - 1) .. x + rw
+    left_.step_to(left, x, y, w_ + 1, h_, rw);               // columns x - 1 - rw .. x + rw
+    right_.step_to(right, x, y, disparities_ + w_, h_, rw);  // columns x + rw - (D + w - 1) .. x + rw
   }
 
   // Costs of lanes d0 .. d0 + n - 1. Away from the borders the window sum slides:
@@ -121,8 +121,8 @@ class SadMatcher {
     for (int j = 0; j < Caps::trip(h_, Caps::window_rows); ++j) {
       PX_PRAGMA("HLS UNROLL")
       if (j < h_) {
-        const int lead = left_.at(w_, j);  // column x + rw
-        const int trail = left_.at(0, j);  // column x - 1 - rw
+        const int lead = left_.at(w_, j);                                           // column x + rw
+        const int trail = left_.at(0, j);                                           // column x - 1 - rw
         const uint8_t* PX_RESTRICT r_lead = right_.row(j) + (span - 1 - d0);        // column x + rw - d0
         const uint8_t* PX_RESTRICT r_trail = right_.row(j) + (span - 1 - w_ - d0);  // column x - 1 - rw - d0
       sad_slide_lanes:

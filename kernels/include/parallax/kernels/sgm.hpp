@@ -125,8 +125,12 @@ class SgmAggregate {
       }
     }
   }
-  bool done() const { return done_; }
-  int slots() const { return popcount_u32(kinds_); }
+  bool done() const {
+    return done_;
+  }
+  int slots() const {
+    return popcount_u32(kinds_);
+  }
 
   AggPlan plan() const {
     AggPlan pl;
@@ -222,7 +226,7 @@ class SgmAggregate {
       s.chain(kOpAdd, pb + 1, 1);      // min_d (C_d + t_d) - M
       s.chain(kOpCompare, pb + 1, 1);  // min with min_d C_d + P2
       s.chain(kOpMux, pb + 1, 1);
-      s.chain(kOpCompare, pb, 1);      // running minimum over the chunks
+      s.chain(kOpCompare, pb, 1);  // running minimum over the chunks
       s.chain(kOpMux, pb, 1);
       s.chain(kOpRegister, pb, 1);
     }
@@ -385,8 +389,10 @@ class SgmAggregate {
       }
     }
     if (last) {
-      if (k == kKindPixel) pix_min_ = Word(run_min);
-      else row_min_[m][x_] = Word(run_min);
+      if (k == kKindPixel)
+        pix_min_ = Word(run_min);
+      else
+        row_min_[m][x_] = Word(run_min);
     }
     // The next firing's predecessor lanes: its lane lo - 1 is this chunk's last (none before
     // lane 0), its lanes are the ones fetched, and past the last chunk there is no lane.
@@ -441,7 +447,7 @@ class SgmAggregate {
   Word mlag_ = 0;     // row-left path: the previous row's minimum of column x - 1
   Word row_[kRowMemories][kMaxW][kMaxD];  // row kinds: previous-row Lr per column
   Word row_min_[kRowMemories][kMaxW];     // row kinds: previous-row min_d Lr per column
-  Word pad_[kLanes];  // software only: all ones in the don't-care lanes past PU (lane_trip)
+  Word pad_[kLanes];                      // software only: all ones in the don't-care lanes past PU (lane_trip)
 
  public:
   // Storage descriptor (resources.hpp) of the members above, per active path kind, with the
@@ -473,10 +479,14 @@ class SgmAggregate {
         v.registers("pixel_path_min", pix_min_, 1, pb);
       } else {
         const int m = k - 1;
-        v.memory(k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right", row_[m],
-                 int64_t(p_.width_px) * words_per_memory, q * pb, memories, false, q);
-        v.memory(k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right", row_min_[m],
-                 p_.width_px, pb, 1, false, 1);
+        v.memory(k == kKindRowLeft ? "row_path_left"
+                 : k == kKindRowUp ? "row_path_up"
+                                   : "row_path_right",
+                 row_[m], int64_t(p_.width_px) * words_per_memory, q * pb, memories, false, q);
+        v.memory(k == kKindRowLeft ? "row_min_left"
+                 : k == kKindRowUp ? "row_min_up"
+                                   : "row_min_right",
+                 row_min_[m], p_.width_px, pb, 1, false, 1);
         if (k == kKindRowLeft) {
           v.registers("row_left_delay", lag_, d_, pb);
           v.registers("row_left_delay_min", mlag_, 1, pb);

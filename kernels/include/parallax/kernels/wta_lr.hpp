@@ -262,8 +262,10 @@ class WtaLr {
   }
 
   void finish(const WtaPlan& pl) {
-    if (pl.read) advance_input();
-    else if (next_emit_ >= p_.width_px) next_row();
+    if (pl.read)
+      advance_input();
+    else if (next_emit_ >= p_.width_px)
+      next_row();
   }
 
   void advance_input() {

@@ -30,9 +30,9 @@ std::string report_json(const std::vector<ResultStore::Row>& rows);
 struct DesignSection {
   std::string title;
   std::string config_yaml;
-  std::string config_file;  // name the page offers to save the configuration as
-  std::string command;  // how to reproduce it
-  cv::Mat left_grey, disparity_colour, gt_colour, error_map;  // 8-bit grey / BGR
+  std::string config_file;                                     // name the page offers to save the configuration as
+  std::string command;                                         // how to reproduce it
+  cv::Mat left_grey, disparity_colour, gt_colour, error_map;   // 8-bit grey / BGR
   cv::Mat u_map_image, v_map_image;                            // the avoidance stage, detections drawn
   std::string flight_svg;                                      // top-down flight (empty: none)
   std::vector<std::pair<cv::Mat, std::string>> flight_frames;  // pictures of the flight
@@ -59,8 +59,8 @@ void add_avoidance_images(DesignSection& s, const cv::Mat& disparity_px, const c
 void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::string& scenario_path, double speed_mps,
                 int size_px);
 
-// The figures of an evaluated design in its section: the cycle report, the resource estimate and
-// its device, and every metric column the section does not hold yet (stored figures win).
+// The models' figures of an evaluated design in its section: the cycle report, the per-stage
+// resource estimate and its device (the metrics table is the caller's: stored or measured).
 void add_figures(DesignSection& s, const DesignResult& r);
 
 std::string design_section_html(const DesignSection& s);

@@ -89,10 +89,10 @@ struct StageReport {
   int ii_cycles = 0;
   int latency_cycles = 0;
   int64_t fires = 0;
-  int64_t busy_cycles = 0;          // fires x II
-  int64_t input_stall_cycles = 0;   // waiting for an input token to become visible
-  int64_t output_stall_cycles = 0;  // waiting for space in an output FIFO
-  int64_t port_conflict_cycles = 0; // extra cycles forced by memory ports (see docs/simulator.md)
+  int64_t busy_cycles = 0;           // fires x II
+  int64_t input_stall_cycles = 0;    // waiting for an input token to become visible
+  int64_t output_stall_cycles = 0;   // waiting for space in an output FIFO
+  int64_t port_conflict_cycles = 0;  // extra cycles forced by memory ports (see docs/simulator.md)
   int64_t first_fire_cycle = -1;
   int64_t last_fire_cycle = -1;
 };
@@ -100,9 +100,9 @@ struct StageReport {
 struct FifoReport {
   std::string name;
   std::string producer, consumer;
-  int64_t depth = 0;            // 0 = unbounded
-  int64_t tokens = 0;           // written during the frame
-  int64_t high_water = 0;       // most tokens held at once (over time)
+  int64_t depth = 0;       // 0 = unbounded
+  int64_t tokens = 0;      // written during the frame
+  int64_t high_water = 0;  // most tokens held at once (over time)
 };
 
 struct CycleReport {

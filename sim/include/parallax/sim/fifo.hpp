@@ -23,8 +23,7 @@ namespace parallax::sim {
 class FifoBase {
  public:
   // depth 0 = unbounded (grows on demand), used to size FIFOs.
-  FifoBase(std::string name, std::size_t depth, bool timed)
-      : name_(std::move(name)), depth_(depth), timed_(timed) {}
+  FifoBase(std::string name, std::size_t depth, bool timed) : name_(std::move(name)), depth_(depth), timed_(timed) {}
   FifoBase(const FifoBase&) = delete;
   FifoBase& operator=(const FifoBase&) = delete;
 

@@ -55,7 +55,8 @@ struct StageSchedule {
   int res_mii = 1;
   int rec_mii = 1;
   int ii = 1;
-  std::string limit;  // what sets II: "memory NAME: R reads + W writes on P ports" or "recurrence NAME: X ns over D firings"
+  std::string
+      limit;  // what sets II: "memory NAME: R reads + W writes on P ports" or "recurrence NAME: X ns over D firings"
 };
 
 // II of one stage from its declarations at clock_hz.

@@ -44,8 +44,8 @@ struct FlightFigures {
   int seeds = 0;
   int reached_goal = 0;
   int collisions = 0;
-  double min_clearance_m = 0.0;       // over all flights
-  double mean_time_to_goal_s = 0.0;   // over the flights that reached the goal; 0 when none did
+  double min_clearance_m = 0.0;      // over all flights
+  double mean_time_to_goal_s = 0.0;  // over the flights that reached the goal; 0 when none did
   double success_rate_pct() const { return seeds > 0 ? 100.0 * reached_goal / seeds : 0.0; }
 };
 
@@ -66,12 +66,12 @@ struct DesignResult {
 struct PointRequest {
   const Dataset* dataset = nullptr;  // accuracy over its frames when set
   GtKind gt_kind = GtKind::noc;
-  std::string frames;                // frame filter ("" = all with ground truth)
-  bool avoidance = false;            // also score the avoidance stage (needs dataset)
+  std::string frames;      // frame filter ("" = all with ground truth)
+  bool avoidance = false;  // also score the avoidance stage (needs dataset)
   bool timing = true;
   bool resources = true;
-  std::string device = "XCZU3EG";    // resources: utilisation and fit on this device ("" = none)
-  std::string flight_scenario;       // "" = no flights
+  std::string device = "XCZU3EG";  // resources: utilisation and fit on this device ("" = none)
+  std::string flight_scenario;     // "" = no flights
   int flight_seeds = 3;
   double flight_speed_mps = 5.0;
   int flight_size_px = 160;
@@ -87,9 +87,10 @@ DesignResult evaluate_point(const config::PipelineConfig& cfg, const PointReques
 
 // Resources, utilisation and power at a size, clock and frame interval: the resource part of
 // evaluate_point, for the commands that time a design their own way (sim, export).
-// device may be null (no utilisation; fits false).
+// device may be null (no utilisation; fits false). The power is at clock_mhz (a command may
+// time the design at another clock than its configured one).
 ResourceFigures resource_figures(const config::PipelineConfig& cfg, int width_px, int height_px,
-                                 const res::Device* device, double frame_interval_ms);
+                                 const res::Device* device, int clock_mhz, double frame_interval_ms);
 
 // The store's columns of a result: every figure under its metric key (accuracy as named_metrics
 // gives it plus "frames", avoidance scores, flight_*, latency_ms, frame_interval_ms, fps,

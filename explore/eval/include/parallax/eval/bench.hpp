@@ -15,17 +15,17 @@ struct BenchRow {
   std::string method;
   double median_ms = 0.0;
   double min_ms = 0.0;
-  double peak_rss_mib = 0.0;       // peak resident memory of a process that ran only this method
-  double peak_extra_rss_mib = 0.0; // the same minus an idle process's peak (images loaded)
-  double ratio_to_peer = 0.0;      // median_ms / the first OpenCV row's median_ms
-  double min_ratio_to_peer = 0.0;  // min_ms / the first OpenCV row's min_ms (less sensitive to load)
+  double peak_rss_mib = 0.0;        // peak resident memory of a process that ran only this method
+  double peak_extra_rss_mib = 0.0;  // the same minus an idle process's peak (images loaded)
+  double ratio_to_peer = 0.0;       // median_ms / the first OpenCV row's median_ms
+  double min_ratio_to_peer = 0.0;   // min_ms / the first OpenCV row's min_ms (less sensitive to load)
 };
 
 // Runs each method `iterations` times in its own forked process (so that peak memory is its
 // own), one thread each. Rows: the design's func run, the func run at the design's PU (the
 // cycle model's granularity), its cycle run (at the config's clock), OpenCV MODE_HH4, OpenCV
 // MODE_SGBM. Ratios are to MODE_HH4.
-std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Mat& left_grey,
-                                 const cv::Mat& right_grey, int iterations);
+std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
+                                 int iterations);
 
 }  // namespace parallax::explore

@@ -16,12 +16,12 @@ namespace parallax::explore {
 // The geometry of a rectified stereo pair, in the left image's pixels. Depth of a pixel with
 // disparity d: Z_m = focal_px * baseline_m / (d + doffs_px).
 struct StereoCalibration {
-  bool known = false;         // false: no calibration file was found (other fields 0)
-  double focal_px = 0.0;      // focal length (fx; rectified pairs have fx = fy)
-  double cx_px = 0.0;         // principal point of the left camera
+  bool known = false;     // false: no calibration file was found (other fields 0)
+  double focal_px = 0.0;  // focal length (fx; rectified pairs have fx = fy)
+  double cx_px = 0.0;     // principal point of the left camera
   double cy_px = 0.0;
-  double baseline_m = 0.0;    // distance between the two optical centres
-  double doffs_px = 0.0;      // right cx - left cx (Middlebury's doffs; KITTI: 0)
+  double baseline_m = 0.0;       // distance between the two optical centres
+  double doffs_px = 0.0;         // right cx - left cx (Middlebury's doffs; KITTI: 0)
   std::filesystem::path source;  // the file read
 };
 
@@ -30,11 +30,11 @@ struct MiddleburyCalib {
   StereoCalibration camera;  // from cam0, cam1 (or doffs) and baseline
   int ndisp = 0;             // bound on the scene's disparities: search 0 .. ndisp-1
   bool has_disparity_range = false;
-  double vmin_px = 0.0;      // tight bounds of the GT disparities (when has_disparity_range)
+  double vmin_px = 0.0;  // tight bounds of the GT disparities (when has_disparity_range)
   double vmax_px = 0.0;
-  int width_px = 0;          // image size the file describes; 0 when the line is absent
+  int width_px = 0;  // image size the file describes; 0 when the line is absent
   int height_px = 0;
-  int width_line = 0;        // line numbers of those fields, for error messages (0 = absent)
+  int width_line = 0;  // line numbers of those fields, for error messages (0 = absent)
   int height_line = 0;
 };
 

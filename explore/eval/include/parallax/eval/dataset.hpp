@@ -104,9 +104,9 @@ struct FrameRef {
   GtKind gt_kind = GtKind::noc;
   GtFormat gt_format = GtFormat::png;
   double gt_divisor = 256.0;
-  int gt_invalid_value = 0;    // GtFormat::png only
-  int expected_width_px = 0;   // from pairs.tsv or calib.txt when given there, else 0 (unchecked)
-  int expected_height_px = 0;  // idem
+  int gt_invalid_value = 0;          // GtFormat::png only
+  int expected_width_px = 0;         // from pairs.tsv or calib.txt when given there, else 0 (unchecked)
+  int expected_height_px = 0;        // idem
   std::string expected_size_source;  // "pairs.tsv" or "<calib.txt> line N", for errors
   // MiddEval3 mask0nocc.png (255 = non-occluded) applied to noc GT; empty = none.
   std::filesystem::path noc_mask_path;
@@ -153,8 +153,7 @@ Dataset open_dataset(const std::filesystem::path& dir);
 // Each frame appears once, in dataset order, whatever the filter order. Throws InputError
 // naming the filter item and the dataset on a frame that does not exist or a malformed item,
 // and naming the dataset when no frame has GT of the kind.
-std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind,
-                                  const std::string& frame_filter = "");
+std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind, const std::string& frame_filter = "");
 
 // One loaded frame, whole images (crop with crop_to_roi).
 struct Frame {

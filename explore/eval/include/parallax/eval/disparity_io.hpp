@@ -28,8 +28,7 @@ cv::Mat decode_image_file(const std::filesystem::path& file, const std::string& 
 // Writes a KITTI disparity PNG. Valid pixels must hold a finite d in [0, 65535/256] (after
 // rounding): anything else throws std::invalid_argument naming the file and the pixel. Throws
 // InputError naming the file if it cannot be written.
-void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& disparity_px,
-                           const cv::Mat& valid_mask);
+void write_kitti_disparity(const std::filesystem::path& file, const cv::Mat& disparity_px, const cv::Mat& valid_mask);
 
 // Reads a KITTI disparity PNG: d = value / 256, value 0 = invalid (mask 0, d 0); mask 255
 // elsewhere. Throws InputError (input_error.hpp) naming the file if it is missing, undecodable or
@@ -51,8 +50,7 @@ DisparityMap read_pfm_disparity(const std::filesystem::path& file);
 // A picture of a disparity map, CV_8UC3 BGR: HSV hue from 240 deg (blue, d = 0, far) to 0 deg
 // (red, d >= max_disparity_px, near), full saturation and value; invalid pixels black.
 // max_disparity_px must be > 0 (std::invalid_argument otherwise).
-cv::Mat colourize_disparity(const cv::Mat& disparity_px, const cv::Mat& valid_mask,
-                            double max_disparity_px);
+cv::Mat colourize_disparity(const cv::Mat& disparity_px, const cv::Mat& valid_mask, double max_disparity_px);
 
 // Writes any 8- or 16-bit image as PNG (compression level fixed, so runs are reproducible).
 // Throws InputError naming the file if it cannot be written.

@@ -58,14 +58,14 @@ DisparityMap run_baseline(Baseline b, const BaselineParams& bp, const cv::Mat& l
 
 struct EvalOptions {
   GtKind gt_kind = GtKind::noc;
-  std::string frames;                 // filter, "" = all frames with GT of gt_kind
-  bool roi_from_config = true;        // else roi below
-  RoiSize roi;                        // used when !roi_from_config
-  int threads = 1;                    // frames evaluated in parallel
+  std::string frames;           // filter, "" = all frames with GT of gt_kind
+  bool roi_from_config = true;  // else roi below
+  RoiSize roi;                  // used when !roi_from_config
+  int threads = 1;              // frames evaluated in parallel
   // false: the matcher sees the cropped pair (the paper's protocol); true: it sees the whole
   // image and its output is cropped to the ROI afterwards (more context at the ROI's borders).
   bool match_full_image = false;
-  std::filesystem::path save_dir;     // when set: KITTI PNG + colour picture per frame
+  std::filesystem::path save_dir;         // when set: KITTI PNG + colour picture per frame
   double colour_max_disparity_px = 64.0;  // disparity shown as the reddest colour
   std::function<void(int done, int total, const std::string& frame_id)> progress;
   // Applied to each full-size grey pair before the ROI crop (the design's rectification).

@@ -48,8 +48,8 @@ struct DerivedMetrics {
 // Counts one frame. All four maps have the same size (the ROI): disparity_px and gt_px CV_32FC1,
 // valid_mask and gt_mask CV_8UC1, non-zero = valid / GT present. Throws std::invalid_argument on
 // other types or sizes.
-FrameCounts count_frame(const cv::Mat& disparity_px, const cv::Mat& valid_mask,
-                        const cv::Mat& gt_px, const cv::Mat& gt_mask);
+FrameCounts count_frame(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const cv::Mat& gt_px,
+                        const cv::Mat& gt_mask);
 
 // The derived values of some counts.
 DerivedMetrics derive_metrics(const FrameCounts& counts);

@@ -24,18 +24,18 @@ struct SimulationResult {
   double fpga_last_pixel_ms = 0.0;   // last output pixel after the first input pixel
   double copy_in_ms = 0.0;           // host copies (store and forward), see config host_copy_gbps
   double copy_out_ms = 0.0;
-  double latency_ms = 0.0;           // copy in + FPGA (last pixel) + copy out + host_latency_ms
-  double frame_interval_ms = 0.0;    // max(FPGA cycles per frame, host copies, host_frame_ms)
+  double latency_ms = 0.0;         // copy in + FPGA (last pixel) + copy out + host_latency_ms
+  double frame_interval_ms = 0.0;  // max(FPGA cycles per frame, host copies, host_frame_ms)
   double fps = 0.0;
-  std::string interval_limit;        // what sets the frame interval
+  std::string interval_limit;  // what sets the frame interval
 };
 
 struct SimulateOptions {
   int clock_mhz = 200;
-  bool size_fifos = false;  // also run with unbounded FIFOs to find the smallest stall-free depths
-  bool coupled = false;     // fire the kernels' datapath inside the schedule (sim::CycleOptions::coupled)
-  bool fast_forward = true; // apply rows that repeat exactly at once (sim::CycleOptions::fast_forward)
-  std::string vcd_path;     // VCD of cycles [vcd_from, vcd_to) when not empty
+  bool size_fifos = false;   // also run with unbounded FIFOs to find the smallest stall-free depths
+  bool coupled = false;      // fire the kernels' datapath inside the schedule (sim::CycleOptions::coupled)
+  bool fast_forward = true;  // apply rows that repeat exactly at once (sim::CycleOptions::fast_forward)
+  std::string vcd_path;      // VCD of cycles [vcd_from, vcd_to) when not empty
   int64_t vcd_from = 0, vcd_to = 0;
 };
 

@@ -17,17 +17,18 @@
 namespace parallax::explore {
 
 struct Objective {
-  std::string key;  // a metric key: correct_3px_pct, density_pct, bram18k, lut, latency_ms, fps, energy_mj_per_frame, ...
+  std::string
+      key;  // a metric key: correct_3px_pct, density_pct, bram18k, lut, latency_ms, fps, energy_mj_per_frame, ...
   bool maximise = true;
 };
 
 struct SweepSpec {
   std::string name = "sweep";
-  std::string base;  // configuration file the axes modify
+  std::string base;                                                    // configuration file the axes modify
   std::vector<std::pair<std::string, std::vector<std::string>>> axes;  // field -> values, in order
-  std::string strategy = "grid";  // grid | random | lhs | nsga2
-  int samples = 20;               // random / lhs: designs; nsga2: population size
-  int generations = 10;           // nsga2: generations after the first population
+  std::string strategy = "grid";                                       // grid | random | lhs | nsga2
+  int samples = 20;                                                    // random / lhs: designs; nsga2: population size
+  int generations = 10;                                                // nsga2: generations after the first population
   uint32_t seed = 1;
   // Constraints (a design that breaks one is stored, but never on the Pareto front).
   std::string device = "XCZU3EG";  // fits_device is evaluated against it
@@ -36,7 +37,7 @@ struct SweepSpec {
   double max_latency_ms = 0.0;  // 0: none
   std::vector<Objective> objectives = {{"correct_3px_pct", true}, {"density_pct", true}};
   // Evaluation.
-  std::string frames;  // dataset frame filter ("" = all with ground truth)
+  std::string frames;      // dataset frame filter ("" = all with ground truth)
   bool avoidance = false;  // also score the avoidance stage (obstacle_precision, ..., docs/avoidance.md)
   // Also fly each design through a scenario (docs/flight.md): flight_success_rate,
   // flight_collisions, flight_min_clearance_m, flight_time_to_goal_s. Empty: no flights.
@@ -80,7 +81,7 @@ std::vector<DesignPoint> enumerate_designs(const SweepSpec& s);
 struct MaterialisedDesign {
   config::PipelineConfig config;
   std::vector<std::string> errors;  // empty when valid
-  std::string hash;                  // 16 hex digits
+  std::string hash;                 // 16 hex digits
   std::string yaml;
 };
 MaterialisedDesign materialise(const config::PipelineConfig& base, const DesignPoint& d);
@@ -90,7 +91,8 @@ MaterialisedDesign materialise(const config::PipelineConfig& base, const DesignP
 // flight) and the results contract (kResultsContract and the models' version). Canonical JSON:
 // equal text, equal measurement. Results are keyed by the design AND by this (result_key).
 constexpr const char* kResultsContract = "parallax-results/2";
-std::string measurement_of(const SweepSpec& s, const std::string& dataset_dir, const std::vector<std::string>& frame_ids);
+std::string measurement_of(const SweepSpec& s, const std::string& dataset_dir,
+                           const std::vector<std::string>& frame_ids);
 // "HASH@CONTEXT": the design hash, then a hash of the measurement.
 std::string result_key(const std::string& design_hash, const std::string& measurement);
 

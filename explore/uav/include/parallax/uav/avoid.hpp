@@ -29,15 +29,15 @@ struct Rig {
 Rig load_rig(const std::string& path, int roi_x0_px, int roi_y0_px);
 
 struct AvoidParams {
-  int horizon_rows_pct = 35;      // ROI: the top rows left out (cluttered horizon and sky)
-  int min_disparity_px = 6;       // farther than f*B/6 ~ 64 m is not an obstacle
-  int u_threshold = 18;           // U-map cell count that marks an obstacle column (px of height)
-  int v_threshold = 8;            // V-map cell count that votes for the ground line
-  double ground_tolerance_px = 6; // rows within this of the ground line are ground
+  int horizon_rows_pct = 35;       // ROI: the top rows left out (cluttered horizon and sky)
+  int min_disparity_px = 6;        // farther than f*B/6 ~ 64 m is not an obstacle
+  int u_threshold = 18;            // U-map cell count that marks an obstacle column (px of height)
+  int v_threshold = 8;             // V-map cell count that votes for the ground line
+  double ground_tolerance_px = 6;  // rows within this of the ground line are ground
   int dilate_px = 3;
   double gaussian_sigma_px = 1.0;
   int max_obstacles = 5;
-  int min_area_cells = 12;        // contours smaller than this in the U map are noise
+  int min_area_cells = 12;  // contours smaller than this in the U map are noise
   // Planner.
   double critical_distance_m = 12.0;
   double safety_margin_m = 1.0;
@@ -47,10 +47,10 @@ struct AvoidParams {
 };
 
 struct Obstacle {
-  cv::Rect u_box;         // in the U map: x = image column, y = disparity
-  cv::Rect v_box;         // in the V map: x = disparity, y = image row
-  cv::RotatedRect ellipse;  // fitted to the U-map contour
-  cv::Point2f centroid;   // U-map centroid (column, disparity)
+  cv::Rect u_box;            // in the U map: x = image column, y = disparity
+  cv::Rect v_box;            // in the V map: x = disparity, y = image row
+  cv::RotatedRect ellipse;   // fitted to the U-map contour
+  cv::Point2f centroid;      // U-map centroid (column, disparity)
   Eigen::Vector3d centre_m;  // camera frame: x right, y down, z forward
   double range_m = 0, lateral_m = 0, width_m = 0, height_m = 0;
   bool reaches_roi_top = false;  // its top is cut by the region of interest: its height is unknown
@@ -65,13 +65,13 @@ struct AvoidTimings {
 };
 
 struct AvoidResult {
-  cv::Mat u_map, v_map;          // CV_32S counts: D x W and H x D
-  cv::Mat u_binary;              // after threshold, dilation, smoothing
+  cv::Mat u_map, v_map;                        // CV_32S counts: D x W and H x D
+  cv::Mat u_binary;                            // after threshold, dilation, smoothing
   double ground_slope = 0, ground_offset = 0;  // V map: row = slope * d + offset
   bool ground_found = false;
   std::vector<Obstacle> obstacles;  // nearest first
   Manoeuvre manoeuvre = Manoeuvre::fly_on;
-  int target = -1;                   // obstacle the manoeuvre avoids
+  int target = -1;                        // obstacle the manoeuvre avoids
   Eigen::Vector3d velocity_mps{0, 0, 0};  // body frame: x forward, y right, z down (MAV_FRAME_BODY_NED)
   AvoidTimings timings;
 };

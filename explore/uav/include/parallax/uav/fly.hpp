@@ -14,15 +14,15 @@
 namespace parallax::explore {
 
 struct FlightParams {
-  double speed_mps = 5.0;          // cruise speed commanded
-  double max_accel_mps2 = 4.0;     // |a| limit
-  double response_s = 0.3;         // first-order velocity response time constant
+  double speed_mps = 5.0;       // cruise speed commanded
+  double max_accel_mps2 = 4.0;  // |a| limit
+  double response_s = 0.3;      // first-order velocity response time constant
   double vehicle_radius_m = 0.5;
   double time_limit_s = 40.0;
-  double dt_s = 0.005;             // integration step
-  double disparity_noise_px = 0.0; // sensor noise added to the pixels (grey levels, sigma)
-  int width_px = 320;              // rendered size; the design's ROI is set to it
-  double camera_fps = 30.0;        // the cameras' rate: frames come no faster than this nor the design
+  double dt_s = 0.005;              // integration step
+  double disparity_noise_px = 0.0;  // sensor noise added to the pixels (grey levels, sigma)
+  int width_px = 320;               // rendered size; the design's ROI is set to it
+  double camera_fps = 30.0;         // the cameras' rate: frames come no faster than this nor the design
 };
 
 struct FlightResult {
@@ -37,7 +37,8 @@ struct FlightResult {
 void design_timing(const config::PipelineConfig& cfg, int width_px, int height_px, double& frame_interval_ms,
                    double& latency_ms);
 
-FlightResult fly(const config::PipelineConfig& cfg, const Scene& scene, const FlightParams& fp, uint32_t noise_seed = 1);
+FlightResult fly(const config::PipelineConfig& cfg, const Scene& scene, const FlightParams& fp,
+                 uint32_t noise_seed = 1);
 
 // v_max = a (sqrt(tau^2 + 2 d / a) - tau): the speed from which a vehicle reacting after tau and
 // braking at a stops within the sensing range d (../shared/docs/published-numbers.md).

@@ -43,10 +43,10 @@ Scenario load_scenario(const std::string& path);
 Scene generate_scene(const Scenario& s, uint32_t seed);
 
 struct StereoFrame {
-  cv::Mat left, right;        // CV_8U
-  cv::Mat disparity_px;       // CV_32F, exact, left image
-  cv::Mat valid_mask;         // CV_8U: 255 where a surface was hit (the sky is invalid)
-  cv::Mat noc_mask;           // CV_8U: valid and visible from the right camera
+  cv::Mat left, right;   // CV_8U
+  cv::Mat disparity_px;  // CV_32F, exact, left image
+  cv::Mat valid_mask;    // CV_8U: 255 where a surface was hit (the sky is invalid)
+  cv::Mat noc_mask;      // CV_8U: valid and visible from the right camera
 };
 // The rig of the synthetic scenes: KITTI 2015's focal length at 640 px scaled to the width, its
 // baseline, the principal point at the image centre. (The camera flies 1.6 m above the ground.)

@@ -15,7 +15,7 @@ namespace parallax::explore {
 
 struct ExportOptions {
   std::string part = "xczu3eg-sbva484-1-e";
-  double clock_mhz = 0;             // 0: the configuration's clock_mhz
+  double clock_mhz = 0;  // 0: the configuration's clock_mhz
   // A stall-free depth above this is a backlog behind a faster producer: the configured depth
   // is kept instead (its cost in cycles is in the README).
   int64_t max_fifo_depth = 1024;

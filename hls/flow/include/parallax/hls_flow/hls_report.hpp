@@ -41,10 +41,10 @@ namespace parallax::explore {
 
 // One figure predicted by Parallax's models next to what synthesis reported.
 struct ModelVsSynthesis {
-  std::string figure;   // e.g. "latency (cycles)", "II aggregate_loop", "BRAM_18K"
-  double model = -1;    // -1: the model has no figure for it
+  std::string figure;  // e.g. "latency (cycles)", "II aggregate_loop", "BRAM_18K"
+  double model = -1;   // -1: the model has no figure for it
   double synthesis = -1;
-  std::string note;     // e.g. which model stage a loop was matched to
+  std::string note;  // e.g. which model stage a loop was matched to
 };
 
 // The models' figures for the configuration (cycle model at the report's clock, resource model)

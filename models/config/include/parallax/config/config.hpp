@@ -30,11 +30,11 @@ struct Structure {
   int parallel_units = 1;
   unsigned path_mask = kern::kForwardPaths;
   bool lr_check = true;
-  int median = 5;              // 0 = off, 3, 5, 7
-  int clock_mhz = 200;         // processing clock (used by the timing model)
+  int median = 5;                // 0 = off, 3, 5, 7
+  int clock_mhz = 200;           // processing clock (used by the timing model)
   std::string rectify = "none";  // none | nearest | bilinear
-  int rectify_rows = 16;       // line-buffer rows of the rectification stage
-  int rectify_frac_bits = 5;   // fixed-point fraction bits of bilinear maps
+  int rectify_rows = 16;         // line-buffer rows of the rectification stage
+  int rectify_frac_bits = 5;     // fixed-point fraction bits of bilinear maps
   // Remap tables (OpenCV FileStorage with float nodes map_x, map_y: source position of every
   // rectified pixel, as cv::initUndistortRectifyMap writes them). Relative paths in a file are
   // resolved against the file's folder.
@@ -43,21 +43,21 @@ struct Structure {
 
   // --- the system around the pipeline (cycle model, docs/simulator.md) ---
   std::string input = "memory";  // memory: pairs stream from DDR; camera: pixel clock + blanking
-  double input_gbps = 4.0;        // memory input bandwidth, GB/s (left + right bytes)
+  double input_gbps = 4.0;       // memory input bandwidth, GB/s (left + right bytes)
   double camera_pixel_mhz = 25.0;
   int camera_h_blank_px = 0;
   int camera_v_blank_rows = 0;
-  double ddr_gbps = 4.0;          // frame buffer of the 8-path variant
+  double ddr_gbps = 4.0;  // frame buffer of the 8-path variant
   int ddr_latency_ns = 150;
-  int fifo_depth = 2;             // default depth of every FIFO
+  int fifo_depth = 2;  // default depth of every FIFO
   // Path-cost row memories of the aggregation: disparities per memory word, and memories per
   // path (0 = one per word: complete partitioning). Timing counts their port conflicts.
   int row_packing = 1;
   int row_banks = 0;
-  std::map<std::string, int> fifo_depths;        // fifo_depth_<name>: per FIFO
-  std::map<std::string, int> stage_ii;           // ii_<stage>: II override (calibration)
-  std::map<std::string, int> stage_latency;      // latency_<stage>: latency override
-  std::map<std::string, int> stage_setup;        // setup_<stage>: cycles of per-frame set-up before its first firing
+  std::map<std::string, int> fifo_depths;    // fifo_depth_<name>: per FIFO
+  std::map<std::string, int> stage_ii;       // ii_<stage>: II override (calibration)
+  std::map<std::string, int> stage_latency;  // latency_<stage>: latency override
+  std::map<std::string, int> stage_setup;    // setup_<stage>: cycles of per-frame set-up before its first firing
   // Clock-independent share, modelled explicitly: the processor copies each input pair into and
   // each disparity map out of the PL's buffers at host_copy_gbps (0 = frames stream, no copies),
   // plus a fixed host_latency_ms; host_frame_ms bounds the frame interval from below (the
@@ -107,8 +107,7 @@ class ConfigError : public UserError {
 // what is not a regular file (a folder, /dev/zero, a FIFO) and anything over max_bytes, so that no
 // input can make a command read forever. Throws ConfigError naming the file and `what` it is.
 constexpr std::size_t kMaxTextFileBytes = std::size_t(4) << 20;  // 4 MiB: configs are a few kB
-std::string read_text_file(const std::string& path, const std::string& what,
-                           std::size_t max_bytes = kMaxTextFileBytes);
+std::string read_text_file(const std::string& path, const std::string& what, std::size_t max_bytes = kMaxTextFileBytes);
 
 // Reads a YAML configuration (flat mapping of the field names above). Unknown fields, bad
 // values and violated constraints are all reported together. Throws ConfigError.

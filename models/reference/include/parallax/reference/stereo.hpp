@@ -30,8 +30,7 @@ struct Image8 {
   // Requires 0 <= x < width_px and 0 <= y < height_px (asserted).
   uint8_t at(int x, int y) const {
     assert(x >= 0 && x < width_px && y >= 0 && y < height_px);
-    return px[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) +
-              static_cast<std::size_t>(x)];
+    return px[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) + static_cast<std::size_t>(x)];
   }
 };
 
@@ -74,8 +73,8 @@ void validate_stereo_params(const kern::StereoParams& p);
 
 // Index of (x, y, d) in a cost / path-cost / aggregate volume of width_px x H x disparities.
 inline std::size_t volume_index(int x, int y, int d, int width_px, int disparities) {
-  return (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) +
-          static_cast<std::size_t>(x)) * static_cast<std::size_t>(disparities) +
+  return (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) + static_cast<std::size_t>(x)) *
+             static_cast<std::size_t>(disparities) +
          static_cast<std::size_t>(d);
 }
 
@@ -92,8 +91,7 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right, const
 // Path cost volume Lr for ONE path (docs §3); path_bit is a single kern::PathBit (it need not be
 // in p.path_mask). cost must have W*H*D entries, each <= cost_max(p). Every result satisfies
 // Lr <= cost_max(p) + p.p2 < 2^path_bits(p) (checked; a violation aborts).
-std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::StereoParams& p,
-                                 unsigned path_bit);
+std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::StereoParams& p, unsigned path_bit);
 
 // Aggregate S = sum of Lr over the paths in p.path_mask, same layout. Every result is
 // < 2^aggregate_bits(p) (checked; a violation aborts).
@@ -103,17 +101,14 @@ std::vector<uint32_t> aggregate(const std::vector<uint32_t>& cost, const kern::S
 // row-major; code d in [0, D) is a disparity, code D (kern::invalid_code) is invalid. Ties go to
 // the smallest d. dL > x is invalid; with p.lr_check, |dL - dR(x - dL)| > p.lr_tolerance is
 // invalid.
-std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate,
-                                       const kern::StereoParams& p);
+std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate, const kern::StereoParams& p);
 
 // k x k median of codes (docs §5) with the clamp border: the element of rank (k*k - 1) / 2
 // (0-based) of the sorted window. k in {0, 1} returns codes unchanged; k in {3, 5, 7}.
-std::vector<uint16_t> median_filter(const std::vector<uint16_t>& codes, int width_px, int height_px,
-                                    int k);
+std::vector<uint16_t> median_filter(const std::vector<uint16_t>& codes, int width_px, int height_px, int k);
 
 // Full pipeline: cost -> aggregate -> select (+ LR check) -> median. Codes, row-major.
 // Rectification is not included (call rectify() first).
-std::vector<uint16_t> compute_disparity(const Image8& left, const Image8& right,
-                                        const kern::StereoParams& p);
+std::vector<uint16_t> compute_disparity(const Image8& left, const Image8& right, const kern::StereoParams& p);
 
 }  // namespace parallax::ref

@@ -39,7 +39,7 @@ const std::vector<Ramb18Mode>& ramb18_modes();
 
 struct BramFit {
   int64_t bram18k = 0;
-  int mode_depth = 0;       // the mode that achieves bram18k
+  int mode_depth = 0;  // the mode that achieves bram18k
   int mode_width_bits = 0;
 };
 
@@ -63,10 +63,10 @@ struct MemoryMapping {
 enum class MemoryKind { array, fifo };
 
 // Thresholds of the default mapping (see the contract above).
-inline constexpr int64_t kRegisterMaxDepth = 1;      // depth at or below which: registers
-inline constexpr int64_t kDistributedMaxBits = 1024; // depth * width at or below: LUTRAM / SRL
-inline constexpr int64_t kLutramDepthPerLut = 64;    // RAM64X1D-style: 64 x 1 bits per LUT6
-inline constexpr int64_t kSrlDepthPerLut = 32;       // SRLC32E: 32 stages per LUT
+inline constexpr int64_t kRegisterMaxDepth = 1;       // depth at or below which: registers
+inline constexpr int64_t kDistributedMaxBits = 1024;  // depth * width at or below: LUTRAM / SRL
+inline constexpr int64_t kLutramDepthPerLut = 64;     // RAM64X1D-style: 64 x 1 bits per LUT6
+inline constexpr int64_t kSrlDepthPerLut = 32;        // SRLC32E: 32 stages per LUT
 
 // How Vitis HLS implements one memory by default (the rules above), per copy.
 MemoryMapping map_memory(MemoryKind kind, int64_t depth, int width_bits, bool needs_true_dual_port);

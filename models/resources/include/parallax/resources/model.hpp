@@ -72,10 +72,10 @@ struct Coefficients {
   int dsp_min_operand_bits = 10;                // multipliers with both operands wider go to DSP48E2
   int dsp_a_bits = 27, dsp_b_bits = 18;         // one DSP48E2 multiplies 27 x 18
   // Fitted:
-  double lut_scale = 1.0;      // x structural LUTs of the operators
-  double lut_per_stage = 0.0;  // control, handshakes, FSM per stage
-  double lut_per_memory = 0.0; // address and enable logic per memory (copy)
-  double ff_per_op_bit = 0.0;  // pipeline registers per operator result bit
+  double lut_scale = 1.0;       // x structural LUTs of the operators
+  double lut_per_stage = 0.0;   // control, handshakes, FSM per stage
+  double lut_per_memory = 0.0;  // address and enable logic per memory (copy)
+  double ff_per_op_bit = 0.0;   // pipeline registers per operator result bit
   double ff_per_stage = 0.0;
   // Power (estimate): static by device, dynamic per resource per MHz of toggling logic.
   double static_w = 0.0;
@@ -87,9 +87,9 @@ struct Coefficients {
   std::string power_source;
   std::string fitted_on;  // what the fitted values were fitted on (provenance)
 };
-const Coefficients& default_coefficients();               // the compiled-in data file
+const Coefficients& default_coefficients();  // the compiled-in data file
 Coefficients parse_coefficients(const std::string& yaml_text, const std::string& source_name);
-std::string coefficients_yaml(const Coefficients& c);     // round trip, used by fit-resources
+std::string coefficients_yaml(const Coefficients& c);  // round trip, used by fit-resources
 
 struct Usage {
   int64_t bram18k = 0, uram = 0, lut = 0, ff = 0, dsp = 0;
@@ -107,12 +107,12 @@ Estimate estimate(const Inventory& inv, const Coefficients& c = default_coeffici
 
 // The structural parts an estimate is linear in (for fitting): estimate = base + sum(k_i x f_i).
 struct Features {
-  double op_luts = 0;       // structural LUTs of the operators in LUTs (not DSP)
-  double memory_luts = 0;   // LUTRAM + SRL LUTs
+  double op_luts = 0;      // structural LUTs of the operators in LUTs (not DSP)
+  double memory_luts = 0;  // LUTRAM + SRL LUTs
   double stages = 0;
-  double memories = 0;      // memory copies
-  double register_bits = 0; // declared registers and SRL output registers
-  double op_bits = 0;       // result bits of the operators
+  double memories = 0;       // memory copies
+  double register_bits = 0;  // declared registers and SRL output registers
+  double op_bits = 0;        // result bits of the operators
   int64_t bram18k = 0, dsp = 0;
 };
 Features features(const Inventory& inv, const Coefficients& c = default_coefficients());
