@@ -46,7 +46,8 @@ void system_figures(const config::PipelineConfig& cfg, SimulationResult& res) {
   if (cfg.host_copy_gbps > 0) {
     const double pixels = double(res.cycle.codes.width_px) * res.cycle.codes.height_px;
     const kern::StereoParams p = cfg.stereo_params(res.cycle.codes.width_px, res.cycle.codes.height_px);
-    const double out_bytes = pixels * ((kern::disparity_bits(p) + 7) / 8);
+    const int out_bytes_per_px = (kern::disparity_bits(p) + 7) / 8;  // whole bytes per code
+    const double out_bytes = pixels * out_bytes_per_px;
     res.copy_in_ms = 2.0 * pixels / (cfg.host_copy_gbps * 1e9) * 1e3;
     res.copy_out_ms = out_bytes / (cfg.host_copy_gbps * 1e9) * 1e3;
   }
