@@ -25,6 +25,7 @@ constexpr long long kMaxImagePixels = 8192LL * 8192LL;  // 64 Mpx: KITTI is 0.5,
 const char* const kExitStatusFooter =
     "Exit status:\n"
     "  0   success\n"
+    "  1   out of memory\n"
     "  2   user error: a bad file, field, value or option (one \"parallax: error:\" line names it)\n"
     "  3   parallax sim: the cycle model found a deadlock (the message names the FIFO or stage)\n"
     "  70  internal error: a defect of Parallax (please report it)";
