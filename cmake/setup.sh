@@ -12,7 +12,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 PACKAGES=(build-essential cmake ninja-build pkg-config git
           libopencv-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
-          libceres-dev libeigen3-dev libsqlite3-dev libpugixml-dev chromium
+          libceres-dev libeigen3-dev libsqlite3-dev libpugixml-dev chromium libmuparser-dev
           clang-format clang-tidy universal-ctags)
 # Optional: the MPI mode of `parallax sweep` is built when OpenMPI is present; node and npm
 # fetch the independent MAVLink decoder the tests cross-check with.

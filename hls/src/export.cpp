@@ -588,6 +588,9 @@ void readme_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["BOTTLENECK"] = pr.bottleneck.empty() ? "-" : pr.bottleneck;
   v["FPS"] = fixed(pr.fps, 1);
   v["DEVICE"] = pr.device;
+  v["ESTIMATE"] = r.config.estimate;
+  v["ESTIMATE_MEANING"] = r.config.estimate == "routed" ? "after place and route, csynth x documented ratios"
+                                                        : "what Vitis HLS C synthesis reports";
   std::string rows;
   for (const auto& s : pr.stages)
     rows += "| " + s.name + " | " + std::to_string(s.bram18k) + " | " + std::to_string(s.lut) + " | " +

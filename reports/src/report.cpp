@@ -21,6 +21,7 @@
 #include "parallax/uav/scene.hpp"
 #include "parallax/eval/metrics.hpp"
 #include "parallax/eval/simulate.hpp"
+#include "html_text.hpp"
 
 namespace parallax::explore {
 
@@ -33,14 +34,6 @@ std::string csv_field(const std::string& s) {
   std::string o = "\"";
   for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
   return o + "\"";
-}
-
-std::string number(double v) {
-  if (std::isnan(v)) return "";
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
 }
 
 std::vector<std::pair<std::string, std::string>> config_fields(const std::string& yaml) {
@@ -78,23 +71,6 @@ std::vector<std::string> all_metric_columns(const std::vector<ResultStore::Row>&
       if (!known.count(kv.first)) extra.insert(kv.first);
   cols.insert(cols.end(), extra.begin(), extra.end());
   return cols;
-}
-
-std::string html_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<')
-      o += "&lt;";
-    else if (c == '>')
-      o += "&gt;";
-    else if (c == '&')
-      o += "&amp;";
-    else if (c == '"')
-      o += "&quot;";
-    else
-      o += c;
-  }
-  return o;
 }
 
 std::string base64(const std::vector<uchar>& in) {
@@ -587,8 +563,10 @@ std::string design_section_html(const DesignSection& s) {
         {"FF", {{u.ff_pct, kPalette[2]}}},
         {"DSP", {{u.dsp_pct, kPalette[4]}}}};
     o << "<div class=\"plots\">"
-      << svg_bars(id + "-res", "resources on " + s.device->name + (u.fits ? " (fits)" : " (does not fit)"), rows, {},
-                  100.0, "% of the device")
+      << svg_bars(id + "-res",
+                  std::string("resources (estimate: ") + res::flavour_name(s.resources.flavour) + ") on " +
+                      s.device->name + (u.fits ? " (fits)" : " (does not fit)"),
+                  rows, {}, 100.0, "% of the device")
       << "</div><table class=\"kv\"><tr><th "
          "class=\"s\">stage</th><th>BRAM_18K</th><th>LUT</th><th>FF</th><th>DSP</th></tr>";
     for (const auto& st : s.resources.stages)

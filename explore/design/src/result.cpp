@@ -62,7 +62,8 @@ FlightFigures measure_flights(const config::PipelineConfig& cfg, const PointRequ
 ResourceFigures resource_figures(const config::PipelineConfig& cfg, int width_px, int height_px,
                                  const res::Device* device, int clock_mhz, double frame_interval_ms) {
   ResourceFigures r;
-  r.estimate = res::estimate(res::design_inventory(cfg, width_px, height_px));
+  r.estimate = res::estimate(res::design_inventory(cfg, width_px, height_px), res::default_coefficients(),
+                             res::parse_flavour(cfg.estimate));
   if (device != nullptr) r.utilisation = res::utilisation(r.estimate.total, *device);
   r.power = res::power(r.estimate.total, clock_mhz, frame_interval_ms);
   return r;

@@ -189,8 +189,30 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
   return result;
 }
 
+RectifyMaps maps_of_size(const RectifyMaps& maps, const config::PipelineConfig& cfg, int width_px, int height_px) {
+  if (!maps.identity) return maps;
+  const int frac = cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0;
+  RectifyMaps m;
+  m.width_px = width_px;
+  m.height_px = height_px;
+  m.left.resize(std::size_t(width_px) * std::size_t(height_px));
+  for (int y = 0; y < height_px; ++y)
+    for (int x = 0; x < width_px; ++x)
+      m.left[std::size_t(y) * std::size_t(width_px) + std::size_t(x)] =
+          kern::MapEntry{int32_t(x) * (1 << frac), int32_t(y) * (1 << frac)};
+  m.right = m.left;
+  return m;
+}
+
 RectifyMaps load_rectify_maps(const config::PipelineConfig& cfg) {
   RectifyMaps maps;
+  if (cfg.rectify_maps_left.empty() && cfg.rectify_maps_right.empty()) {
+    maps.identity = true;
+    return maps;
+  }
+  if (cfg.rectify_maps_left.empty() || cfg.rectify_maps_right.empty())
+    throw InputError(std::string("rectify: ") + cfg.rectify + " needs both rectify_maps_left and rectify_maps_right " +
+                     "(or neither: identity tables for images that are already rectified)");
   const int frac = cfg.rectify == "bilinear" ? cfg.rectify_frac_bits : 0;
   auto load = [&](const std::string& file, std::vector<kern::MapEntry>& out) {
     if (!fs::exists(file)) throw InputError(file + ": remap table not found");
@@ -232,8 +254,9 @@ RectifyMaps load_rectify_maps(const config::PipelineConfig& cfg) {
   return maps;
 }
 
-void rectify_pair(const config::PipelineConfig& cfg, const RectifyMaps& maps, cv::Mat& left, cv::Mat& right,
+void rectify_pair(const config::PipelineConfig& cfg, const RectifyMaps& loaded, cv::Mat& left, cv::Mat& right,
                   int64_t* window_misses) {
+  const RectifyMaps maps = maps_of_size(loaded, cfg, left.cols, left.rows);
   if (left.cols != maps.width_px || left.rows != maps.height_px)
     throw InputError(cfg.rectify_maps_left + ": remap table is " + std::to_string(maps.width_px) + "x" +
                      std::to_string(maps.height_px) + " but the images are " + std::to_string(left.cols) + "x" +

@@ -80,7 +80,7 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
   const sim::GreyImage l = to_grey_image(left), r = to_grey_image(right);
   RectifyMaps maps;
   if (cfg.rectify != "none") {
-    maps = load_rectify_maps(cfg);
+    maps = maps_of_size(load_rectify_maps(cfg), cfg, left.cols, left.rows);
     if (maps.width_px != left.cols || maps.height_px != left.rows)
       throw InputError(cfg.rectify_maps_left +
                        ": the cycle model rectifies the frames it processes, so the remap "

@@ -113,7 +113,7 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
     sim::CycleOptions o = cycle_options(cfg, sim_clock);
     RectifyMaps maps;
     if (cfg.rectify != "none") {
-      maps = load_rectify_maps(cfg);
+      maps = maps_of_size(load_rectify_maps(cfg), cfg, left.cols, left.rows);
       const std::size_t n = std::size_t(lr.cols) * std::size_t(lr.rows);
       maps.left.resize(n);
       maps.right.resize(n);
@@ -133,7 +133,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
       "the Parallax cycle model (`parallax sim`), which is bit-identical to its func run and golden model";
   r.pair_source = pair_source;
   if (cfg_in.rectify != "none") {
-    const RectifyMaps maps = load_rectify_maps(cfg_in);  // the simulation above checked their size
+    // The simulation above checked their size.
+    const RectifyMaps maps = maps_of_size(load_rectify_maps(cfg_in), cfg_in, left.cols, left.rows);
     r.map_left = maps.left;
     r.map_right = maps.right;
   }

@@ -411,6 +411,8 @@ std::vector<FieldRow> make_table() {
               "disparities per word of the aggregation's row memories"),
       integer("row_banks", &P::row_banks, at_least(0).with_note("0 = one memory per word"),
               "memories per path of the aggregation's row memories"),
+      choice("estimate", &P::estimate, {"csynth", "routed"},
+             "resource figures as Vitis HLS C synthesis reports them, or after place and route"),
       pattern("fifo_depth_", fifo_names(), &P::fifo_depths, at_least(1), "depth of one FIFO"),
       pattern("ii_", stage_names(), &P::stage_ii, at_least(1), "initiation interval of one stage (calibration)"),
       pattern("latency_", stage_names(), &P::stage_latency, at_least(0), "pipeline latency of one stage, cycles"),
@@ -447,18 +449,6 @@ std::vector<CrossRule> make_rules() {
       {"bilinear_fraction", "rectify_frac_bits", "rectify_frac_bits", "rectify: bilinear needs rectify_frac_bits >= 1",
        [](const P& c) -> std::string {
          return c.rectify != "bilinear" || c.rectify_frac_bits >= 1 ? "" : "bilinear needs at least 1 fraction bit";
-       }},
-      {"left_maps", "rectify_maps_left", "rectify_maps_left", "rectify other than none needs rectify_maps_left",
-       [](const P& c) -> std::string {
-         return c.rectify == "none" || !c.rectify_maps_left.empty()
-                    ? ""
-                    : "rectify: " + c.rectify + " needs the left camera's remap table";
-       }},
-      {"right_maps", "rectify_maps_right", "rectify_maps_right", "rectify other than none needs rectify_maps_right",
-       [](const P& c) -> std::string {
-         return c.rectify == "none" || !c.rectify_maps_right.empty()
-                    ? ""
-                    : "rectify: " + c.rectify + " needs the right camera's remap table";
        }},
   };
 }

@@ -72,6 +72,46 @@ void Collector::mul(const char* name, int a_bits, int b_bits, int count) {
   inv_.ops.push_back(o);
 }
 
+void Collector::mul_const(const char* name, int a_bits, int b_bits, int64_t count) {
+  if (a_bits <= 0 || b_bits <= 0 || count <= 0) return;
+  OpItem o;
+  o.name = name;
+  o.kind = kern::kOpMul;
+  o.width_bits = std::max(a_bits, b_bits);
+  o.b_bits = std::min(a_bits, b_bits);
+  o.constant_operand = true;
+  o.count = count;
+  op_item(std::move(o));
+}
+
+void Collector::op_item(OpItem o) {
+  if (o.count <= 0 || o.width_bits <= 0) return;
+  o.stage = stage_;
+  inv_.ops.push_back(std::move(o));
+}
+
+void Collector::memory_item(MemoryItem m) {
+  if (m.copies <= 0 || m.depth <= 0 || m.width_bits <= 0) return;
+  m.stage = stage_;
+  if (m.lutram) {
+    m.per_copy = MemoryMapping{Storage::lutram};
+    m.per_copy.luts =
+        int64_t(m.width_bits) * ((m.depth + kLutramDepthPerLut - 1) / kLutramDepthPerLut) * (m.true_dual_port ? 2 : 1);
+  } else if (m.uram) {
+    // URAM288: 4K x 72 bits, one per ceil(width / 72) x ceil(depth / 4096).
+    m.per_copy = MemoryMapping{Storage::bram};
+    m.uram_per_copy = int64_t((m.width_bits + 71) / 72) * ((m.depth + 4095) / 4096);
+  } else {
+    m.per_copy = map_memory(m.kind, m.depth, m.width_bits, m.true_dual_port);
+  }
+  inv_.memories.push_back(std::move(m));
+}
+
+void Collector::interface(const char* name, const std::string& kind, int width_bits, int64_t count) {
+  if (width_bits <= 0 || count <= 0) return;
+  inv_.interfaces.push_back({stage_, name, kind, width_bits, count});
+}
+
 namespace {
 
 // Kernel instances for declarations only: one lane of capacity (declare() reads the configured
@@ -154,6 +194,24 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
     Collector c(inv, "sink");
     kern::declare_map_segment_buffer(c, p);
   }
+  // The top's port adapters, as the exported top declares them (hls/templates): AXI4-Stream pixels
+  // in, remap-table entries in (64-bit beats) when rectifying, disparity codes out (whole bytes; two
+  // passes: AXI4 masters to the frame buffer and the map), and the AXI4-Lite control registers (p1,
+  // p2, lr_tolerance and ap_ctrl, 32 bits each).
+  {
+    Collector c(inv, "interfaces");
+    c.interface("left_in", "axis", 8, 1);
+    c.interface("right_in", "axis", 8, 1);
+    if (cfg.rectify != "none") c.interface("map_in", "axis", 64, 2);
+    const int out_bits = ((db + 7) / 8) * 8;
+    if (two_pass) {
+      c.interface("frame_buffer", "m_axi", 64, 2);
+      c.interface("disparity", "m_axi", out_bits, 1);
+    } else {
+      c.interface("disparity_out", "axis", out_bits, 1);
+    }
+    c.interface("control", "s_axilite", 32, 4);
+  }
   // The FIFOs of the design's variant, from the pipeline table (kernels/pipeline.hpp), at their
   // tokens' widths.
   const unsigned conditions = kern::pipeline_conditions(p, cfg.rectify != "none");
@@ -162,31 +220,24 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
   return inv;
 }
 
-Inventory median_inventory(int width_px, int height_px, int k, int value_bits) {
-  kern::StereoParams p{};
-  p.width_px = width_px;
-  p.height_px = height_px;
-  p.median = k;
-  p.disparities = 1;
-  p.parallel_units = 1;
-  auto med = std::make_unique<kern::Median<DeclCaps>>();
-  med->configure(p);
-  Inventory inv;
-  Collector c(inv, "median");
-  med->declare(c, value_bits);
-  return inv;
-}
-
-Inventory rectify_inventory(int width_px, int height_px, int mode, int frac_bits, int buffer_rows) {
-  auto st = std::make_unique<kern::Rectify<kern::kMaxWidthPx, 256>>();
-  st->configure(kern::RectifyParams{width_px, height_px, mode, frac_bits, buffer_rows});
-  Inventory inv;
-  Collector c(inv, "rectify");
-  st->declare(c);
-  return inv;
-}
-
 // --- coefficients -------------------------------------------------------------------------
+
+const char* feature_name(int f) {
+  static const char* const names[kFeatureCount] = {"add",    "compare",   "mux",     "popcount", "xor",
+                                                   "mul",    "mul_const", "dsp_mul", "float",    "register",
+                                                   "memory", "interface", "stage"};
+  return f >= 0 && f < kFeatureCount ? names[f] : "unknown";
+}
+
+const char* flavour_name(Flavour f) {
+  return f == Flavour::routed ? "routed" : "csynth";
+}
+
+Flavour parse_flavour(const std::string& name) {
+  if (name == "csynth") return Flavour::csynth;
+  if (name == "routed") return Flavour::routed;
+  throw std::invalid_argument("estimate must be csynth or routed, got '" + name + "'");
+}
 
 namespace {
 
@@ -197,6 +248,18 @@ double need_double(const YAML::Node& n, const std::string& key, const std::strin
   } catch (const YAML::Exception&) {
     throw std::logic_error(where + ": field '" + key + "' is not a number");
   }
+}
+
+void need_features(const YAML::Node& n, const std::string& key, const std::string& where, double* out) {
+  const YAML::Node m = n[key];
+  if (!m || !m.IsMap()) throw std::logic_error(where + ": missing map '" + key + "'");
+  for (int f = 0; f < kFeatureCount; ++f) out[f] = need_double(m, feature_name(f), where + "." + key);
+}
+
+void write_features(std::ostringstream& o, const char* key, const double* v) {
+  o << "  " << key << ": {";
+  for (int f = 0; f < kFeatureCount; ++f) o << (f ? ", " : "") << feature_name(f) << ": " << v[f];
+  o << "}\n";
 }
 
 }  // namespace
@@ -211,21 +274,27 @@ Coefficients parse_coefficients(const std::string& text, const std::string& sour
   Coefficients c;
   const YAML::Node s = root["structural"];
   if (!s) throw std::logic_error(source + ": missing section 'structural'");
-  const YAML::Node lpb = s["lut_per_bit"];
-  if (!lpb) throw std::logic_error(source + ": missing field 'structural.lut_per_bit'");
-  for (int k = 0; k < kern::kOpKindCount; ++k)
-    c.lut_per_bit[k] = need_double(lpb, kern::op_kind_name(kern::OpKind(k)), source + ": structural.lut_per_bit");
-  c.dsp_min_operand_bits = int(need_double(s, "dsp_min_operand_bits", source + ": structural"));
   c.dsp_a_bits = int(need_double(s, "dsp_a_bits", source + ": structural"));
   c.dsp_b_bits = int(need_double(s, "dsp_b_bits", source + ": structural"));
+  need_features(s, "lut_prior", source + ": structural", c.lut_prior);
+  need_features(s, "ff_prior", source + ": structural", c.ff_prior);
   const YAML::Node f = root["fitted"];
   if (!f) throw std::logic_error(source + ": missing section 'fitted'");
-  c.lut_scale = need_double(f, "lut_scale", source + ": fitted");
-  c.lut_per_stage = need_double(f, "lut_per_stage", source + ": fitted");
-  c.lut_per_memory = need_double(f, "lut_per_memory", source + ": fitted");
-  c.ff_per_op_bit = need_double(f, "ff_per_op_bit", source + ": fitted");
-  c.ff_per_stage = need_double(f, "ff_per_stage", source + ": fitted");
   c.fitted_on = f["fitted_on"] ? f["fitted_on"].as<std::string>() : "";
+  c.dsp_min_bits_var = int(need_double(f, "dsp_min_bits_var", source + ": fitted"));
+  c.dsp_min_bits_const = int(need_double(f, "dsp_min_bits_const", source + ": fitted"));
+  c.dsp_per_fmul = int(need_double(f, "dsp_per_fmul", source + ": fitted"));
+  c.dsp_per_fadd = int(need_double(f, "dsp_per_fadd", source + ": fitted"));
+  c.dsp_per_fexp = int(need_double(f, "dsp_per_fexp", source + ": fitted"));
+  need_features(f, "lut", source + ": fitted", c.lut);
+  need_features(f, "ff", source + ": fitted", c.ff);
+  const YAML::Node r = root["routed"];
+  if (!r) throw std::logic_error(source + ": missing section 'routed'");
+  c.routed_lut_ratio = need_double(r, "lut", source + ": routed");
+  c.routed_ff_ratio = need_double(r, "ff", source + ": routed");
+  c.routed_bram_ratio = need_double(r, "bram18k", source + ": routed");
+  c.routed_dsp_ratio = need_double(r, "dsp", source + ": routed");
+  c.routed_source = r["source"] ? r["source"].as<std::string>() : "";
   const YAML::Node pw = root["power"];
   if (!pw) throw std::logic_error(source + ": missing section 'power'");
   c.static_w = need_double(pw, "static_w", source + ": power");
@@ -246,24 +315,29 @@ const Coefficients& default_coefficients() {
 std::string coefficients_yaml(const Coefficients& c) {
   std::ostringstream o;
   o.precision(6);
-  o << "structural:\n"
-       "  # LUTs per result bit of one operator, from the LUT6/CARRY8 fabric: an adder or magnitude\n"
-       "  # comparator is one LUT per bit on the carry chain; a 2:1 multiplexer or an XOR of two bits\n"
-       "  # shares a LUT6 with its neighbour (dual output); a popcount of n bits is about n LUTs of\n"
-       "  # 6:3 compressors and adders; a multiplier in LUTs about a x b / 2. Multipliers whose\n"
-       "  # narrower operand has at least dsp_min_operand_bits go to DSP48E2 (27 x 18 each).\n"
-       "  lut_per_bit: {";
-  for (int k = 0; k < kern::kOpKindCount; ++k)
-    o << (k ? ", " : "") << kern::op_kind_name(kern::OpKind(k)) << ": " << c.lut_per_bit[k];
-  o << "}\n  dsp_min_operand_bits: " << c.dsp_min_operand_bits << "\n  dsp_a_bits: " << c.dsp_a_bits
-    << "\n  dsp_b_bits: " << c.dsp_b_bits
-    << "\n# Fitted by `parallax fit-resources` (Ceres, Huber loss on relative errors, non-negative):\n"
-       "# lut = lut_scale x operator LUTs + memory LUTs + lut_per_stage x stages + lut_per_memory x memories;\n"
-       "# ff = register bits + ff_per_op_bit x operator result bits + ff_per_stage x stages.\n"
+  o << "# Coefficients of the resource and power model (models/resources, docs/resources.md).\n"
+       "# Written by `parallax fit-resources --write`; compiled into parallax (rebuild after editing).\n"
+       "structural:\n"
+       "  # One DSP48E2 multiplies 27 x 18 bits.\n"
+       "  dsp_a_bits: "
+    << c.dsp_a_bits << "\n  dsp_b_bits: " << c.dsp_b_bits
+    << "\n  # Priors per feature (docs/resources.md, section 3), from the LUT6/CARRY8 fabric: an adder or\n"
+       "  # comparator one LUT per bit, a 2:1 mux or XOR half (dual-output LUT6), a popcount about one\n"
+       "  # per input bit, a multiplier in LUTs a x b / 2 (by a constant half that again); a register\n"
+       "  # bit one FF. The fit is pulled towards them with a small weight.\n";
+  write_features(o, "lut_prior", c.lut_prior);
+  write_features(o, "ff_prior", c.ff_prior);
+  o << "# Fitted by `parallax fit-resources` (Ceres, Cauchy loss on log residuals, non-negative) and the\n"
+       "# DSP binding thresholds learned from the rows (the most rows exact).\n"
        "fitted:\n  fitted_on: \""
-    << c.fitted_on << "\"\n  lut_scale: " << c.lut_scale << "\n  lut_per_stage: " << c.lut_per_stage
-    << "\n  lut_per_memory: " << c.lut_per_memory << "\n  ff_per_op_bit: " << c.ff_per_op_bit
-    << "\n  ff_per_stage: " << c.ff_per_stage << "\npower:\n  source: \"" << c.power_source
+    << c.fitted_on << "\"\n  dsp_min_bits_var: " << c.dsp_min_bits_var
+    << "\n  dsp_min_bits_const: " << c.dsp_min_bits_const << "\n  dsp_per_fmul: " << c.dsp_per_fmul
+    << "\n  dsp_per_fadd: " << c.dsp_per_fadd << "\n  dsp_per_fexp: " << c.dsp_per_fexp << "\n";
+  write_features(o, "lut", c.lut);
+  write_features(o, "ff", c.ff);
+  o << "# routed = csynth x ratio per resource (estimate: routed).\nrouted:\n  source: \"" << c.routed_source
+    << "\"\n  lut: " << c.routed_lut_ratio << "\n  ff: " << c.routed_ff_ratio << "\n  bram18k: " << c.routed_bram_ratio
+    << "\n  dsp: " << c.routed_dsp_ratio << "\npower:\n  source: \"" << c.power_source
     << "\"\n  static_w: " << c.static_w << "\n  dynamic_mw_per_mhz_per_klut: " << c.dynamic_mw_per_mhz_per_klut
     << "\n  dynamic_mw_per_mhz_per_kff: " << c.dynamic_mw_per_mhz_per_kff
     << "\n  dynamic_mw_per_mhz_per_bram18k: " << c.dynamic_mw_per_mhz_per_bram18k
@@ -274,19 +348,53 @@ std::string coefficients_yaml(const Coefficients& c) {
 
 // --- estimate -------------------------------------------------------------------------------
 
-namespace {
-
-int64_t dsp_for(const OpItem& o, const Coefficients& c) {
-  if (o.kind != kern::kOpMul || o.b_bits < c.dsp_min_operand_bits) return 0;
-  const int64_t per =
-      int64_t((o.width_bits + c.dsp_a_bits - 1) / c.dsp_a_bits) * int64_t((o.b_bits + c.dsp_b_bits - 1) / c.dsp_b_bits);
+int64_t dsp_for(const OpItem& o, const Coefficients& c, int dsp_b_bits) {
+  if (o.float_kind == kFloatMul) return int64_t(c.dsp_per_fmul) * o.count;
+  if (o.float_kind == kFloatAdd) return int64_t(c.dsp_per_fadd) * o.count;
+  if (o.float_kind == kFloatExp) return int64_t(c.dsp_per_fexp) * o.count;
+  if (o.float_kind != 0) return 0;
+  if (o.bound_dsp) return int64_t((o.width_bits + 47) / 48) * o.count;  // the slice's 48-bit ALU
+  if (o.kind != kern::kOpMul) return 0;
+  if (o.b_bits < (o.constant_operand ? c.dsp_min_bits_const : c.dsp_min_bits_var)) return 0;
+  const int extra = o.unsigned_operands ? 1 : 0;  // a signed slice holds one bit less of an unsigned operand
+  const int b_tile = dsp_b_bits > 0 ? dsp_b_bits : c.dsp_b_bits;
+  const int64_t per = int64_t((o.width_bits + extra + c.dsp_a_bits - 1) / c.dsp_a_bits) *
+                      int64_t((o.b_bits + extra + b_tile - 1) / b_tile);
   return per * o.count;
 }
 
-double op_luts(const OpItem& o, const Coefficients& c) {
-  if (dsp_for(o, c) > 0) return 0.0;
-  if (o.kind == kern::kOpMul) return c.lut_per_bit[kern::kOpMul] * o.width_bits * o.b_bits * double(o.count);
-  return c.lut_per_bit[o.kind] * o.width_bits * double(o.count);
+namespace {
+
+void add_op_features(const OpItem& o, const Coefficients& c, int dsp_b_bits, Features& f) {
+  const double n = double(o.count);
+  if (o.float_kind != 0) {
+    f.dsp += dsp_for(o, c, dsp_b_bits);
+    f.lut_f[kFeatFloat] += n * kFloatSize[o.float_kind];
+    f.ff_f[kFeatFloat] += n * kFloatSize[o.float_kind];
+    return;
+  }
+  if (o.bound_dsp) {
+    f.dsp += dsp_for(o, c, dsp_b_bits);
+    f.lut_f[kFeatDspMul] += double(o.width_bits) * n;
+    f.ff_f[kFeatDspMul] += double(o.width_bits) * n;
+    return;
+  }
+  if (o.kind != kern::kOpMul) {
+    const int k = int(o.kind);  // kOpAdd .. kOpXor are kFeatAdd .. kFeatXor
+    f.lut_f[k] += double(o.width_bits) * n;
+    f.ff_f[k] += double(o.width_bits) * n;
+    return;
+  }
+  const int64_t dsp = dsp_for(o, c, dsp_b_bits);
+  if (dsp > 0) {
+    f.dsp += dsp;
+    f.lut_f[kFeatDspMul] += double(o.width_bits + o.b_bits) * n;
+    f.ff_f[kFeatDspMul] += double(o.width_bits + o.b_bits) * n;
+    return;
+  }
+  const int k = o.constant_operand ? kFeatMulConst : kFeatMul;
+  f.lut_f[k] += double(o.width_bits) * double(o.b_bits) * n;
+  f.ff_f[k] += double(o.width_bits + o.b_bits) * n;
 }
 
 Features stage_features(const Inventory& inv, const std::string& stage, const Coefficients& c) {
@@ -294,30 +402,60 @@ Features stage_features(const Inventory& inv, const std::string& stage, const Co
   for (const auto& m : inv.memories)
     if (m.stage == stage) {
       f.bram18k += m.per_copy.bram18k * m.copies;
-      f.memory_luts += double(m.per_copy.luts * m.copies);
-      f.register_bits += double(m.per_copy.ffs * m.copies);
-      f.memories += m.copies;
+      f.uram += m.uram_per_copy * m.copies;
+      f.lut_base += double(m.per_copy.luts * m.copies);
+      f.ff_base += double(m.per_copy.ffs * m.copies);
+      if (m.per_copy.storage == Storage::bram) {
+        f.lut_f[kFeatMemory] += m.copies;
+        f.ff_f[kFeatMemory] += m.copies;
+      }
     }
   for (const auto& o : inv.ops)
-    if (o.stage == stage) {
-      f.dsp += dsp_for(o, c);
-      f.op_luts += op_luts(o, c);
-      f.op_bits += double(o.width_bits) * double(o.count);
-    }
+    if (o.stage == stage) add_op_features(o, c, inv.dsp_b_bits, f);
   for (const auto& r : inv.registers)
-    if (r.stage == stage) f.register_bits += double(r.width_bits) * double(r.count);
-  f.stages = stage == "fifos" ? 0 : 1;
+    if (r.stage == stage) {
+      f.lut_f[kFeatRegister] += double(r.width_bits) * double(r.count);
+      f.ff_f[kFeatRegister] += double(r.width_bits) * double(r.count);
+    }
+  for (const auto& i : inv.interfaces)
+    if (i.stage == stage) {
+      f.lut_f[kFeatInterface] += double(i.width_bits) * double(i.count);
+      f.ff_f[kFeatInterface] += double(i.width_bits) * double(i.count);
+    }
+  const double st = stage == "fifos" || stage == "interfaces" ? 0.0 : 1.0;
+  f.lut_f[kFeatStage] = st;
+  f.ff_f[kFeatStage] = st;
   return f;
 }
 
 Usage usage_of(const Features& f, const Coefficients& c) {
   Usage u;
   u.bram18k = f.bram18k;
+  u.uram = f.uram;
   u.dsp = f.dsp;
-  u.lut = int64_t(std::llround(c.lut_scale * f.op_luts + f.memory_luts + c.lut_per_stage * f.stages +
-                               c.lut_per_memory * f.memories));
-  u.ff = int64_t(std::llround(f.register_bits + c.ff_per_op_bit * f.op_bits + c.ff_per_stage * f.stages));
+  double lut = f.lut_base, ff = f.ff_base;
+  for (int k = 0; k < kFeatureCount; ++k) {
+    lut += c.lut[k] * f.lut_f[k];
+    ff += c.ff[k] * f.ff_f[k];
+  }
+  u.lut = int64_t(std::llround(lut));
+  u.ff = int64_t(std::llround(ff));
   return u;
+}
+
+int64_t scaled(int64_t v, double ratio) {
+  return int64_t(std::llround(double(v) * ratio));
+}
+
+Usage routed(const Usage& u, const Coefficients& c) {
+  Usage r = u;
+  r.lut = scaled(u.lut, c.routed_lut_ratio);
+  r.ff = scaled(u.ff, c.routed_ff_ratio);
+  r.bram18k = scaled(u.bram18k, c.routed_bram_ratio);
+  r.dsp = scaled(u.dsp, c.routed_dsp_ratio);
+  r.lutram_luts = scaled(u.lutram_luts, c.routed_lut_ratio);
+  r.srl_luts = scaled(u.srl_luts, c.routed_lut_ratio);
+  return r;
 }
 
 }  // namespace
@@ -326,20 +464,22 @@ Features features(const Inventory& inv, const Coefficients& c) {
   Features total;
   for (const auto& s : inv.stages) {
     const Features f = stage_features(inv, s, c);
-    total.op_luts += f.op_luts;
-    total.memory_luts += f.memory_luts;
-    total.stages += f.stages;
-    total.memories += f.memories;
-    total.register_bits += f.register_bits;
-    total.op_bits += f.op_bits;
+    for (int k = 0; k < kFeatureCount; ++k) {
+      total.lut_f[k] += f.lut_f[k];
+      total.ff_f[k] += f.ff_f[k];
+    }
+    total.lut_base += f.lut_base;
+    total.ff_base += f.ff_base;
     total.bram18k += f.bram18k;
+    total.uram += f.uram;
     total.dsp += f.dsp;
   }
   return total;
 }
 
-Estimate estimate(const Inventory& inv, const Coefficients& c) {
+Estimate estimate(const Inventory& inv, const Coefficients& c, Flavour flavour) {
   Estimate e;
+  e.flavour = flavour;
   for (const auto& s : inv.stages) {
     const Features f = stage_features(inv, s, c);
     StageUsage su{s, usage_of(f, c)};
@@ -348,7 +488,9 @@ Estimate estimate(const Inventory& inv, const Coefficients& c) {
         if (m.per_copy.storage == Storage::lutram) su.usage.lutram_luts += m.per_copy.luts * m.copies;
         if (m.per_copy.storage == Storage::srl) su.usage.srl_luts += m.per_copy.luts * m.copies;
       }
+    if (flavour == Flavour::routed) su.usage = routed(su.usage, c);
     e.total.bram18k += su.usage.bram18k;
+    e.total.uram += su.usage.uram;
     e.total.lut += su.usage.lut;
     e.total.ff += su.usage.ff;
     e.total.dsp += su.usage.dsp;

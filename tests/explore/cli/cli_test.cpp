@@ -205,10 +205,24 @@ TEST(Cli, RectifyReportsALineBufferTooSmallForTheMap) {
 
 TEST(Cli, RectifyNeedsItsMapsAndTheRightSize) {
   const fs::path d = temp_dir("rectify_bad");
-  std::ofstream(d / "nomaps.yaml") << "rectify: nearest\n";
-  const CliRun a = run_cli("config --config " + (d / "nomaps.yaml").string());
+  // No tables: identity (the images are already rectified), the output equals the design without
+  // the stage; one table only: an error naming both fields.
+  std::ofstream(d / "nomaps.yaml") << "rectify: nearest\nrectify_rows: 2\n";
+  std::ofstream(d / "plain.yaml") << "rectify: none\n";
+  const std::string pair = " --left " + kData + "/image_2/000001_10.png --right " + kData + "/image_3/000001_10.png";
+  const CliRun id =
+      run_cli("run --config " + (d / "nomaps.yaml").string() + pair + " --out " + (d / "id.png").string());
+  const CliRun plain =
+      run_cli("run --config " + (d / "plain.yaml").string() + pair + " --out " + (d / "plain.png").string());
+  ASSERT_EQ(id.status, 0) << id.output;
+  ASSERT_EQ(plain.status, 0) << plain.output;
+  EXPECT_EQ(cv::countNonZero(cv::imread((d / "id.png").string(), cv::IMREAD_UNCHANGED) !=
+                             cv::imread((d / "plain.png").string(), cv::IMREAD_UNCHANGED)),
+            0);
+  std::ofstream(d / "onemap.yaml") << "rectify: nearest\nrectify_maps_left: small.yaml\n";
+  const CliRun a = run_cli("run --config " + (d / "onemap.yaml").string() + pair + " --out " + (d / "o.png").string());
   EXPECT_EQ(a.status, 2);
-  EXPECT_NE(a.output.find("'rectify_maps_left'"), std::string::npos) << a.output;
+  EXPECT_NE(a.output.find("rectify_maps_right"), std::string::npos) << a.output;
   write_maps(d / "small.yaml", 100, 50, 0.0f);
   std::ofstream(d / "small_design.yaml")
       << "rectify: nearest\nrectify_maps_left: small.yaml\nrectify_maps_right: small.yaml\n";

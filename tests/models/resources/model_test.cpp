@@ -1,11 +1,13 @@
-// unit + golden: the resource model on the published points (BRAM exact for the Vitis kernels,
-// the seed design within 10 %), the compiled-in coefficients equal a fresh fit, the per-stage
-// breakdown of both paper presets against golden JSON, utilisation and power.
+// unit + golden: the seed design's BRAM as synthesised, csynth and routed estimates, the top's
+// interfaces, the per-stage breakdown of the paper presets against golden JSON, utilisation and
+// power. (The calibration on published rows: calibration_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -19,80 +21,57 @@ namespace {
 
 const std::string kRoot = PARALLAX_SOURCE_DIR;
 
-const std::vector<res::PublishedPoint>& points() {
-  static const auto p = res::load_points(kRoot + "/models/data/published_points.yaml", kRoot);
-  return p;
-}
-const res::PublishedPoint& point(const std::string& name) {
-  for (const auto& p : points())
-    if (p.name == name) return p;
-  throw std::runtime_error("no point " + name);
-}
-
-TEST(ResourcesPublished, BramExactForTheVitisKernels) {
-  for (const char* name :
-       {"vitis-sgbm-1080p", "vitis-medianblur-5x5", "vitis-medianblur-3x3", "vitis-remap-64-bilinear"}) {
-    const auto& p = point(name);
-    EXPECT_EQ(res::estimate(p.inventory).total.bram18k, p.published.bram18k) << name;
-  }
-}
-
-TEST(ResourcesPublished, SeedDesignBramWithinTenPercent) {
-  const auto& p = point("ruf2018-census");
-  const double bram = double(res::estimate(p.inventory).total.bram18k);
-  EXPECT_NEAR(bram, 132.0, 13.2);
-  // The inference behind it: 3 disparities per path-cost word. Other packings miss the band.
-  config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-census.yaml");
-  EXPECT_EQ(cfg.row_packing, 3);
-  for (int packing : {1, 2, 4}) {
+// The seed design as synthesised (configs/ruf2018-synthesised.yaml): the paper's 132 BRAM_18K
+// exactly, from 2 x 12 rectification rows + 10 Census rows + 3 x 30 path-cost words + 3 minimum
+// rows + 5 median rows; the other packings and row counts miss it.
+TEST(ResourcesSeed, SynthesisedPresetExplainsTheBram) {
+  config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-synthesised.yaml");
+  const res::Estimate e = res::estimate(res::design_inventory(cfg, 640, 360));
+  EXPECT_EQ(e.total.bram18k, 132);
+  std::map<std::string, int64_t> by_stage;
+  for (const auto& s : e.stages) by_stage[s.stage] = s.usage.bram18k;
+  EXPECT_EQ(by_stage["rectify_left"], 12);
+  EXPECT_EQ(by_stage["rectify_right"], 12);
+  EXPECT_EQ(by_stage["cost"], 10);
+  EXPECT_EQ(by_stage["aggregate"], 93);
+  EXPECT_EQ(by_stage["median"], 5);
+  for (int packing : {1, 3}) {
     cfg.row_packing = packing;
-    const double b = double(res::estimate(res::design_inventory(cfg, 640, 360)).total.bram18k);
-    EXPECT_GT(std::fabs(b - 132.0), 13.2) << "packing " << packing << " gives " << b;
+    EXPECT_NE(res::estimate(res::design_inventory(cfg, 640, 360)).total.bram18k, 132) << "packing " << packing;
+  }
+  cfg.row_packing = 2;
+  for (int rows : {11, 13}) {
+    cfg.rectify_rows = rows;
+    EXPECT_NE(res::estimate(res::design_inventory(cfg, 640, 360)).total.bram18k, 132) << rows << " rows";
   }
 }
 
-TEST(ResourcesPublished, MediansNeedNoDsp) {
-  EXPECT_EQ(res::estimate(point("vitis-medianblur-5x5").inventory).total.dsp, 0);
-  EXPECT_EQ(res::estimate(point("vitis-medianblur-3x3").inventory).total.dsp, 0);
-}
-
-// The coefficients compiled in are the fit of the published points (refit with
-// `parallax fit-resources --write models/data/resource_model.yaml` after changing a kernel's
-// declarations), and the leave-one-out LUT error stays where docs/resources.md reports it.
-TEST(ResourcesFit, CompiledCoefficientsAreTheFit) {
+TEST(ResourcesModel, RoutedIsCsynthTimesTheDocumentedRatios) {
+  const config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-synthesised.yaml");
+  const res::Inventory inv = res::design_inventory(cfg, 640, 360);
   const res::Coefficients& c = res::default_coefficients();
-  const res::FitResult f = res::fit(points(), c);
-  auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-3 * std::max(1.0, std::fabs(b)); };
-  EXPECT_TRUE(near(c.lut_scale, f.coefficients.lut_scale)) << c.lut_scale << " vs " << f.coefficients.lut_scale;
-  EXPECT_TRUE(near(c.lut_per_stage, f.coefficients.lut_per_stage)) << c.lut_per_stage;
-  EXPECT_TRUE(near(c.lut_per_memory, f.coefficients.lut_per_memory)) << c.lut_per_memory;
-  EXPECT_TRUE(near(c.ff_per_op_bit, f.coefficients.ff_per_op_bit)) << c.ff_per_op_bit;
-  EXPECT_TRUE(near(c.ff_per_stage, f.coefficients.ff_per_stage)) << c.ff_per_stage;
-  EXPECT_LE(f.lut_loo_mean_pct, 25.0);
-  EXPECT_EQ(f.rows.size(), points().size());
+  const res::Estimate cs = res::estimate(inv, c, res::Flavour::csynth);
+  const res::Estimate ro = res::estimate(inv, c, res::Flavour::routed);
+  EXPECT_EQ(ro.flavour, res::Flavour::routed);
+  EXPECT_FALSE(c.routed_source.empty());
+  ASSERT_EQ(cs.stages.size(), ro.stages.size());
+  for (std::size_t i = 0; i < cs.stages.size(); ++i) {
+    EXPECT_EQ(ro.stages[i].usage.lut, std::llround(double(cs.stages[i].usage.lut) * c.routed_lut_ratio));
+    EXPECT_EQ(ro.stages[i].usage.ff, std::llround(double(cs.stages[i].usage.ff) * c.routed_ff_ratio));
+    EXPECT_EQ(ro.stages[i].usage.bram18k, std::llround(double(cs.stages[i].usage.bram18k) * c.routed_bram_ratio));
+  }
+  EXPECT_LT(ro.total.lut, cs.total.lut);
+  EXPECT_EQ(res::parse_flavour("routed"), res::Flavour::routed);
+  EXPECT_THROW(res::parse_flavour("placed"), std::invalid_argument);
 }
 
-TEST(ResourcesFit, RecoversKnownCoefficients) {
-  // Synthetic points made with known coefficients are fitted back.
-  res::Coefficients truth = res::default_coefficients();
-  truth.lut_scale = 1.3;
-  truth.lut_per_stage = 250;
-  truth.lut_per_memory = 12;
-  truth.ff_per_op_bit = 0.7;
-  truth.ff_per_stage = 300;
-  std::vector<res::PublishedPoint> synthetic = points();
-  for (auto& p : synthetic) p.published = res::estimate(p.inventory, truth).total;
-  res::Coefficients start = truth;
-  start.lut_scale = 1;
-  start.lut_per_stage = 100;
-  start.lut_per_memory = 1;
-  start.ff_per_op_bit = 0.1;
-  start.ff_per_stage = 50;
-  const res::FitResult f = res::fit(synthetic, start);
-  EXPECT_NEAR(f.coefficients.lut_scale, 1.3, 0.01);
-  EXPECT_NEAR(f.coefficients.lut_per_stage, 250, 5);
-  EXPECT_NEAR(f.coefficients.ff_per_op_bit, 0.7, 0.01);
-  EXPECT_LT(f.lut_loo_max_pct, 1.0);
+TEST(ResourcesModel, TheTopsInterfacesAreDeclared) {
+  const config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-synthesised.yaml");
+  const res::Inventory inv = res::design_inventory(cfg, 640, 360);
+  std::set<std::string> names;
+  for (const auto& i : inv.interfaces) names.insert(i.name + ":" + i.kind);
+  EXPECT_EQ(names, (std::set<std::string>{"left_in:axis", "right_in:axis", "map_in:axis", "disparity_out:axis",
+                                          "control:s_axilite"}));
 }
 
 TEST(ResourcesModel, StorageFollowsTheDefaultRules) {
@@ -170,6 +149,9 @@ TEST(ResourcesGolden, Ruf2018Census) {
 }
 TEST(ResourcesGolden, Ruf2018Sad) {
   expect_golden("ruf2018-sad");
+}
+TEST(ResourcesGolden, Ruf2018Synthesised) {
+  expect_golden("ruf2018-synthesised");
 }
 
 }  // namespace

@@ -89,6 +89,7 @@ json export_json(const ExportHlsOptions& o, const config::PipelineConfig& cfg, c
                      {"cycles_per_frame", pr.cycles_per_frame},
                      {"fps", pr.fps},
                      {"device", pr.device},
+                     {"estimate", cfg.estimate},
                      {"bram18k", pr.bram18k},
                      {"lut", pr.lut},
                      {"ff", pr.ff},
@@ -106,9 +107,10 @@ void print_export_text(const ExportHlsOptions& o, const config::PipelineConfig& 
   std::printf("  FIFO depths:");
   for (const auto& f : req.fifos) std::printf(" %s=%lld", f.name.c_str(), (long long)f.depth);
   std::printf(
-      "\n  predicted: FPGA latency %.2f ms (%lld cycles), %.1f fps; %lld BRAM_18K, %lld LUT, %lld FF, %lld DSP on %s\n",
+      "\n  predicted: FPGA latency %.2f ms (%lld cycles), %.1f fps; %lld BRAM_18K, %lld LUT, %lld FF, %lld DSP on %s "
+      "(estimate: %s)\n",
       pr.fpga_latency_ms, (long long)pr.last_pixel_cycle, pr.fps, (long long)pr.bram18k, (long long)pr.lut,
-      (long long)pr.ff, (long long)pr.dsp, pr.device.c_str());
+      (long long)pr.ff, (long long)pr.dsp, pr.device.c_str(), cfg.estimate.c_str());
   std::printf("  next: cd %s && make csim   (g++ alone; bit-exact check against the simulator)\n", o.out.c_str());
 }
 

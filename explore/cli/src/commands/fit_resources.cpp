@@ -1,20 +1,26 @@
-// parallax fit-resources: fit the resource model's LUT/FF coefficients to published designs
-// (Ceres), with leave-one-out errors; optionally write the coefficients file.
+// parallax fit-resources: calibrate the resource model on published rows (a CSV in the columns of
+// models/data/vitis_vision_points.csv): per row the prediction, the published value and the
+// error, fitted, leave-one-out and leave-one-family-out; rows the function library cannot
+// describe are listed with the reason. Optionally writes the coefficients file.
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
 #include "parallax/eval/input_error.hpp"
+#include "parallax/reports/resource_page.hpp"
 #include "parallax/resources/fit.hpp"
+#include "parallax/resources/functions.hpp"
 #include "parallax/resources/model.hpp"
+#include "parallax/resources/points_csv.hpp"
 
 namespace parallax::cli {
 
@@ -24,80 +30,190 @@ using nlohmann::json;
 using namespace parallax::explore;
 
 struct FitOptions {
-  std::string points = "models/data/published_points.yaml", root = ".", write;
+  std::string points = "models/data/vitis_vision_points.csv", designs = "models/data/published_points.yaml";
+  std::string functions, root = ".", write, html, estimate = "csynth";
   bool json = false;
 };
 
-// The fitted coefficients, leave-one-out errors and per-point figures as one JSON object.
-json fit_json(const res::FitResult& fr) {
-  const res::Coefficients& k = fr.coefficients;
+// Targets of issue 17 (docs/resources.md, section 6).
+constexpr double kBramExactTarget = 0.90, kDspExactTarget = 0.80;
+constexpr double kLofoMedianTargetPct = 20.0, kLofoP90TargetPct = 40.0;
+
+json usage_json(const res::Usage& u) {
+  return {{"bram18k", u.bram18k}, {"uram", u.uram}, {"dsp", u.dsp}, {"ff", u.ff}, {"lut", u.lut}};
+}
+json stats_json(const res::ErrorStats& s) {
+  return {{"rows", s.rows},
+          {"exact", s.exact},
+          {"exact_share", s.exact_share()},
+          {"median_abs_pct", s.median_pct},
+          {"p90_abs_pct", s.p90_pct},
+          {"mean_abs_pct", s.mean_pct}};
+}
+json published_value(int64_t v) {
+  return v < 0 ? json(nullptr) : json(v);
+}
+
+json fit_json(const res::FitResult& fr, res::Flavour flavour) {
   json j;
-  j["coefficients"] = {{"lut_scale", k.lut_scale},
-                       {"lut_per_stage", k.lut_per_stage},
-                       {"lut_per_memory", k.lut_per_memory},
-                       {"ff_per_op_bit", k.ff_per_op_bit},
-                       {"ff_per_stage", k.ff_per_stage}};
-  j["lut_loo_mean_pct"] = fr.lut_loo_mean_pct;
-  j["lut_loo_max_pct"] = fr.lut_loo_max_pct;
-  j["ff_loo_mean_pct"] = fr.ff_loo_mean_pct;
-  j["ff_loo_max_pct"] = fr.ff_loo_max_pct;
-  j["points"] = json::array();
-  for (const auto& row : fr.rows)
-    j["points"].push_back(
-        {{"name", row.name},
-         {"published",
-          {{"bram18k", row.published.bram18k},
-           {"lut", row.published.lut},
-           {"ff", row.published.ff},
-           {"dsp", row.published.dsp}}},
-         {"fitted",
-          {{"bram18k", row.fitted.bram18k}, {"lut", row.fitted.lut}, {"ff", row.fitted.ff}, {"dsp", row.fitted.dsp}}},
-         {"leave_one_out", {{"lut", row.loo.lut}, {"ff", row.loo.ff}}}});
+  j["estimate"] = res::flavour_name(flavour);
+  j["fitted_rows"] = fr.fitted_rows;
+  json coef;
+  for (int k = 0; k < res::kFeatureCount; ++k)
+    coef[res::feature_name(k)] = {{"lut", fr.coefficients.lut[k]}, {"ff", fr.coefficients.ff[k]}};
+  j["coefficients"] = coef;
+  j["dsp_binding"] = {{"min_bits_by_variable", fr.coefficients.dsp_min_bits_var},
+                      {"min_bits_by_constant", fr.coefficients.dsp_min_bits_const},
+                      {"slice_bits", {fr.coefficients.dsp_a_bits, fr.coefficients.dsp_b_bits}}};
+  for (int r = 0; r < res::kResourceCount; ++r) {
+    const res::ResourceStats& s = fr.stats[r];
+    j["summary"][res::resource_name(r)] = {{"fitted", stats_json(s.fitted)},
+                                           {"leave_one_out", stats_json(s.loo)},
+                                           {"leave_one_family_out", stats_json(s.lofo)},
+                                           {"leave_one_group_out", stats_json(s.logo)}};
+  }
+  j["rows"] = json::array();
+  for (const auto& row : fr.rows) {
+    json o = {{"kernel", row.kernel},       {"design", row.design},
+              {"source", row.source},       {"function", row.function},
+              {"family", row.family},       {"group", row.group},
+              {"described", row.described}, {"validation_only", row.validation_only}};
+    if (!row.described) o["not_described"] = row.not_described;
+    for (int r = 0; r < res::kResourceCount; ++r) {
+      const char* n = res::resource_name(r);
+      o[std::string("published_") + n] = published_value(res::pick(row.published, r));
+      o[n] = row.described ? json(res::pick(row.fitted, r)) : json(nullptr);
+    }
+    o["published_uram"] = published_value(row.published.uram);
+    if (row.described) {
+      const res::Features f = res::features(row.inventory, fr.coefficients);
+      json feats;
+      for (int k = 0; k < res::kFeatureCount; ++k)
+        feats[res::feature_name(k)] = {{"lut", f.lut_f[k]}, {"ff", f.ff_f[k]}};
+      o["features"] = feats;
+      o["memory_luts"] = f.lut_base;
+      o["uram"] = row.fitted.uram;
+      o["leave_one_out"] = usage_json(row.loo);
+      o["leave_one_family_out"] = usage_json(row.lofo);
+    }
+    j["rows"].push_back(o);
+  }
   return j;
 }
 
-// The same as text on stdout: the fitted formulas, one row per point, the leave-one-out errors.
-void print_fit_text(const res::FitResult& fr, std::size_t point_count, const std::string& points_path) {
-  const res::Coefficients& k = fr.coefficients;
-  std::printf("fitted on %zu published points (%s)\n", point_count, points_path.c_str());
-  std::printf("  lut = %.4f x operator LUTs + memory LUTs + %.1f x stages + %.2f x memories\n", k.lut_scale,
-              k.lut_per_stage, k.lut_per_memory);
-  std::printf("  ff  = register bits + %.4f x operator bits + %.1f x stages\n\n", k.ff_per_op_bit, k.ff_per_stage);
-  std::printf("%-26s %8s %8s %8s | %7s %7s %7s %7s | %7s %7s %7s %7s\n", "point", "BRAM pub", "model", "", "LUT pub",
-              "fit", "loo", "loo %", "FF pub", "fit", "loo", "loo %");
+std::string err_pct(int64_t pred, int64_t pub) {
+  if (pub <= 0) return pub == pred ? "exact" : "";
+  char b[32];
+  std::snprintf(b, sizeof b, "%+.0f%%", 100.0 * double(pred - pub) / double(pub));
+  return b;
+}
+
+void print_rows(const res::FitResult& fr) {
+  std::printf("%-34s %-16s | %5s %5s | %4s %4s | %6s %6s %6s %6s | %6s %6s %6s %6s\n", "kernel (design row)",
+              "function", "BRAM", "pred", "DSP", "pred", "LUT", "fit", "lofo", "err", "FF", "fit", "lofo", "err");
   for (const auto& row : fr.rows) {
-    auto pct = [](int64_t m, int64_t p) { return p > 0 ? 100.0 * double(m - p) / double(p) : 0.0; };
-    std::printf("%-26s %8lld %8lld %8s | %7lld %7lld %7lld %+6.1f%% | %7lld %7lld %7lld %+6.1f%%\n", row.name.c_str(),
-                (long long)row.published.bram18k, (long long)row.fitted.bram18k,
-                row.published.bram18k == row.fitted.bram18k ? "exact" : "", (long long)row.published.lut,
-                (long long)row.fitted.lut, (long long)row.loo.lut, pct(row.loo.lut, row.published.lut),
-                (long long)row.published.ff, (long long)row.fitted.ff, (long long)row.loo.ff,
-                pct(row.loo.ff, row.published.ff));
+    std::string name = row.kernel.substr(0, 34);
+    if (!row.described) {
+      std::printf("%-34s not described: %s (%s)\n", name.c_str(), row.not_described.c_str(), row.source.c_str());
+      continue;
+    }
+    const auto& p = row.published;
+    std::printf("%-34s %-16s | %5lld %5lld | %4lld %4lld | %6lld %6lld %6lld %6s | %6lld %6lld %6lld %6s%s\n",
+                name.c_str(), row.function.substr(0, 16).c_str(), (long long)p.bram18k, (long long)row.fitted.bram18k,
+                (long long)p.dsp, (long long)row.fitted.dsp, (long long)p.lut, (long long)row.fitted.lut,
+                (long long)row.lofo.lut, err_pct(row.lofo.lut, p.lut).c_str(), (long long)p.ff,
+                (long long)row.fitted.ff, (long long)row.lofo.ff, err_pct(row.lofo.ff, p.ff).c_str(),
+                row.validation_only ? "  (validation: not fitted on)" : "");
   }
-  std::printf("\nleave-one-out |error|: LUT mean %.1f%% max %.1f%%; FF mean %.1f%% max %.1f%%\n", fr.lut_loo_mean_pct,
-              fr.lut_loo_max_pct, fr.ff_loo_mean_pct, fr.ff_loo_max_pct);
+}
+
+void print_summary(const res::FitResult& fr) {
+  std::printf("\n%-8s %-22s %6s %8s %9s %9s %9s\n", "resource", "predicted", "rows", "exact", "median", "p90", "mean");
+  for (int r = 0; r < res::kResourceCount; ++r) {
+    const res::ResourceStats& s = fr.stats[r];
+    const std::pair<const char*, const res::ErrorStats*> kinds[] = {{"fitted on all", &s.fitted},
+                                                                    {"leave-one-out", &s.loo},
+                                                                    {"leave-one-family-out", &s.lofo},
+                                                                    {"leave-one-group-out", &s.logo}};
+    for (const auto& [label, st] : kinds)
+      std::printf("%-8s %-22s %6d %7.1f%% %8.1f%% %8.1f%% %8.1f%%\n", res::resource_name(r), label, st->rows,
+                  100.0 * st->exact_share(), st->median_pct, st->p90_pct, st->mean_pct);
+  }
+  const res::ResourceStats* s = fr.stats;
+  auto verdict = [](bool ok) { return ok ? "met" : "NOT met"; };
+  std::printf(
+      "\ntargets: BRAM_18K exact >= 90%%: %.1f%% %s; DSP exact >= 80%%: %.1f%% %s\n",
+      100.0 * s[res::kResBram].lofo.exact_share(), verdict(s[res::kResBram].lofo.exact_share() >= kBramExactTarget),
+      100.0 * s[res::kResDsp].lofo.exact_share(), verdict(s[res::kResDsp].lofo.exact_share() >= kDspExactTarget));
+  for (int r : {int(res::kResLut), int(res::kResFf)})
+    std::printf("         %s leave-one-family-out median <= 20%%: %.1f%% %s; p90 <= 40%%: %.1f%% %s\n",
+                res::resource_name(r), s[r].lofo.median_pct, verdict(s[r].lofo.median_pct <= kLofoMedianTargetPct),
+                s[r].lofo.p90_pct, verdict(s[r].lofo.p90_pct <= kLofoP90TargetPct));
+}
+
+void print_fit_text(const res::FitResult& fr, const std::string& points_path, res::Flavour flavour) {
+  const res::Coefficients& k = fr.coefficients;
+  std::printf("estimate: %s (the published rows are HLS C-synthesis estimates)\n", res::flavour_name(flavour));
+  std::printf("fitted on %d of %zu rows (%s)\n", fr.fitted_rows, fr.rows.size(), points_path.c_str());
+  std::printf(
+      "DSP binding learned: multiplier by a variable on DSP48 when its narrower operand >= %d bits, by a "
+      "constant when >= %d bits (%s)\n",
+      k.dsp_min_bits_var, k.dsp_min_bits_const, k.dsp_min_bits_const >= 99 ? "never" : "learned");
+  std::printf("%-10s", "per unit");
+  for (int f = 0; f < res::kFeatureCount; ++f) std::printf(" %9s", res::feature_name(f));
+  std::printf("\n%-10s", "LUT");
+  for (int f = 0; f < res::kFeatureCount; ++f) std::printf(" %9.3f", k.lut[f]);
+  std::printf("\n%-10s", "FF");
+  for (int f = 0; f < res::kFeatureCount; ++f) std::printf(" %9.3f", k.ff[f]);
+  std::printf("\n\n");
+  print_rows(fr);
+  print_summary(fr);
+}
+
+// Published CSV rows plus this project's designs (validation only).
+std::vector<res::FitRow> load_rows(const FitOptions& o) {
+  std::vector<res::FitRow> rows;
+  try {
+    const std::vector<res::FunctionDescription> custom =
+        o.functions.empty() ? std::vector<res::FunctionDescription>() : res::load_functions(o.functions);
+    const auto& fns = o.functions.empty() ? res::default_functions() : custom;
+    rows = res::describe_rows(res::load_points_csv(o.points), fns, o.points);
+    if (!o.designs.empty())
+      for (auto& r : res::load_design_points(o.designs, o.root)) rows.push_back(std::move(r));
+  } catch (const config::ConfigError& e) {
+    throw InputError(e.what());
+  }
+  return rows;
 }
 
 int run_fit_resources(const FitOptions& o, const Invocation&) {
-  std::vector<res::PublishedPoint> points;
+  res::Flavour flavour = res::Flavour::csynth;
   try {
-    points = res::load_points(o.points, o.root);
-  } catch (const config::ConfigError& e) {
-    throw InputError(e.what());
-  } catch (const std::runtime_error& e) {
-    throw InputError(e.what());
+    flavour = res::parse_flavour(o.estimate);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("--estimate: ") + e.what());
   }
-  const res::FitResult fr = res::fit(points, res::default_coefficients());
+  std::vector<res::FitRow> rows = load_rows(o);
+  std::fprintf(stderr, "parallax: fitting %zu rows (leave-one-out and leave-one-family-out refits)...\n", rows.size());
+  res::FitResult fr = res::fit(std::move(rows), res::default_coefficients());
+  if (flavour == res::Flavour::routed)
+    for (auto& row : fr.rows)
+      if (row.described) {
+        row.fitted = res::estimate(row.inventory, fr.coefficients, flavour).total;
+      }
   if (o.json)
-    std::cout << fit_json(fr).dump(2) << "\n";
+    std::cout << fit_json(fr, flavour).dump(2) << "\n";
   else
-    print_fit_text(fr, points.size(), o.points);
+    print_fit_text(fr, o.points, flavour);
+  if (!o.html.empty()) {
+    std::ofstream page(o.html);
+    if (!(page << resource_model_page(fr, flavour, o.points))) throw InputError(o.html + ": cannot write");
+    std::fprintf(stderr, "parallax: wrote %s\n", o.html.c_str());
+  }
   if (!o.write.empty()) {
     std::ofstream out(o.write);
     if (!out) throw InputError(o.write + ": cannot write");
-    out << "# Coefficients of the resource and power model (models/resources, docs/resources.md).\n"
-           "# Written by `parallax fit-resources --write`; compiled into parallax (rebuild after editing).\n"
-        << res::coefficients_yaml(fr.coefficients);
+    out << res::coefficients_yaml(fr.coefficients);
     std::fprintf(stderr, "parallax: wrote %s (rebuild to use it)\n", o.write.c_str());
   }
   return 0;
@@ -107,16 +223,26 @@ int run_fit_resources(const FitOptions& o, const Invocation&) {
 
 Command add_fit_resources(CLI::App& app) {
   auto o = std::make_shared<FitOptions>();
-  auto* fitc = app.add_subcommand(
-      "fit-resources",
-      "Fit the resource model's LUT/FF coefficients to published designs (Ceres), with leave-one-out errors");
-  fitc->add_option("--points", o->points, "Published points (YAML)")->capture_default_str();
-  fitc->add_option("--root", o->root, "Repository root the points' config paths are relative to")
+  auto* fitc = app.add_subcommand("fit-resources",
+                                  "Calibrate the resource model on published rows (Ceres): per row predicted against "
+                                  "published, leave-one-out and leave-one-family-out errors");
+  fitc->add_option("--points", o->points, "Published rows, CSV in the columns of models/data/vitis_vision_points.csv")
+      ->capture_default_str();
+  fitc->add_option("--designs", o->designs,
+                   "This project's published designs (YAML), predicted as validation; empty: none")
+      ->capture_default_str();
+  fitc->add_option("--functions", o->functions,
+                   "A directory of function descriptions (*.yaml) instead of the compiled-in models/data/functions");
+  fitc->add_option("--root", o->root, "Repository root the designs' config paths are relative to")
+      ->capture_default_str();
+  fitc->add_option("--estimate", o->estimate, "csynth (like the published rows) or routed (x documented ratios)")
       ->capture_default_str();
   fitc->add_option("--write", o->write,
-                   "Write the coefficients with the fitted section here (e.g. models/data/resource_model.yaml)")
+                   "Write the fitted coefficients here (e.g. models/data/resource_model.yaml; rebuild to use them)")
       ->check(OutputFile());
-  fitc->add_flag("--json", o->json, "Print JSON");
+  fitc->add_option("--html", o->html, "Write a page of predicted against published (SVG scatter per resource)")
+      ->check(OutputFile());
+  fitc->add_flag("--json", o->json, "Print JSON: the coefficients, the summary and a list of rows");
   return bind_command(fitc, o, run_fit_resources);
 }
 

@@ -45,6 +45,7 @@ using ResourceReport = ResourceFigures;
 void add_resources_json(json& j, const ResourceReport& r) {
   const res::Usage& u = r.estimate.total;
   j["device"] = r.utilisation.device->name;
+  j["estimate"] = res::flavour_name(r.estimate.flavour);
   j["bram18k"] = u.bram18k;
   j["uram"] = u.uram;
   j["lut"] = u.lut;
@@ -73,10 +74,11 @@ void add_resources_json(json& j, const ResourceReport& r) {
 void print_resources(const ResourceReport& r) {
   const res::Usage& u = r.estimate.total;
   const res::Device& d = *r.utilisation.device;
-  std::printf("\nresources (estimate)  %-8s %8s %8s %8s %8s\n", "BRAM_18K", "LUT", "FF", "DSP", "URAM");
+  std::printf("\nresources (estimate: %-6s) %-8s %8s %8s %8s %8s\n", res::flavour_name(r.estimate.flavour), "BRAM_18K",
+              "LUT", "FF", "DSP", "URAM");
   for (const auto& s : r.estimate.stages)
-    std::printf("  %-19s %8lld %8lld %8lld %8lld %8d\n", s.stage.c_str(), (long long)s.usage.bram18k,
-                (long long)s.usage.lut, (long long)s.usage.ff, (long long)s.usage.dsp, 0);
+    std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", s.stage.c_str(), (long long)s.usage.bram18k,
+                (long long)s.usage.lut, (long long)s.usage.ff, (long long)s.usage.dsp, (long long)s.usage.uram);
   std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", "total", (long long)u.bram18k, (long long)u.lut,
               (long long)u.ff, (long long)u.dsp, (long long)u.uram);
   std::printf("  %-19s %8lld %8lld %8lld %8lld %8lld\n", d.name.c_str(), (long long)d.bram18k, (long long)d.lut,

@@ -22,10 +22,17 @@ struct RectifyMaps {
   int width_px = 0;
   int height_px = 0;
   std::vector<kern::MapEntry> left, right;
+  // No tables configured: the identity remap of whatever size is processed (the images are already
+  // rectified; the stage is still in the pipeline, as on the paper's FPGA, and sized by
+  // rectify_rows). maps_of_size() makes the tables for one frame size.
+  bool identity = false;
 };
 // Loads the config's map files; InputError naming the file on any problem. Nearest rounds the
-// float maps to integers, bilinear to rectify_frac_bits fraction bits.
+// float maps to integers, bilinear to rectify_frac_bits fraction bits. Neither file configured:
+// identity maps; only one: InputError.
 RectifyMaps load_rectify_maps(const config::PipelineConfig& cfg);
+// The tables for frames of width_px x height_px: `maps` itself, or identity tables of that size.
+RectifyMaps maps_of_size(const RectifyMaps& maps, const config::PipelineConfig& cfg, int width_px, int height_px);
 
 // Rectifies a full-size grey pair with the rectify kernel; window misses (map entries outside the
 // line buffer's rows) are added to *window_misses. InputError when sizes differ from the maps.

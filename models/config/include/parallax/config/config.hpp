@@ -54,6 +54,9 @@ struct Structure {
   // path (0 = one per word: complete partitioning). Timing counts their port conflicts.
   int row_packing = 1;
   int row_banks = 0;
+  // Resource figures: what Vitis HLS C synthesis reports (csynth) or after place and route
+  // (routed: csynth x the ratios of models/data/resource_model.yaml), docs/resources.md.
+  std::string estimate = "csynth";           // csynth | routed
   std::map<std::string, int> fifo_depths;    // fifo_depth_<name>: per FIFO
   std::map<std::string, int> stage_ii;       // ii_<stage>: II override (calibration)
   std::map<std::string, int> stage_latency;  // latency_<stage>: latency override

@@ -22,17 +22,38 @@ struct MemoryItem {
   int width_bits = 0;
   int copies = 1;
   bool true_dual_port = false;
-  MemoryMapping per_copy;  // the default storage of one copy
+  bool uram = false;       // bound to UltraRAM (URAM288, 4K x 72) instead of block RAM
+  bool lutram = false;     // bound to LUTRAM whatever its size (BIND_STORAGE impl=lutram)
+  MemoryMapping per_copy;  // the default storage of one copy (URAM: storage bram, bram18k 0)
+  int64_t uram_per_copy = 0;
 };
 struct OpItem {
   std::string stage, name;
   kern::OpKind kind = kern::kOpAdd;
-  int width_bits = 0;  // multipliers: the wider operand
-  int b_bits = 0;      // multipliers: the narrower operand
+  int width_bits = 0;              // multipliers: the wider operand
+  int b_bits = 0;                  // multipliers: the narrower operand
+  bool constant_operand = false;   // multipliers: one operand is a synthesis-time constant
+  bool unsigned_operands = false;  // multipliers: unsigned operands take one more bit on a signed DSP
+  bool bound_dsp = false;          // adders the source binds to a DSP slice (core=AddSub_DSP / BIND_OP)
+  int float_kind = 0;              // 0: integer; else a kFloat* core (single precision, count cores)
   int64_t count = 0;
 };
+// Single-precision floating-point cores: multiply, add/subtract, divide, exp, conversion to or from
+// an integer. Their DSP slices per core are learned (multiply, add, exp) or none (divide and
+// conversions are built in logic); their logic is one `float` feature weighted by kFloatSize.
+inline constexpr int kFloatMul = 1, kFloatAdd = 2, kFloatDiv = 3, kFloatExp = 4, kFloatConv = 5;
+// Relative logic size of the cores (multiply = 1), an inference from the shapes of the
+// floating-point operators (docs/resources.md, section 3).
+inline constexpr double kFloatSize[6] = {0, 1.0, 2.5, 10.0, 7.0, 2.0};
 struct RegisterItem {
   std::string stage, name;
+  int width_bits = 0;
+  int64_t count = 0;
+};
+// A stream or memory-mapped port adapter of the top function (AXI4-Stream: axis; AXI4 master:
+// m_axi; AXI4-Lite control registers: s_axilite), width_bits of data each.
+struct InterfaceItem {
+  std::string stage, name, kind;
   int width_bits = 0;
   int64_t count = 0;
 };
@@ -42,6 +63,8 @@ struct Inventory {
   std::vector<MemoryItem> memories;
   std::vector<OpItem> ops;
   std::vector<RegisterItem> registers;
+  std::vector<InterfaceItem> interfaces;
+  int dsp_b_bits = 0;  // the device's DSP slice B width when not the coefficients' (Versal DSP58: 24)
 };
 
 // The sink the kernels' declare() methods call (kern::resources.hpp), for one stage.
@@ -52,6 +75,11 @@ class Collector {
   void registers(const char* name, int width_bits, int count);
   void op(const char* name, kern::OpKind kind, int width_bits, int count);
   void mul(const char* name, int a_bits, int b_bits, int count);
+  // Beyond the kernels' vocabulary (function descriptions, models/data/functions):
+  void mul_const(const char* name, int a_bits, int b_bits, int64_t count);
+  void memory_item(MemoryItem m);
+  void op_item(OpItem o);
+  void interface(const char* name, const std::string& kind, int width_bits, int64_t count);
 
  private:
   Inventory& inv_;
@@ -61,22 +89,50 @@ class Collector {
 // A whole design: its stages as the kernels declare them for the configuration at its ROI size,
 // and its FIFOs (named as in the cycle model, with the configured depths).
 Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int height_px);
-// Single stages, for the published points of stand-alone vendor kernels.
-Inventory median_inventory(int width_px, int height_px, int k, int value_bits);
-Inventory rectify_inventory(int width_px, int height_px, int mode, int frac_bits, int buffer_rows);
 
-// Per-operator cost coefficients (models/data/resource_model.yaml). Structural costs per bit
-// are fixed by the operator's shape; the fitted ones scale and add overheads.
+// The features LUT and FF are linear in (per stage): operator bits per kind (multipliers in
+// LUTs: a x b bit pairs for LUTs, a + b bits for FFs), declared register bits, memory copies in
+// BRAM or URAM (address and enable logic), interface bits, and one per stage (control).
+enum Feature : int {
+  kFeatAdd = 0,
+  kFeatCompare,
+  kFeatMux,
+  kFeatPopcount,
+  kFeatXor,
+  kFeatMul,       // multipliers by a variable mapped to LUTs
+  kFeatMulConst,  // multipliers by a constant mapped to LUTs (shift-and-add)
+  kFeatDspMul,    // multipliers on DSP48 slices (their pipeline registers and operand muxes)
+  kFeatFloat,     // single-precision floating-point cores (per core: alignment, normalisation)
+  kFeatRegister,
+  kFeatMemory,
+  kFeatInterface,
+  kFeatStage,
+  kFeatureCount
+};
+const char* feature_name(int f);  // "add", ..., "stage"
+
+// Estimate flavour: what Vitis HLS C synthesis reports (csynth, like the published rows), or
+// after place and route (routed: csynth x the documented per-resource ratios).
+enum class Flavour { csynth, routed };
+const char* flavour_name(Flavour f);  // "csynth" | "routed"
+// Throws std::invalid_argument naming the value unless "csynth" or "routed".
+Flavour parse_flavour(const std::string& name);
+
+// Per-operator cost coefficients (models/data/resource_model.yaml).
 struct Coefficients {
-  double lut_per_bit[kern::kOpKindCount] = {};  // structural LUTs per result bit (mul: per a*b bit pair)
-  int dsp_min_operand_bits = 10;                // multipliers with both operands wider go to DSP48E2
-  int dsp_a_bits = 27, dsp_b_bits = 18;         // one DSP48E2 multiplies 27 x 18
-  // Fitted:
-  double lut_scale = 1.0;       // x structural LUTs of the operators
-  double lut_per_stage = 0.0;   // control, handshakes, FSM per stage
-  double lut_per_memory = 0.0;  // address and enable logic per memory (copy)
-  double ff_per_op_bit = 0.0;   // pipeline registers per operator result bit
-  double ff_per_stage = 0.0;
+  // LUT and FF per unit of each feature: the fitted values and the structural priors the fit
+  // is pulled towards where the rows do not pin a feature.
+  double lut[kFeatureCount] = {}, ff[kFeatureCount] = {};
+  double lut_prior[kFeatureCount] = {}, ff_prior[kFeatureCount] = {};
+  // DSP binding (learned from the rows, `parallax fit-resources`): a multiplier goes to DSP48E2
+  // slices when its narrower operand has at least dsp_min_bits_var bits (by a variable) or
+  // dsp_min_bits_const bits (by a constant); one slice multiplies dsp_a_bits x dsp_b_bits.
+  int dsp_min_bits_var = 10, dsp_min_bits_const = 10;
+  int dsp_per_fmul = 3, dsp_per_fadd = 2, dsp_per_fexp = 7;  // DSP slices per floating-point core (learned)
+  int dsp_a_bits = 27, dsp_b_bits = 18;
+  // Routed / csynth per resource, and where the ratios come from.
+  double routed_lut_ratio = 1.0, routed_ff_ratio = 1.0, routed_bram_ratio = 1.0, routed_dsp_ratio = 1.0;
+  std::string routed_source;
   // Power (estimate): static by device, dynamic per resource per MHz of toggling logic.
   double static_w = 0.0;
   double dynamic_mw_per_mhz_per_klut = 0.0;
@@ -89,7 +145,7 @@ struct Coefficients {
 };
 const Coefficients& default_coefficients();  // the compiled-in data file
 Coefficients parse_coefficients(const std::string& yaml_text, const std::string& source_name);
-std::string coefficients_yaml(const Coefficients& c);  // round trip, used by fit-resources
+std::string coefficients_yaml(const Coefficients& c);  // round trip, used by fit-resources --write
 
 struct Usage {
   int64_t bram18k = 0, uram = 0, lut = 0, ff = 0, dsp = 0;
@@ -100,22 +156,25 @@ struct StageUsage {
   Usage usage;
 };
 struct Estimate {
+  Flavour flavour = Flavour::csynth;
   Usage total;
   std::vector<StageUsage> stages;
 };
-Estimate estimate(const Inventory& inv, const Coefficients& c = default_coefficients());
+Estimate estimate(const Inventory& inv, const Coefficients& c = default_coefficients(),
+                  Flavour flavour = Flavour::csynth);
 
-// The structural parts an estimate is linear in (for fitting): estimate = base + sum(k_i x f_i).
+// The parts a csynth estimate is linear in (for fitting):
+// LUT = lut_base + sum(lut[i] x lut_f[i]), FF = ff_base + sum(ff[i] x ff_f[i]).
 struct Features {
-  double op_luts = 0;      // structural LUTs of the operators in LUTs (not DSP)
-  double memory_luts = 0;  // LUTRAM + SRL LUTs
-  double stages = 0;
-  double memories = 0;       // memory copies
-  double register_bits = 0;  // declared registers and SRL output registers
-  double op_bits = 0;        // result bits of the operators
-  int64_t bram18k = 0, dsp = 0;
+  double lut_f[kFeatureCount] = {}, ff_f[kFeatureCount] = {};
+  double lut_base = 0;  // LUTRAM + SRL LUTs (structural)
+  double ff_base = 0;   // SRL output registers (structural)
+  int64_t bram18k = 0, uram = 0, dsp = 0;
 };
 Features features(const Inventory& inv, const Coefficients& c = default_coefficients());
+// The DSP48 slices one multiplier or floating-point item takes under c's binding rule (0: in
+// LUTs); dsp_b_bits: the device's slice B width when not c's (Inventory::dsp_b_bits).
+int64_t dsp_for(const OpItem& o, const Coefficients& c, int dsp_b_bits = 0);
 
 struct Utilisation {
   const Device* device = nullptr;
