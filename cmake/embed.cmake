@@ -7,6 +7,18 @@
 # add OUT_CPP to a target's sources. Editing INPUT_FILE re-runs CMake (CMAKE_CONFIGURE_DEPENDS);
 # OUT_CPP is rewritten only when its text changes, so unrelated reconfigures rebuild nothing.
 # Fails at configure time if the text contains the raw-string terminator.
+# Writes TEXT to PATH only when it differs from PATH's content, so that unrelated reconfigures
+# rebuild nothing.
+function(_parallax_write_if_changed PATH TEXT)
+  set(_old "")
+  if(EXISTS "${PATH}")
+    file(READ "${PATH}" _old)
+  endif()
+  if(NOT _old STREQUAL TEXT)
+    file(WRITE "${PATH}" "${TEXT}")
+  endif()
+endfunction()
+
 function(parallax_embed_text OUT_CPP SYMBOL INPUT_FILE)
   get_filename_component(_in "${INPUT_FILE}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
   get_filename_component(_out "${OUT_CPP}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_BINARY_DIR}")
@@ -35,13 +47,7 @@ function(parallax_embed_text OUT_CPP SYMBOL INPUT_FILE)
   string(APPEND _cpp "const char* const ${SYMBOL} = R\"${_delim}(${_text})${_delim}\";\n")
   string(APPEND _cpp "}  // namespace parallax::res::data\n")
 
-  set(_old "")
-  if(EXISTS "${_out}")
-    file(READ "${_out}" _old)
-  endif()
-  if(NOT _old STREQUAL _cpp)
-    file(WRITE "${_out}" "${_cpp}")
-  endif()
+  _parallax_write_if_changed("${_out}" "${_cpp}")
 endfunction()
 
 # parallax_embed_yaml_dir(OUT_CPP STEM DIRECTORY)
@@ -84,11 +90,5 @@ function(parallax_embed_yaml_dir OUT_CPP STEM DIRECTORY)
   string(APPEND _cpp "extern const int ${STEM}_count;\n")
   string(APPEND _cpp "const char* const* const ${STEM}_files = files;\nconst char* const* const ${STEM}_texts = texts;\n")
   string(APPEND _cpp "const int ${STEM}_count = ${_n};\n}  // namespace parallax::res::data\n")
-  set(_old "")
-  if(EXISTS "${_out}")
-    file(READ "${_out}" _old)
-  endif()
-  if(NOT _old STREQUAL _cpp)
-    file(WRITE "${_out}" "${_cpp}")
-  endif()
+  _parallax_write_if_changed("${_out}" "${_cpp}")
 endfunction()
