@@ -26,6 +26,9 @@ for cost in census sad; do
   row "ruf2018-$cost, noc, D = 128" eval --config $C --dataset $D --set disparities=128 --set parallel_units=8
   row "ruf2018-$cost, noc, whole image matched, then cropped" eval --config $C --dataset $D --context full
   row "ruf2018-$cost, noc, 8 paths" eval --config $C --dataset $D --set paths=8
+  for u in 5 10 20; do
+    row "ruf2018-$cost, noc, uniqueness_pct $u" eval --config $C --dataset $D --set uniqueness_pct=$u
+  done
 done
 for b in opencv-hh4 opencv-sgbm; do
   row "$b (D 64, block 5, P1 200, P2 800), noc" baseline $b --dataset $D

@@ -272,6 +272,10 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["P1"] = std::to_string(regs.p1);
   v["P2"] = std::to_string(regs.p2);
   v["LR_TOLERANCE"] = std::to_string(regs.lr_tolerance);
+  v["UNIQUENESS_PCT"] = std::to_string(regs.uniqueness_pct);
+  v["UNIQUENESS"] = regs.uniqueness_pct > 0 ? "true" : "false";
+  v["UNIQUENESS_TEXT"] =
+      regs.uniqueness_pct > 0 ? "built with the check; 0 turns it off" : "built without the check: ignored";
   v["FRAMES"] = std::to_string(kTestbenchFrames);
   v["ROW_PACKING"] = std::to_string(c.row_packing);
 }
@@ -463,13 +467,13 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
                 "// of its frame into `frame_write` and pass 2 of the previous frame from `frame_read` (the buffer\n"
                 "// call k - 1 wrote; kFrameWords words each; the host swaps them), writing that frame's map to\n"
                 "// `disparity` (kPixels codes, raster order). The registers hold P1 < P2 (the SGM penalties, read\n"
-                "// by the aggregation only) and the left-right tolerance in pixels (read by the WTA / LR check\n"
-                "// only)."
+                "// by the aggregation only), the left-right tolerance in pixels and the uniqueness margin in\n"
+                "// percent (read by the WTA / LR check only)."
           : "// Computes the disparity of one " + input_kind +
                 " stereo pair. Contract: each input stream carries exactly\n"
                 "// kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The\n"
-                "// registers hold P1 < P2 (the SGM penalties, read by the aggregation only) and the left-right\n"
-                "// tolerance in pixels (read by the WTA / LR check only).";
+                "// registers hold P1 < P2 (the SGM penalties, read by the aggregation only), the left-right\n"
+                "// tolerance in pixels and the uniqueness margin in percent (read by the WTA / LR check only).";
   const std::string ports =
       "void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in," + v["MAP_PORTS"] +
       "\n";
@@ -479,11 +483,12 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
            ? "                  parallax::kern::DispCode* disparity, frame_word_t* frame_write,\n"
              "                  const frame_word_t* frame_read,\n"
              "                  ap_uint<parallax_design::kPenaltyBits> p1, ap_uint<parallax_design::kPenaltyBits> p2,\n"
-             "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance)"
+             "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance, ap_uint<7> uniqueness_pct)"
            : "                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> "
              "p1,\n"
              "                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> "
-             "lr_tolerance)");
+             "lr_tolerance,\n"
+             "                  ap_uint<7> uniqueness_pct)");
   v["PASS_MAP_PARAMS"] =
       rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
   v["DATAFLOW_MAP_PARAMS"] =

@@ -63,6 +63,7 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
   need(p.median == 0 || p.median == 1 || p.median == 3 || p.median == 5 || p.median == 7,
        "median must be 0, 3, 5 or 7");
   need(p.lr_tolerance >= 0, "lr_tolerance must be >= 0");
+  need(p.uniqueness_pct >= 0 && p.uniqueness_pct <= kern::kMaxUniquenessPct, "uniqueness_pct must be in [0, 100]");
   need(kern::aggregate_bits(p) <= 31, "aggregate wider than 31 bits");
   return e;
 }

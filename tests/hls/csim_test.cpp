@@ -36,9 +36,9 @@ const Design kDesigns[] = {
     {"census", "configs/ruf2018-census.yaml", ""},
     {"sad", "configs/ruf2018-sad.yaml", ""},
     {"variant", "configs/ruf2018-census.yaml",
-     "--set parallel_units=12 --set disparities=48 --set paths=0,45,90 --set median=3 --set lr_tolerance=2 --clock-mhz "
-     "150"},
-    {"eight_paths", "configs/ruf2018-census.yaml", "--set paths=8"},
+     "--set parallel_units=12 --set disparities=48 --set paths=0,45,90 --set median=3 --set lr_tolerance=2 "
+     "--set uniqueness_pct=10 --clock-mhz 150"},
+    {"eight_paths", "configs/ruf2018-census.yaml", "--set paths=8 --set uniqueness_pct=25"},
 };
 
 // Undefined symbols the synthesisable top may need: the stream interface and C builtins.

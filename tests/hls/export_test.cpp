@@ -409,11 +409,12 @@ TEST(HlsExport, RegistersAreReadOutsideTheDataflowRegion) {
     ASSERT_EQ(bodies.count("parallax_dataflow"), 1u);
     const std::string& top = bodies.at("parallax_top");
     EXPECT_EQ(top.find("#pragma HLS DATAFLOW"), std::string::npos) << sets << top;
-    for (const char* s : {"#pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control", "= p1.to_uint();",
-                          "= p2.to_uint();", "= lr_tolerance.to_uint();", "parallax_dataflow("})
+    for (const char* s :
+         {"#pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control", "= p1.to_uint();", "= p2.to_uint();",
+          "= lr_tolerance.to_uint();", "= uniqueness_pct.to_uint();", "parallax_dataflow("})
       EXPECT_NE(top.find(s), std::string::npos) << sets << ": " << s;
     EXPECT_NE(bodies.at("parallax_dataflow").find("#pragma HLS INLINE off\n#pragma HLS DATAFLOW\n"), std::string::npos);
-    static const std::regex port(R"(\b(p1|p2|lr_tolerance)\b|to_uint\(\))");
+    static const std::regex port(R"(\b(p1|p2|lr_tolerance|uniqueness_pct)\b|to_uint\(\))");
     int regions = 0;
     for (const auto& kv : bodies) {
       if (kv.second.find("#pragma HLS DATAFLOW") == std::string::npos) continue;
@@ -434,7 +435,7 @@ TEST(HlsExport, StagesTakeOnlyTheRegistersTheirKernelsRead) {
                                                               {"aggregate_stage", {"p1", "p2"}},
                                                               {"aggregate_forward_stage", {"p1", "p2"}},
                                                               {"aggregate_back_stage", {"p1", "p2"}},
-                                                              {"wta_lr_stage", {"lr_tolerance"}},
+                                                              {"wta_lr_stage", {"lr_tolerance", "uniqueness_pct"}},
                                                               {"median_stage", {}}};
   for (const char* sets : {"", "--set paths=8"}) {
     const fs::path out = fresh_dir("stage_registers");

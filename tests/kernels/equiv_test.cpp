@@ -78,6 +78,27 @@ TEST(Equiv, PenaltiesMedianAndLrCheckOnAndOff) {
       }
 }
 
+// The uniqueness test's streaming minima against the golden model's scan over all disparities:
+// chunks of one lane (the best moving every chunk), of two (a best on a chunk's last lane), half
+// of D and all of D (one chunk); margins from none to 100 %; with and without the LR check; one
+// and two passes.
+TEST(Equiv, UniquenessAcrossChunkShapes) {
+  uint32_t seed = 7000;
+  for (int d : {4, 16, 24})
+    for (int pu : {1, 2, d / 2, d})
+      for (int u : {0, 1, 5, 15, 50, 100})
+        for (unsigned paths : {kern::kForwardPaths, kern::kAllPaths}) {
+          StereoParams p = base_params(29, 11);
+          p.disparities = d;
+          p.parallel_units = pu;
+          p.path_mask = paths;
+          p.uniqueness_pct = u;
+          p.lr_check = (seed % 2) == 0;
+          const Pattern pattern = seed % 3 == 0 ? Pattern::kRandom : Pattern::kShiftedTexture;
+          expect_equivalent(p, pattern, ++seed);
+        }
+}
+
 TEST(Equiv, WindowsAndPatterns) {
   uint32_t seed = 3000;
   const int windows[][2] = {{1, 1}, {3, 3}, {5, 5}, {7, 5}, {9, 7}, {3, 9}};
@@ -138,6 +159,7 @@ TEST(Equiv, SeededRandomConfigurations) {
     p.lr_tolerance = int(rng() % 3);
     const int medians[] = {0, 3, 5, 7};
     p.median = medians[rng() % 4];
+    p.uniqueness_pct = rng() % 3 == 0 ? int(rng() % 101) : 0;
     SCOPED_TRACE("master seed " + std::to_string(master_seed) + " draw " + std::to_string(i));
     expect_equivalent(p, i % 2 ? Pattern::kRandom : Pattern::kShiftedTexture, master_seed + uint32_t(i));
   }

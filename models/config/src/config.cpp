@@ -83,7 +83,7 @@ std::string to_yaml(const PipelineConfig& c) {
 }
 
 kern::StereoRegisters PipelineConfig::registers() const {
-  return {p1, p2, lr_tolerance};
+  return {p1, p2, lr_tolerance, uniqueness_pct};
 }
 
 kern::StereoParams PipelineConfig::stereo_params(int width_px, int height_px) const {

@@ -388,6 +388,9 @@ std::vector<FieldRow> make_table() {
       flag("lr_check", &P::lr_check, "left-right consistency check"),
       register_int("lr_tolerance", &Registers::lr_tolerance, in_range(0, 255),
                    "largest left-right disagreement in pixels that the check accepts"),
+      register_int("uniqueness_pct", &Registers::uniqueness_pct, in_range(0, kern::kMaxUniquenessPct),
+                   "uniqueness margin in percent: invalid when a disparity 2+ steps from the best costs less "
+                   "than (100 + u)% of it; 0 = off (no hardware)"),
       integer("median", &P::median, one_of({0, 3, 5, 7}, "off"), "k x k median filter of the disparity codes"),
       integer("clock_mhz", &P::clock_mhz, in_range(1, 1000), "processing clock in MHz (timing model)"),
       choice("rectify", &P::rectify, {"none", "nearest", "bilinear"},

@@ -237,6 +237,8 @@ void validate_stereo_params(const kern::StereoParams& p) {
   if (p.p1 < 0) fail("P1 must be >= 0, got " + std::to_string(p.p1));
   if (!(p.p1 < p.p2)) fail("P1 must be < P2, got P1=" + std::to_string(p.p1) + " P2=" + std::to_string(p.p2));
   if (p.lr_tolerance < 0) fail("lr_tolerance must be >= 0");
+  if (p.uniqueness_pct < 0 || p.uniqueness_pct > kern::kMaxUniquenessPct)
+    fail("uniqueness_pct must be in [0, " + std::to_string(kern::kMaxUniquenessPct) + "]");
   if (p.median != 0 && p.median != 1 && p.median != 3 && p.median != 5 && p.median != 7)
     fail("median must be 0 or 1 (off), 3, 5 or 7, got " + std::to_string(p.median));
   if (kern::aggregate_bits(p) > 32)
@@ -433,6 +435,14 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
   const int num_disp = p.disparities;
   const uint16_t invalid = static_cast<uint16_t>(kern::invalid_code(p));
   auto s = [&](int x, int y, int d) { return aggregate_volume[volume_index(x, y, d, width, num_disp)]; };
+  // Uniqueness: no S at two or more disparities from the best below (100 + u) / 100 of the best.
+  auto unique = [&](int x, int y, int best_d) {
+    if (p.uniqueness_pct <= 0) return true;
+    const uint64_t bound = uint64_t(s(x, y, best_d)) * uint64_t(100 + p.uniqueness_pct);
+    for (int d = 0; d < num_disp; ++d)
+      if (std::abs(d - best_d) >= 2 && uint64_t(s(x, y, d)) * 100u < bound) return false;
+    return true;
+  };
 
   std::vector<uint16_t> codes(pixel_count(width, height), invalid);
   std::vector<int> d_left(static_cast<std::size_t>(width), 0);
@@ -443,7 +453,7 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
       int best_d = 0;
       for (int d = 1; d < num_disp; ++d)
         if (s(x, y, d) < s(x, y, best_d)) best_d = d;
-      d_left[static_cast<std::size_t>(x)] = best_d;
+      d_left[static_cast<std::size_t>(x)] = unique(x, y, best_d) ? best_d : num_disp;
     }
     // dR(xr, y): the smallest d with xr + d < W minimising S(xr + d, y, d).
     for (int xr = 0; xr < width; ++xr) {
@@ -454,7 +464,7 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
     }
     for (int x = 0; x < width; ++x) {
       const int dl = d_left[static_cast<std::size_t>(x)];
-      bool valid = dl <= x;  // dL > x: the match lies outside the right image
+      bool valid = dl < num_disp && dl <= x;  // not unique, or the match lies outside the right image
       if (valid && p.lr_check) {
         const int dr = d_right[static_cast<std::size_t>(x - dl)];
         valid = std::abs(dl - dr) <= p.lr_tolerance;

@@ -197,7 +197,8 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
   // The top's port adapters, as the exported top declares them (hls/templates): AXI4-Stream pixels
   // in, remap-table entries in (64-bit beats) when rectifying, disparity codes out (whole bytes; two
   // passes: AXI4 masters to the frame buffer and the map), and the AXI4-Lite control registers (p1,
-  // p2, lr_tolerance and ap_ctrl, 32 bits each).
+  // p2, lr_tolerance, uniqueness_pct and ap_ctrl, 32 bits each; the top declares uniqueness_pct
+  // whether or not the design has the check).
   {
     Collector c(inv, "interfaces");
     c.interface("left_in", "axis", 8, 1);
@@ -210,7 +211,7 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
     } else {
       c.interface("disparity_out", "axis", out_bits, 1);
     }
-    c.interface("control", "s_axilite", 32, 4);
+    c.interface("control", "s_axilite", 32, 5);
   }
   // The FIFOs of the design's variant, from the pipeline table (kernels/pipeline.hpp), at their
   // tokens' widths.

@@ -143,7 +143,7 @@ TEST(Config, DocumentationListsEveryFieldOnce) {
     names.push_back(name);
   }
   EXPECT_EQ(names, field_names());
-  EXPECT_EQ(registers, (std::vector<std::string>{"p1", "p2", "lr_tolerance"}));
+  EXPECT_EQ(registers, (std::vector<std::string>{"p1", "p2", "lr_tolerance", "uniqueness_pct"}));
   PipelineConfig c;
   c.p1 = 3;
   c.p2 = 17;

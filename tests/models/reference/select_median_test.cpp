@@ -56,6 +56,31 @@ TEST(SelectDisparity, RightDisparityIgnoresTermsBeyondTheRightEdge) {
   EXPECT_EQ(select_disparity(s, p), (std::vector<uint16_t>{0, 0, 2, 0}));
 }
 
+TEST(SelectDisparity, UniquenessInvalidatesAmbiguousWinners) {
+  // W = 4, H = 1, D = 5; every dL <= x only from x = 4 on, so x = 4 .. 7 carry the cases.
+  //   x4 [10 11 30 30 30]: the runner-up d = 1 is a neighbour of dL = 0, the rest are 3x -> unique;
+  //   x5 [10 30 30 30 11]: d = 4 costs 11 < 1.15 x 10 -> invalid at u = 15, valid at u = 10
+  //                        (100 x 11 = 1100 is not < 110 x 10 = 1100: the strict test);
+  //   x6 [30 30 10 30 10]: a tie two steps away -> invalid at any u > 0;
+  //   x7 [20 20 20 20 20]: all equal, dL = 0, d = 2 ties -> invalid at u > 0.
+  kern::StereoParams p = make_params(8, 1, kern::kCostSad, 1, 5, kern::kPath0, 1, 2);
+  std::vector<std::vector<uint32_t>> row(4, std::vector<uint32_t>{0, 50, 50, 50, 50});
+  row.push_back({10, 11, 30, 30, 30});
+  row.push_back({10, 30, 30, 30, 11});
+  row.push_back({30, 30, 10, 30, 10});
+  row.push_back({20, 20, 20, 20, 20});
+  const std::vector<uint32_t> s = volume_from({row});
+  const uint16_t inv = 5;
+  p.uniqueness_pct = 0;
+  EXPECT_EQ(select_disparity(s, p), (std::vector<uint16_t>{0, 0, 0, 0, 0, 0, 2, 0}));
+  p.uniqueness_pct = 10;
+  EXPECT_EQ(select_disparity(s, p), (std::vector<uint16_t>{0, 0, 0, 0, 0, 0, inv, inv}));
+  p.uniqueness_pct = 15;
+  EXPECT_EQ(select_disparity(s, p), (std::vector<uint16_t>{0, 0, 0, 0, 0, inv, inv, inv}));
+  p.uniqueness_pct = 101;
+  EXPECT_THROW(select_disparity(s, p), std::invalid_argument);
+}
+
 std::vector<uint16_t> median3_centre_case(const std::vector<uint16_t>& window) {
   return median_filter(window, 3, 3, 3);
 }

@@ -93,6 +93,35 @@ TEST(ResourcesModel, StorageFollowsTheDefaultRules) {
   EXPECT_EQ(fifos, (std::vector<std::string>{"left_px", "right_px", "cost", "sum", "disp_lr", "disp_out"}));
 }
 
+// The uniqueness check is hardware of the WTA stage only, present when the configuration has a
+// margin: registers and logic, no memory; its cost grows with PU (masked min trees over the lanes).
+TEST(ResourcesModel, UniquenessCheckCostsLogicInTheWtaStageOnly) {
+  config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-census.yaml");
+  auto stage = [](const res::Estimate& e, const std::string& name) {
+    for (const auto& s : e.stages)
+      if (s.stage == name) return s.usage;
+    return res::Usage{};
+  };
+  const res::Estimate off = res::estimate(res::design_inventory(cfg, 640, 360));
+  cfg.uniqueness_pct = 15;
+  const res::Estimate on = res::estimate(res::design_inventory(cfg, 640, 360));
+  EXPECT_EQ(on.total.bram18k, off.total.bram18k);
+  EXPECT_GT(stage(on, "wta_lr").lut, stage(off, "wta_lr").lut);
+  EXPECT_GT(stage(on, "wta_lr").ff, stage(off, "wta_lr").ff);
+  for (const char* other : {"cost", "aggregate", "median"}) {
+    EXPECT_EQ(stage(on, other).lut, stage(off, other).lut) << other;
+    EXPECT_EQ(stage(on, other).ff, stage(off, other).ff) << other;
+  }
+  cfg.uniqueness_pct = 80;  // the margin is a register: its value changes no hardware
+  EXPECT_EQ(res::estimate(res::design_inventory(cfg, 640, 360)).total.lut, on.total.lut);
+  cfg.parallel_units = 12;
+  const res::Estimate wide_on = res::estimate(res::design_inventory(cfg, 640, 360));
+  cfg.uniqueness_pct = 0;
+  const res::Estimate wide_off = res::estimate(res::design_inventory(cfg, 640, 360));
+  EXPECT_GT(stage(wide_on, "wta_lr").lut - stage(wide_off, "wta_lr").lut,
+            stage(on, "wta_lr").lut - stage(off, "wta_lr").lut);
+}
+
 TEST(ResourcesModel, UtilisationAndPower) {
   const res::Device* zu3 = res::find_device("XCZU3EG");
   ASSERT_NE(zu3, nullptr);

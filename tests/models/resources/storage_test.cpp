@@ -289,6 +289,13 @@ TEST(ResourcesStorage, NoLrCheckAndOtherWindow) {
   check_design<640, 60, 6, 5, 5>(cfg);
 }
 
+TEST(ResourcesStorage, UniquenessCheck) {
+  auto cfg = seed();
+  cfg.name = "uniqueness 15 %";
+  cfg.uniqueness_pct = 15;
+  check_design<640, 60, 6, 5, 5>(cfg);
+}
+
 TEST(ResourcesStorage, TwoPaths) {
   auto cfg = seed();
   cfg.name = "paths 0/90";

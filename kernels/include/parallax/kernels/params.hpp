@@ -48,18 +48,20 @@ struct StereoParams {
   int p1;              // register, 0 <= p1 < p2
   int p2;              // register
   bool lr_check;
-  int lr_tolerance;  // register
-  int median;        // 0 = off, 3, 5, 7
+  int lr_tolerance;    // register
+  int median;          // 0 = off, 3, 5, 7
+  int uniqueness_pct;  // register, 0..100: uniqueness margin in percent (0 = off)
 };
 
 // The register fields of StereoParams on their own: the values a hardware register holds, which
 // may change between frames without resynthesis (the HLS top's AXI4-Lite ports). Each has one
-// reader: p1 and p2 the SGM aggregation (sgm.hpp), lr_tolerance the WTA / left-right check
-// (wta_lr.hpp); no other kernel reads a register.
+// reader: p1 and p2 the SGM aggregation (sgm.hpp), lr_tolerance and uniqueness_pct the WTA /
+// left-right check (wta_lr.hpp); no other kernel reads a register.
 struct StereoRegisters {
   int p1;  // 0 <= p1 < p2
   int p2;
-  int lr_tolerance;  // >= 0
+  int lr_tolerance;    // >= 0
+  int uniqueness_pct;  // 0..100
 };
 
 // p with its register fields set to r (the structure fields unchanged).
@@ -67,7 +69,12 @@ inline void set_registers(StereoParams& p, const StereoRegisters& r) {
   p.p1 = r.p1;
   p.p2 = r.p2;
   p.lr_tolerance = r.lr_tolerance;
+  p.uniqueness_pct = r.uniqueness_pct;
 }
+
+// Largest uniqueness margin (percent) the register accepts: 7 bits.
+constexpr int kMaxUniquenessPct = 100;
+constexpr int kUniquenessBits = 7;
 
 enum RectifyMode : int { kRectifyNone = 0, kRectifyNearest = 1, kRectifyBilinear = 2 };
 

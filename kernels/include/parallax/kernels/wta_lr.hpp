@@ -7,7 +7,10 @@
 // candidates): the right candidates still open, the finished right disparities and the delayed
 // left results; every entry is a register with a fixed source, so a firing fits II = 1.
 // In reverse mode (second pass of the 8-path variant) the stream runs right to left, bottom to
-// top. C++14 synthesisable subset.
+// top. With a uniqueness margin (uniqueness_pct > 0) the stage also tracks, across the chunks of
+// a pixel, the smallest cost at least two disparities away from the running best (masked min
+// trees over the lanes, three registers), and invalidates the pixel when that cost is within the
+// margin of the best (docs/algorithm.md §4). C++14 synthesisable subset.
 #pragma once
 
 #include "parallax/kernels/caps.hpp"
@@ -30,6 +33,8 @@ class WtaLr {
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
   static constexpr uint32_t kNoCost = 0xFFFFFFFFu;
+  // "No cost yet" of the uniqueness minima: above every aggregate (aggregate_bits <= 32).
+  static constexpr uint64_t kNoneCost = uint64_t(1) << 32;
 
   void configure(const StereoParams& p, bool reverse) {
     p_ = p;
@@ -117,6 +122,12 @@ class WtaLr {
     s.chain(kOpCompare, ab, 1);
     s.chain(kOpMux, ab, 1);
     s.chain(kOpRegister, ab, 1);
+    if (p_.uniqueness_pct > 0) {  // the far minimum: masked min tree, then the merge into it
+      s.recurrence("uniqueness_far_min", 1);
+      s.chain(kOpCompare, ab + 1, 1);
+      s.chain(kOpMux, ab + 1, 2);
+      s.chain(kOpRegister, ab + 1, 1);
+    }
     if (p_.lr_check) {
       s.recurrence("right_candidates", 1);
       s.chain(kOpMux, ab, 1);
@@ -141,6 +152,25 @@ class WtaLr {
     r.op("wta_best", kOpCompare, ab, 1);
     declare_storage(r, *this);
     r.op("emit_counter", kOpAdd, bits_for(uint64_t(p_.width_px)), 1);
+    if (p_.uniqueness_pct > 0) {
+      // Per lane: its position against the chunk's first minimum (two index compares) and four
+      // masked copies; four min trees (below the best - 1, above the best + 1, all but the last
+      // lane, all but lane 0), the merges into the three minima, and the final test
+      // 100 * far < (100 + u) * best: a constant product, a product by the register, a compare.
+      const int ib = bits_for(uint64_t(pu));
+      r.op("uniqueness_lane_position", kOpCompare, ib, 2 * pu);
+      r.op("uniqueness_lane_mask", kOpMux, ab + 1, 4 * pu);
+      if (pu > 1) {
+        r.op("uniqueness_min_trees", kOpCompare, ab + 1, 4 * (pu - 1));
+        r.op("uniqueness_min_select", kOpMux, ab + 1, 4 * (pu - 1));
+      }
+      r.op("uniqueness_merge", kOpCompare, ab + 1, 3);
+      r.op("uniqueness_merge_select", kOpMux, ab + 1, 5);
+      r.op("uniqueness_far", kOpCompare, ab + 1, 1);
+      r.op("uniqueness_times_100", kOpAdd, ab + 8, 2);
+      r.mul("uniqueness_margin", ab, kUniquenessBits + 1, 1);
+      r.op("uniqueness_test", kOpCompare, ab + 9, 1);
+    }
     if (p_.lr_check) {
       if (d > pu) r.op("right_candidate_select", kOpMux, ab + db, pu * (d / pu - 1));
       r.op("right_compare", kOpCompare, ab, pu);
@@ -176,12 +206,52 @@ class WtaLr {
       const int hit = i < n && uint32_t(t.v[i]) == chunk_min ? i : n;
       first = hit < first ? hit : first;
     }
+    if (p_.uniqueness_pct > 0) track_uniqueness(t, lo, n, chunk_min, first);
     if (chunk_min < best_cost_) {  // strict: an earlier chunk (smaller d) wins ties
       best_cost_ = chunk_min;
       best_d_ = lo + first;
     }
     if (p_.lr_check) right_candidates(t, lo);
-    if (chunk_ + 1 == chunks_) shift_left(DispCode(best_d_));
+    if (chunk_ + 1 == chunks_) shift_left(unique() ? DispCode(best_d_) : DispCode(d_));
+  }
+
+  // Uniqueness state of the pixel, the lanes of a chunk holding d = lo .. lo + n - 1 in
+  // ascending order and chunks arriving in ascending d; called before the best is updated, so
+  // best_cost_ is the minimum of every cost before this chunk (kNoCost at its first). Keeps
+  // below_last_ = the minimum of all costs so far but the last one, left_min_ = the minimum over
+  // d <= best - 2 and right_min_ = the minimum over d >= best + 2 (kNoneCost when empty).
+  void track_uniqueness(const SumToken& t, int lo, int n, uint32_t chunk_min, int first) {
+    if (chunk_ == 0) below_last_ = left_min_ = right_min_ = kNoneCost;
+    const uint64_t before = chunk_ == 0 ? kNoneCost : uint64_t(best_cost_);
+    // Masked minima over the lanes: below the chunk minimum's left neighbour, above its right
+    // neighbour, all lanes but the last, all lanes but lane 0.
+    uint64_t below = kNoneCost, above = kNoneCost, head = kNoneCost, tail = kNoneCost;
+  wta_unique_lanes:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      const uint64_t c = i < n ? uint64_t(uint32_t(t.v[i])) : kNoneCost;
+      below = i + 2 <= first && c < below ? c : below;
+      above = i >= first + 2 && c < above ? c : above;
+      head = i + 1 < n && c < head ? c : head;
+      tail = i >= 1 && c < tail ? c : tail;
+    }
+    if (chunk_min < best_cost_) {  // the best moves to d = lo + first
+      left_min_ = first == 0 ? below_last_ : (before < below ? before : below);
+      right_min_ = above;
+    } else {  // the best stays at best_d_ < lo: lanes from best + 2 join the far side
+      const uint64_t far = best_d_ + 1 == lo ? tail : uint64_t(chunk_min);
+      right_min_ = far < right_min_ ? far : right_min_;
+    }
+    below_last_ = before < head ? before : head;
+  }
+
+  // The pixel's best passes the uniqueness test: no cost at least two disparities away from it
+  // is below (100 + u) / 100 times the best (always true with u = 0).
+  bool unique() const {
+    if (p_.uniqueness_pct <= 0) return true;
+    const uint64_t far = left_min_ < right_min_ ? left_min_ : right_min_;
+    if (far == kNoneCost) return true;
+    return far * 100u >= uint64_t(best_cost_) * uint64_t(100 + p_.uniqueness_pct);
   }
 
   // The left results' delay line moves one column: entry k holds the result k columns back.
@@ -245,7 +315,7 @@ class WtaLr {
     const int d = left_d_.at(lag);
     const int x_img = reverse_ ? p_.width_px - 1 - xs : xs;
     const DispCode invalid = DispCode(d_);
-    if (d > x_img) return invalid;
+    if (d >= d_ || d > x_img) return invalid;  // not unique, or the match is outside the image
     if (p_.lr_check) {
       int dr;
       if (!reverse_) {
@@ -293,6 +363,7 @@ class WtaLr {
   bool in_row_done_ = false, done_ = true;
   uint32_t best_cost_ = 0;
   int best_d_ = 0;
+  uint64_t below_last_ = 0, left_min_ = 0, right_min_ = 0;  // uniqueness minima (track_uniqueness)
   // Shift registers (common.hpp): the left WTA results of the last D columns (entry k: k columns
   // back), the open right candidates' running minimum and its disparity, the finished right
   // disparities (D - 1 used).
@@ -312,6 +383,15 @@ class WtaLr {
     const int db = disparity_bits(p_);
     v.registers("wta_best_cost", best_cost_, 1, ab);
     v.registers("wta_best_disparity", best_d_, 1, db);
+    if (p_.uniqueness_pct > 0) {
+      v.registers("uniqueness_below_last", below_last_, 1, ab + 1);
+      v.registers("uniqueness_left_min", left_min_, 1, ab + 1);
+      v.registers("uniqueness_right_min", right_min_, 1, ab + 1);
+    } else {
+      v.unused("uniqueness_below_last", below_last_);
+      v.unused("uniqueness_left_min", left_min_);
+      v.unused("uniqueness_right_min", right_min_);
+    }
     left_d_.storage(v, "left_disparities", delay_ + 1, db);
     const int lr = p_.lr_check ? 1 : 0;  // without the check: never written (no hardware)
     right_cost_.storage(v, "right_candidate_costs", lr * d_, ab);

@@ -72,11 +72,14 @@ struct Structure {
 
 // The runtime registers of a design: the values a hardware register holds, which may change
 // between frames without resynthesis (the exported top's AXI4-Lite ports). p1 and p2 are read by
-// the SGM aggregation only, lr_tolerance by the WTA / left-right check only.
+// the SGM aggregation only, lr_tolerance and uniqueness_pct by the WTA / left-right check only.
+// A design with uniqueness_pct 0 has no uniqueness hardware (the exported top then has no such
+// port); one built with a margin takes any 0..100 at run time.
 struct Registers {
   int p1 = 8;
   int p2 = 32;
   int lr_tolerance = 1;
+  int uniqueness_pct = 0;
 };
 
 // One design: its structure and its registers. Every field is a member under the name users

@@ -67,6 +67,7 @@ RectifyResult rectify(const Image8& in, const RemapTable& map, const kern::Recti
 // Throws std::invalid_argument when p violates docs/algorithm.md or cannot be represented by
 // this model: size >= 1 x 1, cost kind census/SAD, windows odd and >= 1, census w*h-1 <= 64,
 // 1 <= D <= 256, path_mask a non-empty subset of kAllPaths, 0 <= P1 < P2, lr_tolerance >= 0,
+// 0 <= uniqueness_pct <= 100,
 // median in {0, 1, 3, 5, 7} (0 and 1 mean off), aggregate_bits(p) <= 32 (uint32 volumes).
 // parallel_units is a kernel structure field with no effect on the result and is not checked.
 void validate_stereo_params(const kern::StereoParams& p);
@@ -99,8 +100,9 @@ std::vector<uint32_t> aggregate(const std::vector<uint32_t>& cost, const kern::S
 
 // Winner takes all and left-right check (docs §4) on an aggregate volume: one code per pixel,
 // row-major; code d in [0, D) is a disparity, code D (kern::invalid_code) is invalid. Ties go to
-// the smallest d. dL > x is invalid; with p.lr_check, |dL - dR(x - dL)| > p.lr_tolerance is
-// invalid.
+// the smallest d. dL > x is invalid; with p.uniqueness_pct = u > 0, a dL with some d,
+// |d - dL| >= 2, where 100 S(d) < (100 + u) S(dL) is invalid; with p.lr_check,
+// |dL - dR(x - dL)| > p.lr_tolerance is invalid.
 std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate, const kern::StereoParams& p);
 
 // k x k median of codes (docs §5) with the clamp border: the element of rank (k*k - 1) / 2

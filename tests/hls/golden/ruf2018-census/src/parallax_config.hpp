@@ -60,6 +60,7 @@ constexpr int kOutBits = 8;
 constexpr unsigned kDefaultP1 = 8;
 constexpr unsigned kDefaultP2 = 32;
 constexpr unsigned kDefaultLrTolerance = 1;
+constexpr unsigned kDefaultUniquenessPct = 0;
 
 // FIFO depths, from the simulator's sizing (README.md, "FIFOs").
 constexpr int kDepthLeftPx = 2;
@@ -102,6 +103,7 @@ inline parallax::kern::StereoParams structure_params() {
   p.p1 = 0;
   p.p2 = 0;
   p.lr_tolerance = 0;
+  p.uniqueness_pct = 0;
   return p;
 }
 
@@ -113,10 +115,14 @@ inline parallax::kern::StereoParams aggregate_params(unsigned p1, unsigned p2) {
   return p;
 }
 
-// The WTA / left-right check's parameters: it reads the tolerance (kernels/wta_lr.hpp).
-inline parallax::kern::StereoParams wta_lr_params(unsigned lr_tolerance) {
+// The WTA / left-right check's parameters: it reads the tolerance and the uniqueness margin
+// (kernels/wta_lr.hpp). A design exported without a margin has no uniqueness hardware: the margin
+// is the constant 0 then and the register is ignored.
+constexpr bool kUniqueness = false;
+inline parallax::kern::StereoParams wta_lr_params(unsigned lr_tolerance, unsigned uniqueness_pct) {
   parallax::kern::StereoParams p = structure_params();
   p.lr_tolerance = int(lr_tolerance);
+  p.uniqueness_pct = kUniqueness ? int(uniqueness_pct > 100u ? 100u : uniqueness_pct) : 0;
   return p;
 }
 

@@ -109,7 +109,7 @@ read_pixels_loop:
 }
 
 // The stages take only the registers their kernels read: none (cost, median), P1 and P2 (the
-// aggregation), the tolerance (the WTA / left-right check).
+// aggregation), the tolerance and the uniqueness margin (the WTA / left-right check).
 void cost_stage(hls::stream<uint8_t>& left_px, hls::stream<uint8_t>& right_px, hls::stream<CostBeat>& cost_beats) {
   CostStageT stage;
   CostStream cost(cost_beats);
@@ -128,11 +128,12 @@ cost_loop:
   }
 }
 
-void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_beats, unsigned lr_tolerance) {
+void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_beats, unsigned lr_tolerance,
+                  unsigned uniqueness_pct) {
   WtaLrT stage;
   SumStream sum(sum_beats);
   CodeStream disp(disp_beats);
-  stage.configure(wta_lr_params(lr_tolerance), kTwoPass);  // two passes: the reversed stream
+  stage.configure(wta_lr_params(lr_tolerance, uniqueness_pct), kTwoPass);  // two passes: the reversed stream
 wta_lr_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
@@ -210,7 +211,7 @@ write_disparity_loop:
 // each goes on to the one stage that reads it.
 void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
                        hls::stream<disparity_beat_t>& disparity_out, unsigned p1_value, unsigned p2_value,
-                       unsigned tolerance_value) {
+                       unsigned tolerance_value, unsigned uniqueness_value) {
 #pragma HLS INLINE off
 #pragma HLS DATAFLOW
   hls::stream<uint8_t> left_px("left_px");
@@ -236,7 +237,7 @@ void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_bea
   read_pixels(right_in, right_px);
   cost_stage(left_px, right_px, cost);
   aggregate_stage(cost, sum, p1_value, p2_value);
-  wta_lr_stage(sum, disp_lr, tolerance_value);
+  wta_lr_stage(sum, disp_lr, tolerance_value, uniqueness_value);
   median_stage(disp_lr, disp_out);
   write_disparity(disp_out, disparity_out);
 }
@@ -245,17 +246,21 @@ void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_bea
 
 void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
                   hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,
-                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance) {
+                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance,
+                  ap_uint<7> uniqueness_pct) {
 #pragma HLS INTERFACE mode=axis port=left_in
 #pragma HLS INTERFACE mode=axis port=right_in
 #pragma HLS INTERFACE mode=axis port=disparity_out
 #pragma HLS INTERFACE mode=s_axilite port=p1 bundle=control
 #pragma HLS INTERFACE mode=s_axilite port=p2 bundle=control
 #pragma HLS INTERFACE mode=s_axilite port=lr_tolerance bundle=control
+#pragma HLS INTERFACE mode=s_axilite port=uniqueness_pct bundle=control
 #pragma HLS INTERFACE mode=s_axilite port=return bundle=control
   // The AXI4-Lite registers, read once per call outside the DATAFLOW region.
   const unsigned p1_value = p1.to_uint();
   const unsigned p2_value = p2.to_uint();
   const unsigned tolerance_value = lr_tolerance.to_uint();
-  parallax_dataflow(left_in, right_in, disparity_out, p1_value, p2_value, tolerance_value);
+  const unsigned uniqueness_value = uniqueness_pct.to_uint();
+  parallax_dataflow(left_in, right_in, disparity_out, p1_value, p2_value, tolerance_value,
+                    uniqueness_value);
 }

@@ -15,8 +15,9 @@ typedef ap_axiu<parallax_design::kOutBits, 1, 1, 1> disparity_beat_t;
 
 // Computes the disparity of one rectified stereo pair. Contract: each input stream carries exactly
 // kWidthPx x kHeightPx beats in raster order; the output carries as many, in raster order. The
-// registers hold P1 < P2 (the SGM penalties, read by the aggregation only) and the left-right
-// tolerance in pixels (read by the WTA / LR check only).
+// registers hold P1 < P2 (the SGM penalties, read by the aggregation only), the left-right
+// tolerance in pixels and the uniqueness margin in percent (read by the WTA / LR check only).
 void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
                   hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,
-                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance);
+                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance,
+                  ap_uint<7> uniqueness_pct);

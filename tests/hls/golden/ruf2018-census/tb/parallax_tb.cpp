@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
     const int w = call % 2;
     disparity.assign(size_t(kPixels), kUnwritten);
     parallax_top(left_in, right_in, disparity.data(), buffers[w].data(), buffers[1 - w].data(),
-                 kDefaultP1, kDefaultP2, kDefaultLrTolerance);
+                 kDefaultP1, kDefaultP2, kDefaultLrTolerance, kDefaultUniquenessPct);
     if (call == 0) continue;  // its pass 2 read a buffer no call had written
     const int frame = call - 1;
     // Top -> golden and golden -> top: every pixel of the map written, with the golden code.
@@ -170,7 +170,7 @@ int main(int argc, char** argv) {
 #else
     const int frame = call;
     hls::stream<disparity_beat_t> disparity_out("disparity_out");
-    parallax_top(left_in, right_in, disparity_out, kDefaultP1, kDefaultP2, kDefaultLrTolerance);
+    parallax_top(left_in, right_in, disparity_out, kDefaultP1, kDefaultP2, kDefaultLrTolerance, kDefaultUniquenessPct);
     long long n = 0;
     // Top -> golden: each beat must be the next golden pixel, with the same code and framing.
     while (!disparity_out.empty()) {
