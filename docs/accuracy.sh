@@ -30,6 +30,11 @@ for cost in census sad; do
     row "ruf2018-$cost, noc, uniqueness_pct $u" eval --config $C --dataset $D --set uniqueness_pct=$u
   done
 done
+C=configs/ruf2018-census.yaml
+for cw in "sparse 5x5" "symmetric 5x5" "full 9x7" "sparse 9x7" "symmetric 9x7" "sparse 9x9"; do
+  set -- $cw
+  row "ruf2018-census, noc, census $1 $2" eval --config $C --dataset $D --set census=$1 --set window=$2
+done
 for b in opencv-hh4 opencv-sgbm; do
   row "$b (D 64, block 5, P1 200, P2 800), noc" baseline $b --dataset $D
   row "$b, occ" baseline $b --dataset $D --gt occ

@@ -244,7 +244,13 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["COST_ENUM"] = census ? "kCostCensus" : "kCostSad";
   v["COST_HEADER"] = census ? "census.hpp" : "sad.hpp";
   v["COST_STAGE"] = census ? "CensusCostStage" : "SadCostStage";
-  v["COST_NAME"] = census ? "Census" : "SAD";
+  v["COST_NAME"] = !census                              ? "SAD"
+                   : p.census == kern::kCensusSparse    ? "sparse Census"
+                   : p.census == kern::kCensusSymmetric ? "centre-symmetric Census"
+                                                        : "Census";
+  v["CENSUS_ENUM"] = p.census == kern::kCensusSparse      ? "kCensusSparse"
+                     : p.census == kern::kCensusSymmetric ? "kCensusSymmetric"
+                                                          : "kCensusFull";
   v["WINDOW_W"] = std::to_string(p.window_w);
   v["WINDOW_H"] = std::to_string(p.window_h);
   v["DISPARITIES"] = std::to_string(p.disparities);

@@ -55,7 +55,7 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
        "parallel_units must divide disparities");
   need(p.window_w % 2 == 1 && p.window_h % 2 == 1 && p.window_w <= kern::kMaxWindow && p.window_h <= kern::kMaxWindow,
        "window sides must be odd and at most 9");
-  need(p.cost != kern::kCostCensus || p.window_w * p.window_h - 1 <= kern::kMaxCensusBits,
+  need(p.cost != kern::kCostCensus || kern::census_bits(p.census, p.window_w, p.window_h) <= kern::kMaxCensusBits,
        "census window needs w*h-1 <= 64");
   need(p.cost == kern::kCostCensus || p.cost == kern::kCostSad, "unknown cost");
   need(p.path_mask != 0 && (p.path_mask & ~kern::kAllPaths) == 0, "path set empty or unknown");

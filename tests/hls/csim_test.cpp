@@ -37,8 +37,8 @@ const Design kDesigns[] = {
     {"sad", "configs/ruf2018-sad.yaml", ""},
     {"variant", "configs/ruf2018-census.yaml",
      "--set parallel_units=12 --set disparities=48 --set paths=0,45,90 --set median=3 --set lr_tolerance=2 "
-     "--set uniqueness_pct=10 --clock-mhz 150"},
-    {"eight_paths", "configs/ruf2018-census.yaml", "--set paths=8 --set uniqueness_pct=25"},
+     "--set uniqueness_pct=10 --set census=sparse --clock-mhz 150"},
+    {"eight_paths", "configs/ruf2018-census.yaml", "--set paths=8 --set uniqueness_pct=25 --set census=symmetric"},
 };
 
 // Undefined symbols the synthesisable top may need: the stream interface and C builtins.

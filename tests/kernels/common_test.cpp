@@ -123,7 +123,7 @@ void expect_same_sums(StereoParams p, unsigned kinds, uint32_t seed) {
 }
 
 TEST(SgmAggregate, LaneMinimumOffTheRecurrenceEqualsTheDirectOne) {
-  StereoParams p{24, 9, kCostCensus, 9, 7, 0, 0, kForwardPaths, 7, 100, true, 1, 0, 0};
+  StereoParams p{24, 9, kCostCensus, 9, 7, 0, 0, kForwardPaths, 7, 100, true, 1, 0, 0, 0};
   // Four paths, Census 9x7 (cost 6 bits), 16-bit words; one chunk and several.
   expect_same_sums<64, 64, uint16_t>(p, 0xFu, 1);
   expect_same_sums<64, 8, uint16_t>(p, 0xFu, 2);

@@ -99,6 +99,23 @@ TEST(Equiv, UniquenessAcrossChunkShapes) {
         }
 }
 
+// The census variants at every window shape the kernel dispatches (3x3, 5x5, 7x5, 9x7) and the
+// generic form (9x9, 1x3, 7x1), against the golden codes.
+TEST(Equiv, CensusVariantsAndWindows) {
+  uint32_t seed = 8000;
+  const int sides[][2] = {{3, 3}, {5, 5}, {7, 5}, {9, 7}, {9, 9}, {1, 3}, {7, 1}};
+  for (int kind : {kern::kCensusFull, kern::kCensusSparse, kern::kCensusSymmetric})
+    for (const auto& wh : sides) {
+      if (kern::census_bits(kind, wh[0], wh[1]) > kern::kMaxCensusBits) continue;
+      StereoParams p = base_params(23, 13);
+      p.census = kind;
+      p.window_w = wh[0];
+      p.window_h = wh[1];
+      const Pattern pattern = seed % 2 == 0 ? Pattern::kRandom : Pattern::kShiftedTexture;
+      expect_equivalent(p, pattern, ++seed);
+    }
+}
+
 TEST(Equiv, WindowsAndPatterns) {
   uint32_t seed = 3000;
   const int windows[][2] = {{1, 1}, {3, 3}, {5, 5}, {7, 5}, {9, 7}, {3, 9}};
@@ -160,6 +177,7 @@ TEST(Equiv, SeededRandomConfigurations) {
     const int medians[] = {0, 3, 5, 7};
     p.median = medians[rng() % 4];
     p.uniqueness_pct = rng() % 3 == 0 ? int(rng() % 101) : 0;
+    p.census = int(rng() % 3);
     SCOPED_TRACE("master seed " + std::to_string(master_seed) + " draw " + std::to_string(i));
     expect_equivalent(p, i % 2 ? Pattern::kRandom : Pattern::kShiftedTexture, master_seed + uint32_t(i));
   }

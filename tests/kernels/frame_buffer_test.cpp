@@ -41,7 +41,7 @@ TEST(FrameBufferWords, NextPowerOfTwoBetween32And1024) {
 }
 
 TEST(FrameBufferWords, TheSeedVariantsPairIn128Bits) {
-  StereoParams p{640, 360, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5, 0};
+  StereoParams p{640, 360, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5, 0, 0};
   EXPECT_EQ(cost_bits(p), 5);
   EXPECT_EQ(frame_pair_bits(p), 6 * (cost_bits(p) + aggregate_bits(p)));
   EXPECT_EQ(frame_word_bits(p), 128);
@@ -171,14 +171,16 @@ void expect_reversal(const StereoParams& p) {
 
 TEST(FrameBufferAddresses, SegmentReversalWritesWhatPassTwoReadsInOrder) {
   //                       W   H  cost         win   D   PU  paths
-  expect_reversal(StereoParams{640, 16, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5, 0});  // reduced seed
-  expect_reversal(StereoParams{37, 9, kCostCensus, 5, 5, 32, 8, kAllPaths, 8, 32, true, 1, 3, 0});      // odd sizes
-  expect_reversal(StereoParams{13, 7, kCostSad, 5, 5, 64, 64, kAllPaths, 8, 32, true, 1, 0, 0});  // 2 beats, 91 pixels
   expect_reversal(
-      StereoParams{11, 1, kCostCensus, 3, 3, 16, 16, kAllPaths, 8, 32, false, 1, 0, 0});           // 11 pixels: S = 11
-  expect_reversal(StereoParams{1, 1, kCostCensus, 3, 3, 4, 1, kAllPaths, 8, 32, false, 1, 0, 0});  // one pixel
+      StereoParams{640, 16, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5, 0, 0});          // reduced seed
+  expect_reversal(StereoParams{37, 9, kCostCensus, 5, 5, 32, 8, kAllPaths, 8, 32, true, 1, 3, 0, 0});  // odd sizes
   expect_reversal(
-      StereoParams{7, 3, kCostCensus, 3, 3, 256, 1, kAllPaths, 8, 32, false, 1, 0, 0});  // 256 chunks: S = 1
+      StereoParams{13, 7, kCostSad, 5, 5, 64, 64, kAllPaths, 8, 32, true, 1, 0, 0, 0});  // 2 beats, 91 pixels
+  expect_reversal(
+      StereoParams{11, 1, kCostCensus, 3, 3, 16, 16, kAllPaths, 8, 32, false, 1, 0, 0, 0});  // 11 pixels: S = 11
+  expect_reversal(StereoParams{1, 1, kCostCensus, 3, 3, 4, 1, kAllPaths, 8, 32, false, 1, 0, 0, 0});  // one pixel
+  expect_reversal(
+      StereoParams{7, 3, kCostCensus, 3, 3, 256, 1, kAllPaths, 8, 32, false, 1, 0, 0, 0});  // 256 chunks: S = 1
 }
 
 TEST(FrameBufferAddresses, ReverseWalkCountsWhatReversedSlotComputesAndWraps) {
@@ -204,7 +206,7 @@ TEST(FrameBufferAddresses, ReverseWalkCountsWhatReversedSlotComputesAndWraps) {
 TEST(FrameBufferAddresses, MapSegmentsLandTheCodesInRasterOrder) {
   for (int w : {640, 13, 1})
     for (int h : {360, 16, 7, 1}) {
-      StereoParams p{w, h, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5, 0};
+      StereoParams p{w, h, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5, 0, 0};
       const int64_t pixels = frame_pixels(p), seg = map_segment_pixels(p);
       ASSERT_EQ(pixels % seg, 0);
       ASSERT_LE(seg, burst_elements_of(kMapCodeBytes));
@@ -238,7 +240,7 @@ struct Memories {
 };
 
 TEST(FrameBufferResources, BothHalvesOfTheSegmentBuffersInOneMemory) {
-  StereoParams p{640, 360, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5, 0};
+  StereoParams p{640, 360, kCostCensus, 5, 5, 60, 6, kAllPaths, 10, 120, true, 1, 5, 0, 0};
   Memories m;
   declare_frame_segment_buffer(m, p);
   declare_map_segment_buffer(m, p);

@@ -84,8 +84,9 @@ TEST(Report, CsvColumnsInTheirDocumentedOrder) {
   std::istringstream csv(slurp(fixture().dir / "d.csv"));
   std::string header, line;
   std::getline(csv, header);
-  EXPECT_EQ(header.rfind("hash,sweep,status,reason,name,roi,cost,window,disparities,parallel_units,paths,p1,p2,", 0),
-            0u)
+  EXPECT_EQ(
+      header.rfind("hash,sweep,status,reason,name,roi,cost,census,window,disparities,parallel_units,paths,p1,p2,", 0),
+      0u)
       << header;
   // The metrics follow the configuration, in metric_columns() order.
   std::size_t pos = header.find(",density_pct,");

@@ -17,7 +17,7 @@ namespace {
 using Edge = std::tuple<std::string, std::string, std::string>;  // name, producer, consumer
 
 kern::StereoParams design(unsigned paths) {
-  kern::StereoParams p{32, 8, kern::kCostCensus, 5, 5, 16, 4, paths, 8, 32, true, 1, 3, 0};
+  kern::StereoParams p{32, 8, kern::kCostCensus, 5, 5, 16, 4, paths, 8, 32, true, 1, 3, 0, 0};
   return p;
 }
 

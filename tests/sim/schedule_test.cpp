@@ -11,7 +11,7 @@ namespace parallax::sim {
 namespace {
 
 kern::StereoParams seed() {
-  kern::StereoParams p{640, 360, kern::kCostCensus, 5, 5, 60, 6, kern::kForwardPaths, 8, 32, true, 1, 5, 0};
+  kern::StereoParams p{640, 360, kern::kCostCensus, 5, 5, 60, 6, kern::kForwardPaths, 8, 32, true, 1, 5, 0, 0};
   return p;
 }
 

@@ -82,6 +82,13 @@ std::string to_yaml(const PipelineConfig& c) {
   return o.str();
 }
 
+int census_kind(const std::string& census) {
+  return census == "full"        ? kern::kCensusFull
+         : census == "sparse"    ? kern::kCensusSparse
+         : census == "symmetric" ? kern::kCensusSymmetric
+                                 : -1;
+}
+
 kern::StereoRegisters PipelineConfig::registers() const {
   return {p1, p2, lr_tolerance, uniqueness_pct};
 }
@@ -91,6 +98,7 @@ kern::StereoParams PipelineConfig::stereo_params(int width_px, int height_px) co
   p.width_px = width_px;
   p.height_px = height_px;
   p.cost = cost == "sad" ? kern::kCostSad : kern::kCostCensus;
+  p.census = std::max(census_kind(census), 0);
   p.window_w = window_w;
   p.window_h = window_h;
   p.disparities = disparities;

@@ -378,6 +378,8 @@ std::vector<FieldRow> make_table() {
       text("name", &P::name, false, "the design's name (reports, the exported project)"),
       roi_row(),
       choice("cost", &P::cost, {"census", "sad"}, "matching cost"),
+      choice("census", &P::census, {"full", "sparse", "symmetric"},
+             "census taps: every tap against the centre, every second tap, or centre-symmetric pairs"),
       window_row(),
       integer("disparities", &P::disparities, in_range(1, kern::kMaxDisparities).with_value(),
               "D: the disparities searched, [0, D)"),
@@ -430,11 +432,14 @@ std::vector<FieldRow> make_table() {
 
 std::vector<CrossRule> make_rules() {
   return {
-      {"census_bits", "window", "window", "census: w*h - 1 <= 64 code bits",
+      {"census_bits", "window", "window", "census: at most 64 code bits",
        [](const P& c) -> std::string {
-         return c.cost != "census" || c.window_w * c.window_h - 1 <= kern::kMaxCensusBits
+         const int kind = census_kind(c.census);
+         return c.cost != "census" || kind < 0 ||
+                        kern::census_bits(kind, c.window_w, c.window_h) <= kern::kMaxCensusBits
                     ? ""
-                    : "census needs w*h - 1 <= 64 bits (9x7 is the largest 9-wide window)";
+                    : "a full census needs w*h - 1 <= 64 bits (9x7 is the largest 9-wide window; sparse and "
+                      "symmetric take 9x9)";
        }},
       {"units_divide_disparities", "parallel_units", "parallel_units", "parallel_units >= 1 divides disparities",
        [](const P& c) -> std::string {

@@ -227,8 +227,11 @@ void validate_stereo_params(const kern::StereoParams& p) {
     fail("cost must be kCostCensus or kCostSad, got " + std::to_string(p.cost));
   check_window(p.window_w, p.window_h);
   const int64_t window_area = int64_t(p.window_w) * int64_t(p.window_h);
-  if (p.cost == kern::kCostCensus && window_area - 1 > kern::kMaxCensusBits)
-    fail("census window needs w*h-1 <= 64 bits, got " + std::to_string(window_area - 1));
+  if (p.cost == kern::kCostCensus && (p.census < kern::kCensusFull || p.census > kern::kCensusSymmetric))
+    fail("census kind must be full, sparse or symmetric, got " + std::to_string(p.census));
+  if (p.cost == kern::kCostCensus && kern::census_bits(p.census, p.window_w, p.window_h) > kern::kMaxCensusBits)
+    fail("census window needs <= 64 code bits, got " +
+         std::to_string(kern::census_bits(p.census, p.window_w, p.window_h)));
   if (p.cost == kern::kCostSad && window_area * 255 > int64_t(1) << 30) fail("SAD window too large for 32-bit costs");
   if (p.disparities < 1 || p.disparities > kern::kMaxDisparities)
     fail("disparities must be in [1, 256], got " + std::to_string(p.disparities));
@@ -250,10 +253,11 @@ void validate_stereo_params(const kern::StereoParams& p) {
 // §2 Matching cost
 // ---------------------------------------------------------------------------------------------
 
-std::vector<uint64_t> census_codes(const Image8& img, int window_w, int window_h) {
+std::vector<uint64_t> census_codes(const Image8& img, int window_w, int window_h, int kind) {
   check_image(img, "census_codes");
   check_window(window_w, window_h);
-  if (int64_t(window_w) * int64_t(window_h) - 1 > kern::kMaxCensusBits) fail("census window needs w*h-1 <= 64 bits");
+  if (kind < kern::kCensusFull || kind > kern::kCensusSymmetric) fail("census kind must be full, sparse or symmetric");
+  if (kern::census_bits(kind, window_w, window_h) > kern::kMaxCensusBits) fail("census window needs <= 64 code bits");
 
   const int width = img.width_px;
   const int height = img.height_px;
@@ -262,14 +266,21 @@ std::vector<uint64_t> census_codes(const Image8& img, int window_w, int window_h
   std::vector<uint64_t> codes(pixel_count(width, height), 0);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
+      auto at = [&](int i, int j) { return img.at(clamp_int(x + i, 0, width - 1), clamp_int(y + j, 0, height - 1)); };
       const int centre = img.at(x, y);
-      // Shifting left once per tap leaves the first tap in the most significant used bit.
+      // Shifting left once per used tap leaves the first in the most significant used bit. Taps
+      // in raster order, k = 0 .. w*h - 1, the centre at k = w*h / 2: full uses all but the
+      // centre, sparse the even k but the centre, symmetric k < w*h / 2 against tap (-i, -j).
       uint64_t code = 0;
+      int k = 0;
       for (int j = -rh; j <= rh; ++j) {
-        for (int i = -rw; i <= rw; ++i) {
-          if (i == 0 && j == 0) continue;
-          const int tap = img.at(clamp_int(x + i, 0, width - 1), clamp_int(y + j, 0, height - 1));
-          code = (code << 1) | (tap < centre ? 1u : 0u);
+        for (int i = -rw; i <= rw; ++i, ++k) {
+          const bool centre_tap = i == 0 && j == 0;
+          if (kind == kern::kCensusFull && centre_tap) continue;
+          if (kind == kern::kCensusSparse && (centre_tap || k % 2 != 0)) continue;
+          if (kind == kern::kCensusSymmetric && (j > 0 || (j == 0 && i >= 0))) continue;
+          const int other = kind == kern::kCensusSymmetric ? at(-i, -j) : centre;
+          code = (code << 1) | (at(i, j) < other ? 1u : 0u);
         }
       }
       codes[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] = code;
@@ -292,8 +303,8 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right, const
 
   std::vector<uint32_t> cost(pixel_count(width, height) * static_cast<std::size_t>(num_disp), 0);
   if (p.cost == kern::kCostCensus) {
-    const std::vector<uint64_t> codes_l = census_codes(left, p.window_w, p.window_h);
-    const std::vector<uint64_t> codes_r = census_codes(right, p.window_w, p.window_h);
+    const std::vector<uint64_t> codes_l = census_codes(left, p.window_w, p.window_h, p.census);
+    const std::vector<uint64_t> codes_r = census_codes(right, p.window_w, p.window_h, p.census);
     for (int y = 0; y < height; ++y) {
       for (int x = 0; x < width; ++x) {
         const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width);

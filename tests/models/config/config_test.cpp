@@ -82,6 +82,20 @@ TEST(Config, WindowAcceptsSquareShorthand) {
 }
 
 // Each invalid value is reported with its field name; all of them at once.
+// A sparse or centre-symmetric census has half the code bits: 9x9 fits in 64 bits, and the kernel
+// parameters carry the kind and its cost_max.
+TEST(Config, CensusVariantsTakeLargerWindows) {
+  for (const char* kind : {"sparse", "symmetric"}) {
+    const PipelineConfig c = parse_config(std::string("cost: census\nwindow: 9x9\ncensus: ") + kind, "case.yaml");
+    const kern::StereoParams p = c.stereo_params(64, 32);
+    EXPECT_EQ(p.census, census_kind(kind));
+    EXPECT_EQ(kern::cost_max(p), 40u) << kind;
+  }
+  EXPECT_EQ(census_kind("full"), kern::kCensusFull);
+  EXPECT_EQ(census_kind("half"), -1);
+  EXPECT_EQ(parse_config("cost: census\nwindow: 5x5", "case.yaml").stereo_params(8, 8).census, kern::kCensusFull);
+}
+
 TEST(Config, EveryViolationNamesItsField) {
   const struct {
     const char* yaml;
@@ -104,6 +118,8 @@ TEST(Config, EveryViolationNamesItsField) {
       {"disparities: sixty", "'disparities'"},
       {"colour: red", "'colour'"},
       {"clock_mhz: 0", "'clock_mhz'"},
+      {"census: half", "'census'"},
+      {"uniqueness_pct: 101", "'uniqueness_pct'"},
   };
   for (const auto& c : cases) {
     try {

@@ -66,6 +66,33 @@ TEST(CensusCodes, RejectsBadWindows) {
   EXPECT_NO_THROW(census_codes(kGrid, 9, 7));                      // 62 bits
 }
 
+TEST(CensusCodes, SparseUsesEverySecondTapInRasterOrder) {
+  // 3x3 at the centre 50: taps k = 0 .. 8 are 10 20 30 40 [50] 60 70 80 90; sparse keeps the even
+  // k but the centre (k = 4): 10 30 70 90 -> 1 1 0 0.
+  EXPECT_EQ(census_codes(kGrid, 3, 3, kern::kCensusSparse)[4], 0b1100u);
+  EXPECT_EQ(kern::census_bits(kern::kCensusSparse, 3, 3), 4);
+  // 7x5 (35 taps, centre k = 17 odd): the 18 even taps all give bits.
+  EXPECT_EQ(kern::census_bits(kern::kCensusSparse, 7, 5), 18);
+  EXPECT_EQ(kern::census_bits(kern::kCensusSparse, 5, 5), 12);
+  // 9x9: 40 bits, within 64 (the full census of 9x9 needs 80).
+  EXPECT_EQ(kern::census_bits(kern::kCensusSparse, 9, 9), 40);
+  EXPECT_NO_THROW(census_codes(kGrid, 9, 9, kern::kCensusSparse));
+}
+
+TEST(CensusCodes, SymmetricComparesEachTapWithItsMirror) {
+  // 3x3 at (1, 1): pairs (k, 8 - k) for k = 0 .. 3: 10<90, 20<80, 30<70, 40<60 -> 1 1 1 1.
+  EXPECT_EQ(census_codes(kGrid, 3, 3, kern::kCensusSymmetric)[4], 0b1111u);
+  // At (0, 0) (value 10) with the clamp: taps (-1,-1) (0,-1) (1,-1) (-1,0) read 10 10 20 10 and
+  // their mirrors (1,1) (0,1) (-1,1) (1,0) read 50 40 40 20 -> 1 1 1 1.
+  EXPECT_EQ(census_codes(kGrid, 3, 3, kern::kCensusSymmetric)[0], 0b1111u);
+  // A mirror-symmetric patch gives 0 whatever its centre.
+  const Image8 sym = image_from_rows({{7, 1, 7}, {3, 200, 3}, {7, 1, 7}});
+  EXPECT_EQ(census_codes(sym, 3, 3, kern::kCensusSymmetric)[4], 0u);
+  EXPECT_EQ(kern::census_bits(kern::kCensusSymmetric, 5, 5), 12);
+  EXPECT_EQ(kern::census_bits(kern::kCensusSymmetric, 9, 9), 40);
+  EXPECT_THROW(census_codes(kGrid, 3, 3, 3), std::invalid_argument);  // no such kind
+}
+
 TEST(CensusCost, HammingDistanceAndCostMaxLeftOfImage) {
   // Left [5, 9] codes (5x1): 0, 0b1100. Right [9, 5] codes: pixel 0 (9): taps 9 9 | 5 5 ->
   // 0 0 1 1 = 0b0011; pixel 1 (5): 0.

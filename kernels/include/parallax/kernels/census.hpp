@@ -1,6 +1,8 @@
 // Census transform with Hamming distance (docs/algorithm.md §2) as a cost policy of CostStage.
-// Window up to 9x7 (w*h - 1 <= 64 bits), clamped border, bit = neighbour < centre, first tap in
-// the most significant used bit. C++14 synthesisable subset.
+// Window up to 9x9 with at most 64 code bits, clamped border; full (bit = tap < centre for every
+// tap), sparse (every second tap in raster order) or centre-symmetric (tap < its mirror through
+// the centre, first half of the taps); the first used tap in the most significant bit. C++14
+// synthesisable subset.
 #pragma once
 
 #include "parallax/kernels/caps.hpp"
@@ -20,6 +22,7 @@ class CensusMatcher {
   void configure(const StereoParams& p) {
     w_ = p.window_w;
     h_ = p.window_h;
+    kind_ = p.census;
     d_ = Caps::disparities(p.disparities);
     cost_max_ = uint16_t(cost_max(p));
   }
@@ -27,10 +30,10 @@ class CensusMatcher {
   // Computes the left code of pixel (x, y) and shifts the right code of column x into the shift
   // register of the last D right codes (entry k: column x - k). Contract: called once per pixel,
   // in raster order, before its costs().
-  // Hardware (resources.hpp): a w x h window of registers per image, w*h - 1 comparisons per
-  // image, the D right codes in a shift register (complete partitioning: one register each), and
-  // per lane an XOR and a popcount adder tree; lane i of chunk c reads entry c*PU + i through a
-  // D/PU-input multiplexer (none when PU = D).
+  // Hardware (resources.hpp): a w x h window of registers per image, one comparison per code bit
+  // and image (w*h - 1 for the full census), the D right codes in a shift register (complete
+  // partitioning: one register each), and per lane an XOR and a popcount adder tree; lane i of chunk c reads entry c*PU
+  // + i through a D/PU-input multiplexer (none when PU = D).
   template <class R>
   void declare(R& r, const StereoParams& p) const {
     const int bits = code_bits();
@@ -83,19 +86,20 @@ class CensusMatcher {
   // Dispatches the common window shapes to code with constant sides; same bits as the generic form.
   typedef WindowRegs<uint8_t, kMaxWindow, Caps::window_rows, Caps::fixed> Window;
   uint64_t code(const Window& win) const {
-    if (w_ == 5 && h_ == 5) return code_generic(win, 5, 5);
-    if (w_ == 3 && h_ == 3) return code_generic(win, 3, 3);
-    if (w_ == 7 && h_ == 5) return code_generic(win, 7, 5);
-    if (w_ == 9 && h_ == 7) return code_generic(win, 9, 7);
-    return code_generic(win, w_, h_);
+    if (w_ == 5 && h_ == 5) return code_generic(win, 5, 5, kind_);
+    if (w_ == 3 && h_ == 3) return code_generic(win, 3, 3, kind_);
+    if (w_ == 7 && h_ == 5) return code_generic(win, 7, 5, kind_);
+    if (w_ == 9 && h_ == 7) return code_generic(win, 9, 7, kind_);
+    return code_generic(win, w_, h_, kind_);
   }
 
-  // The code of the window registers: bit = tap < centre, over the taps in raster order; a
-  // comparator per tap on fixed wiring (the loops are bounded by the largest window and unrolled).
-  static PX_INLINE uint64_t code_generic(const Window& win, const int w, const int h) {
+  // The code of the window registers: over the used taps in raster order, bit = tap < centre
+  // (full, sparse) or tap < its mirror tap (symmetric); a comparator per code bit on fixed wiring
+  // (the loops are bounded by the largest window and unrolled).
+  static PX_INLINE uint64_t code_generic(const Window& win, const int w, const int h, const int kind) {
     const uint8_t centre = win.at(w / 2, h / 2);
     const int taps = w * h;
-    const int centre_tap = taps / 2;
+    const int bits = census_bits(kind, w, h);
     uint64_t c = 0;
   census_rows:
     for (int j = 0; j < Caps::trip(h, Caps::window_rows); ++j) {
@@ -103,29 +107,30 @@ class CensusMatcher {
     census_cols:
       for (int i = 0; i < Caps::trip(w, kMaxWindow); ++i) {
         PX_PRAGMA("HLS UNROLL")
-        // Tap k (raster order, centre skipped) lands in bit taps - 2 - k': the first tap is the
+        // Used tap k (raster order) lands in bit bits - 1 - rank(k): the first used tap is the
         // most significant used bit.
         const int k = j * w + i;
-        if (j < h && i < w && k != centre_tap) {
-          const int bit = taps - 2 - (k < centre_tap ? k : k - 1);
-          c |= uint64_t(win.at(i, j) < centre ? 1u : 0u) << bit;
+        if (j < h && i < w && census_tap_used(kind, k, taps)) {
+          const int bit = bits - 1 - census_tap_rank(kind, k, taps);
+          const uint8_t other = kind == kCensusSymmetric ? win.at(w - 1 - i, h - 1 - j) : centre;
+          c |= uint64_t(win.at(i, j) < other ? 1u : 0u) << bit;
         }
       }
     }
     return c;
   }
 
-  int w_ = 5, h_ = 5, d_ = 1;
+  int w_ = 5, h_ = 5, kind_ = kCensusFull, d_ = 1;
   uint16_t cost_max_ = 24;
   uint64_t left_code_ = 0;
   // The right codes of columns x .. x - D + 1: a shift register (one register per entry).
   ShiftReg<uint64_t, kMaxD, Caps::fixed> right_codes_;
   Window left_win_, right_win_;  // the window registers of the two images
-  int code_bits() const { return w_ * h_ - 1; }
+  int code_bits() const { return census_bits(kind_, w_, h_); }
 
  public:
   // Storage descriptor (resources.hpp) of the members above: the w x h window registers of each
-  // image, the left code and the D right codes of w*h - 1 bits.
+  // image, the left code and the D right codes of census_bits() bits.
   template <class V>
   void storage(V& v, const StereoParams&) const {
     left_win_.storage(v, "census_left_window", w_, h_, 8);

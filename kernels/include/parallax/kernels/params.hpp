@@ -10,6 +10,11 @@ namespace kern {
 
 enum CostKind : int { kCostCensus = 0, kCostSad = 1 };
 
+// Census variants (docs/algorithm.md §2): every tap against the centre; every second tap in
+// raster order against the centre; each tap of the first half against its mirror image through
+// the centre (centre-symmetric).
+enum CensusKind : int { kCensusFull = 0, kCensusSparse = 1, kCensusSymmetric = 2 };
+
 // One bit per SGM path direction. Angles are the direction of travel (docs/algorithm.md §3).
 enum PathBit : unsigned {
   kPath0 = 1u << 0,    // predecessor (x-1, y)
@@ -51,6 +56,7 @@ struct StereoParams {
   int lr_tolerance;    // register
   int median;          // 0 = off, 3, 5, 7
   int uniqueness_pct;  // register, 0..100: uniqueness margin in percent (0 = off)
+  int census;          // CensusKind (cost = census only)
 };
 
 // The register fields of StereoParams on their own: the values a hardware register holds, which
@@ -112,8 +118,26 @@ inline int path_count(const StereoParams& p) {
   return popcount_u32(p.path_mask);
 }
 
+// Census tap selection of a window of `taps` taps (raster order, centre tap taps / 2): whether
+// tap k gives a bit, and its rank among those that do (rank 0 is the code's most significant bit).
+constexpr bool census_tap_used(int kind, int k, int taps) {
+  return kind == kCensusSymmetric ? k < taps / 2 : kind == kCensusSparse ? k % 2 == 0 && k != taps / 2 : k != taps / 2;
+}
+constexpr int census_tap_rank(int kind, int k, int taps) {
+  return kind == kCensusSymmetric ? k
+         : kind == kCensusSparse  ? k / 2 - ((taps / 2) % 2 == 0 && k > taps / 2 ? 1 : 0)
+                                  : k - (k > taps / 2 ? 1 : 0);
+}
+// Bits of the census code of a w x h window.
+constexpr int census_bits(int kind, int w, int h) {
+  return kind == kCensusSymmetric ? (w * h) / 2
+         : kind == kCensusSparse  ? (w * h + 1) / 2 - (((w * h) / 2) % 2 == 0 ? 1 : 0)
+                                  : w * h - 1;
+}
+
 inline uint32_t cost_max(const StereoParams& p) {
-  return p.cost == kCostCensus ? uint32_t(p.window_w * p.window_h - 1) : uint32_t(255 * p.window_w * p.window_h);
+  return p.cost == kCostCensus ? uint32_t(census_bits(p.census, p.window_w, p.window_h))
+                               : uint32_t(255 * p.window_w * p.window_h);
 }
 
 // Largest value the P2 register can hold at the width needed for the configured P2.

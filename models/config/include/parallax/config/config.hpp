@@ -24,6 +24,7 @@ struct Structure {
   int roi_width_px = 640;
   int roi_height_px = 360;
   std::string cost = "census";  // census | sad
+  std::string census = "full";  // full | sparse | symmetric (cost census only)
   int window_w = 5;
   int window_h = 5;
   int disparities = 64;
@@ -101,6 +102,9 @@ struct FieldError {
 
 // All violations, empty when the configuration is valid.
 std::vector<FieldError> validate(const PipelineConfig& c);
+
+// The kernels' census kind (kern::CensusKind) of a `census` field value, -1 when unknown.
+int census_kind(const std::string& census);
 
 // A configuration file or override that cannot be used: the message names the file and every
 // offending field.

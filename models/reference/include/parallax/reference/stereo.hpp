@@ -83,7 +83,7 @@ inline std::size_t volume_index(int x, int y, int d, int width_px, int dispariti
 // window_w * window_h - 1 <= 64; the code uses the low window_w * window_h - 1 bits, the first
 // tap (raster order, centre skipped) in the most significant of them; a bit is 1 when the
 // (clamped) tap is strictly darker than the centre.
-std::vector<uint64_t> census_codes(const Image8& img, int window_w, int window_h);
+std::vector<uint64_t> census_codes(const Image8& img, int window_w, int window_h, int kind = kern::kCensusFull);
 
 // Cost volume C[(y*W + x)*D + d] (docs §2), census or SAD per p.cost; C = cost_max(p) where
 // x - d < 0. left and right must be p.width_px x p.height_px.

@@ -34,6 +34,7 @@ constexpr int kHeightPx = kFullHeightPx;
 #endif
 constexpr int kPixels = kWidthPx * kHeightPx;
 constexpr int kCost = parallax::kern::kCostCensus;
+constexpr int kCensus = parallax::kern::kCensusFull;  // census taps (cost census only)
 constexpr int kWindowW = 5;
 constexpr int kWindowH = 5;
 constexpr int kDisparities = 60;  // D: disparities [0, D); code D = invalid
@@ -93,6 +94,7 @@ inline parallax::kern::StereoParams structure_params() {
   p.width_px = kWidthPx;
   p.height_px = kHeightPx;
   p.cost = kCost;
+  p.census = kCensus;
   p.window_w = kWindowW;
   p.window_h = kWindowH;
   p.disparities = kDisparities;
