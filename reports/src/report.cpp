@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -605,6 +606,29 @@ std::string standalone_page(const std::string& title, const std::string& body) {
          "</script></body></html>\n";
 }
 
+namespace {
+
+// The axes a report shows: the sweep's own, or, for a store whose specification lists none (an
+// older store, a hand-made one), the paper's structural knobs.
+std::vector<std::pair<std::string, std::vector<std::string>>> swept_axes(const SweepSpec& spec) {
+  if (!spec.axes.empty()) return spec.axes;
+  std::vector<std::pair<std::string, std::vector<std::string>>> fallback;
+  for (const char* k : {"paths", "disparities", "parallel_units", "cost", "p1", "p2", "median"})
+    fallback.emplace_back(k, std::vector<std::string>{});
+  return fallback;
+}
+
+bool all_numeric(const std::vector<std::string>& values) {
+  for (const auto& v : values) {
+    char* end = nullptr;
+    std::strtod(v.c_str(), &end);
+    if (v.empty() || end == v.c_str() || *end != '\0') return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt) {
   const auto front = pareto_front(spec, rows);
   std::set<std::string> on_front;
@@ -647,14 +671,34 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
                    pts("latency_ms", "correct_3px_pct", false))
     << svg_scatter("pareto-density", "density vs correct", "correct_3px_pct", "density_pct",
                    pts("correct_3px_pct", "density_pct", false))
-    << "</div></section><section id=\"sensitivity\"><h2>Sensitivity</h2><div class=\"plots\">"
-    << svg_scatter("sens-p2", "correct vs P2", "p2", "correct_3px_pct", pts("p2", "correct_3px_pct", true))
-    << svg_scatter("sens-d", "correct vs disparities", "disparities", "correct_3px_pct",
-                   pts("disparities", "correct_3px_pct", true))
-    << svg_scatter("sens-paths", "correct vs paths", "paths", "correct_3px_pct", pts("paths", "correct_3px_pct", true))
-    << "</div></section>";
-  // Table.
-  const std::vector<std::string> shown_cfg = {"paths", "disparities", "parallel_units", "cost", "p1", "p2", "median"};
+    << "</div></section><section id=\"sensitivity\"><h2>Sensitivity</h2><div class=\"plots\">";
+  // One plot per swept axis, in the sweep's order: numbers on a numeric axis, paths by their
+  // count, any other value (cost, census, window) by its rank among the values the designs hold
+  // (as the stored configurations write them), in order of appearance.
+  for (const auto& axis : swept_axes(spec)) {
+    const std::string& key = axis.first;
+    std::vector<Point> p = pts(key, "correct_3px_pct", true);
+    std::string xlabel = key;
+    std::vector<std::string> values;
+    for (const auto& r : rows)
+      if (r.status == "ok" && std::find(values.begin(), values.end(), field(r, key)) == values.end())
+        values.push_back(field(r, key));
+    if (key != "paths" && !all_numeric(values)) {
+      std::size_t i = 0;
+      for (const auto& r : rows) {
+        if (r.status != "ok") continue;
+        p[i++].x = double(std::find(values.begin(), values.end(), field(r, key)) - values.begin());
+      }
+      xlabel += " (";
+      for (std::size_t k = 0; k < values.size(); ++k) xlabel += (k ? ", " : "") + std::to_string(k) + " = " + values[k];
+      xlabel += ")";
+    }
+    o << svg_scatter("sens-" + key, "correct vs " + key, xlabel, "correct_3px_pct", p);
+  }
+  o << "</div></section>";
+  // Table: the swept fields, in the sweep's order.
+  std::vector<std::string> shown_cfg;
+  for (const auto& axis : swept_axes(spec)) shown_cfg.push_back(axis.first);
   const std::vector<std::string> shown_met = {"correct_3px_pct", "density_pct", "d1_all_pct", "fps", "latency_ms",
                                               "bram18k",         "lut",         "ff",         "dsp", "power_w"};
   o << "<section id=\"table\"><h2>All designs</h2><input id=\"filter\" placeholder=\"filter rows (any text)\"><div "

@@ -17,6 +17,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "parallax/config/config.hpp"
 #include "parallax/reports/report.hpp"
 #include "parallax/search/sweep.hpp"
 
@@ -165,6 +166,45 @@ TEST(Report, ImagesFromTheSweepsOwnDatasetWhileItExists) {
   EXPECT_NE(out.find("dataset " + (d / "kitti").string() + " is gone"), std::string::npos) << out;
   EXPECT_EQ(slurp(d / "g.html").find("left image, frame"), std::string::npos);
   fs::remove_all(d);
+}
+
+// The design table and the sensitivity plots follow the sweep's own axes, whatever they are: a
+// sweep of window, census and p1 shows those columns and plots, and none of an axis it did not
+// sweep (disparities, paths).
+TEST(Report, TableAndSensitivityFollowTheSweepAxes) {
+  explore::SweepSpec spec;
+  spec.name = "axes";
+  spec.base = kCensus;
+  explore::add_axis(spec, "window=5x5,9x7");
+  explore::add_axis(spec, "census=full,sparse");
+  explore::add_axis(spec, "p1=8,12");
+  std::vector<explore::ResultStore::Row> rows;
+  int n = 0;
+  for (const char* window : {"5x5", "9x7"})
+    for (const char* census : {"full", "sparse"})
+      for (int p1 : {8, 12}) {
+        config::PipelineConfig c = config::load_config(kCensus);
+        config::set_field(c, "window", window);
+        config::set_field(c, "census", census);
+        c.p1 = p1;
+        explore::ResultStore::Row r;
+        r.hash = "h" + std::to_string(n);
+        r.config_yaml = config::to_yaml(c);
+        r.status = "ok";
+        r.metrics = {{"correct_3px_pct", 85.0 + n}, {"density_pct", 90.0 - n}, {"bram18k", 140}, {"latency_ms", 20}};
+        rows.push_back(r);
+        ++n;
+      }
+  explore::ReportOptions opt;
+  opt.details = 0;
+  const std::string html = explore::html_report(spec, rows, opt);
+  for (const char* want :
+       {"id=\"sens-window\"", "id=\"sens-census\"", "id=\"sens-p1\"", "<th>window</th>", "<th>census</th>",
+        "<th>p1</th>", "<td>9x7</td>", "<td>sparse</td>", "window (0 = 5x5, 1 = 9x7)"})
+    EXPECT_NE(html.find(want), std::string::npos) << want;
+  for (const char* absent :
+       {"id=\"sens-disparities\"", "id=\"sens-d\"", "id=\"sens-paths\"", "<th>disparities</th>", "<th>paths</th>"})
+    EXPECT_EQ(html.find(absent), std::string::npos) << absent;
 }
 
 // `run` and `sim` write the per-design section as a page of its own.
