@@ -279,6 +279,7 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["P2"] = std::to_string(regs.p2);
   v["LR_TOLERANCE"] = std::to_string(regs.lr_tolerance);
   v["UNIQUENESS_PCT"] = std::to_string(regs.uniqueness_pct);
+  v["UNIQUENESS_BITS"] = std::to_string(kern::kUniquenessBits);
   v["UNIQUENESS"] = regs.uniqueness_pct > 0 ? "true" : "false";
   v["UNIQUENESS_TEXT"] =
       regs.uniqueness_pct > 0 ? "built with the check; 0 turns it off" : "built without the check: ignored";
@@ -489,12 +490,13 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
            ? "                  parallax::kern::DispCode* disparity, frame_word_t* frame_write,\n"
              "                  const frame_word_t* frame_read,\n"
              "                  ap_uint<parallax_design::kPenaltyBits> p1, ap_uint<parallax_design::kPenaltyBits> p2,\n"
-             "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance, ap_uint<7> uniqueness_pct)"
+             "                  ap_uint<parallax_design::kDisparityBits> lr_tolerance,\n"
+             "                  ap_uint<parallax::kern::kUniquenessBits> uniqueness_pct)"
            : "                  hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> "
              "p1,\n"
              "                  ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> "
              "lr_tolerance,\n"
-             "                  ap_uint<7> uniqueness_pct)");
+             "                  ap_uint<parallax::kern::kUniquenessBits> uniqueness_pct)");
   v["PASS_MAP_PARAMS"] =
       rectify ? "\n                  hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in," : "";
   v["DATAFLOW_MAP_PARAMS"] =

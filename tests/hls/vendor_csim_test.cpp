@@ -35,6 +35,8 @@ const Design kDesigns[] = {
     {"one_pass", "configs/ruf2018-census.yaml", "", false},
     {"two_pass", "configs/ruf2018-census.yaml", "--set paths=8", false},
     {"rectify", "configs/ruf2018-census.yaml", "--set paths=4", true},
+    // The uniqueness register and a census variant, through the vendor's ap_uint ports.
+    {"knobs", "configs/ruf2018-census.yaml", "--set uniqueness_pct=10 --set census=sparse --set window=9x7", false},
 };
 
 // Exports d into dir / "hls" and returns that folder (empty on failure, with the reason in `why`).

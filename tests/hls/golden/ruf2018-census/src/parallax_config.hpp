@@ -124,7 +124,8 @@ constexpr bool kUniqueness = false;
 inline parallax::kern::StereoParams wta_lr_params(unsigned lr_tolerance, unsigned uniqueness_pct) {
   parallax::kern::StereoParams p = structure_params();
   p.lr_tolerance = int(lr_tolerance);
-  p.uniqueness_pct = kUniqueness ? int(uniqueness_pct > 100u ? 100u : uniqueness_pct) : 0;
+  p.uniqueness_pct = kUniqueness ? int(uniqueness_pct > unsigned(parallax::kern::kMaxUniquenessPct) ? unsigned(parallax::kern::kMaxUniquenessPct)
+                                                                                    : uniqueness_pct) : 0;
   return p;
 }
 

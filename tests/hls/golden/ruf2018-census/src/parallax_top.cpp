@@ -247,7 +247,7 @@ void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_bea
 void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
                   hls::stream<disparity_beat_t>& disparity_out, ap_uint<parallax_design::kPenaltyBits> p1,
                   ap_uint<parallax_design::kPenaltyBits> p2, ap_uint<parallax_design::kDisparityBits> lr_tolerance,
-                  ap_uint<7> uniqueness_pct) {
+                  ap_uint<parallax::kern::kUniquenessBits> uniqueness_pct) {
 #pragma HLS INTERFACE mode=axis port=left_in
 #pragma HLS INTERFACE mode=axis port=right_in
 #pragma HLS INTERFACE mode=axis port=disparity_out
