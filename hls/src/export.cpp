@@ -170,7 +170,12 @@ std::vector<TripLoop> trip_loops(const config::PipelineConfig& c) {
                                  {"TRIPCOUNT_AGGREGATE", {"aggregate"}},
                                  {"TRIPCOUNT_WTA_LR", {"wta_lr"}},
                                  {"TRIPCOUNT_MEDIAN", {"median"}}};
-  if ((c.path_mask & kern::kBackwardPaths) != 0) loops.push_back({"TRIPCOUNT_AGGREGATE_BACK", {"aggregate_back"}});
+  if (kern::two_pass_paths(c.path_mask)) loops.push_back({"TRIPCOUNT_AGGREGATE_BACK", {"aggregate_back"}});
+  if (kern::row_reverse_paths(c.path_mask)) {
+    loops.push_back({"TRIPCOUNT_ROW_REVERSE", {"row_reverse"}});
+    loops.push_back({"TRIPCOUNT_AGGREGATE_ROW", {"aggregate_row"}});
+    loops.push_back({"TRIPCOUNT_ROW_UNREVERSE", {"row_unreverse"}});
+  }
   if (c.rectify != "none") loops.push_back({"TRIPCOUNT_RECTIFY", {"rectify_left", "rectify_right"}});
   return loops;
 }
@@ -225,7 +230,7 @@ namespace {
 using Values = std::map<std::string, std::string>;
 
 bool is_two_pass(const config::PipelineConfig& c) {
-  return (c.path_mask & kern::kBackwardPaths) != 0;
+  return kern::two_pass_paths(c.path_mask);
 }
 
 // The design's name, clock, sizes, structure constants, bit widths and register values.
@@ -408,6 +413,7 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
   const bool rectify = c.rectify != "none";
   v["TWO_PASS"] = two_pass ? "true" : "false";
   v["TWO_PASS_01"] = two_pass ? "1" : "0";
+  v["ROW_REVERSE"] = kern::row_reverse_paths(c.path_mask) ? "true" : "false";
   v["PIXELS"] = std::to_string(int64_t(r.width_px) * r.height_px);
   // The frame buffer's layout (kernels/frame_buffer.hpp), of the full and the reduced frame: the
   // config's constants come from the same functions at compile time, checked against these.
@@ -539,8 +545,9 @@ void loop_values(const ExportRequest& r, Values& v) {
   // LOOP_TRIPCOUNT of the loops that run until their stage is done: the cycle model's firings per
   // frame, of the full frame and of the reduced one.
   std::string trip_table;
-  for (const char* key : {"TRIPCOUNT_COST", "TRIPCOUNT_AGGREGATE", "TRIPCOUNT_WTA_LR", "TRIPCOUNT_MEDIAN",
-                          "TRIPCOUNT_AGGREGATE_BACK", "TRIPCOUNT_RECTIFY"})
+  for (const char* key :
+       {"TRIPCOUNT_COST", "TRIPCOUNT_AGGREGATE", "TRIPCOUNT_WTA_LR", "TRIPCOUNT_MEDIAN", "TRIPCOUNT_AGGREGATE_BACK",
+        "TRIPCOUNT_RECTIFY", "TRIPCOUNT_ROW_REVERSE", "TRIPCOUNT_AGGREGATE_ROW", "TRIPCOUNT_ROW_UNREVERSE"})
     v[key] = "";
   for (const TripLoop& l : trip_loops(c)) {
     v[l.key] = "#ifndef PARALLAX_REDUCED_FRAME\n" + tripcount_pragma(r.stage_fires, l.stages, "full") + "#else\n" +
@@ -564,6 +571,9 @@ void loop_values(const ExportRequest& r, Values& v) {
   v["II_WTA_LR"] = ii_of({"wta_lr"});
   v["II_MEDIAN"] = ii_of({"median"});
   v["II_RECTIFY"] = ii_of({"rectify_left", "rectify_right"});
+  v["II_ROW_REVERSE"] = ii_of({"row_reverse"});
+  v["II_AGGREGATE_ROW"] = ii_of({"aggregate_row"});
+  v["II_ROW_UNREVERSE"] = ii_of({"row_unreverse"});
 }
 
 // The README's output ports, kernel headers, provenance and predictions.
@@ -729,8 +739,10 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   const bool two_pass = is_two_pass(c);
   v["RECTIFY_FUNCTIONS"] =
       c.rectify != "none" ? fill("rectify_functions.cpp", template_text("rectify_functions.cpp"), v) : "";
-  v["TOP_FUNCTIONS"] = fill(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp",
-                            template_text(two_pass ? "top_two_pass.cpp" : "top_one_pass.cpp"), v);
+  const char* top = two_pass                               ? "top_two_pass.cpp"
+                    : kern::row_reverse_paths(c.path_mask) ? "top_row_reverse.cpp"
+                                                           : "top_one_pass.cpp";
+  v["TOP_FUNCTIONS"] = fill(top, template_text(top), v);
   return project_files(r, v);
 }
 

@@ -29,6 +29,11 @@ TimingModel default_timing(const kern::StereoParams& p, double clock_hz) {
   t["wta_lr"] = {1, wta_latency};
   t["median"] = {1, median_latency};
   t["sink"] = {1, 0};
+  // The row reversals: a memory read and its register; the 180-degree path's aggregation is one
+  // path kind's datapath and the add of the forward sum.
+  t["row_reverse"] = {1, 2};
+  t["aggregate_row"] = {1, 3 + 1 + 1};
+  t["row_unreverse"] = {1, 2};
   t["ddr_write"] = {1, 1};
   t["ddr_read"] = {1, 1};
   // Remap: nearest is a read; bilinear adds two multiply levels and the rounding shift.
@@ -38,7 +43,7 @@ TimingModel default_timing(const kern::StereoParams& p, double clock_hz) {
   // reversed stream): with no backward paths it is not in the graph, so its II is the forward's.
   const kern::RectifyParams no_rectify{p.width_px, p.height_px, kern::kRectifyNone, 0, 1};
   for (const StageSchedule& s : stage_schedules(p, no_rectify, clock_hz)) t[s.stage].ii_cycles = s.ii;
-  if ((p.path_mask & kern::kBackwardPaths) == 0) t["aggregate_back"].ii_cycles = t["aggregate"].ii_cycles;
+  if (!kern::two_pass_paths(p.path_mask)) t["aggregate_back"].ii_cycles = t["aggregate"].ii_cycles;
   return t;
 }
 

@@ -29,6 +29,7 @@
 #include "parallax/kernels/median.hpp"
 #include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/rectify.hpp"
+#include "parallax/kernels/row_reverse.hpp"
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
@@ -59,7 +60,7 @@ class Engine : private PipelineRun<kTimed> {
     out.height_px = p.height_px;
     out.disparities = p.disparities;
     if (kData) out.code.assign(std::size_t(p.width_px) * p.height_px, 0);
-    const bool two_pass = (p.path_mask & kern::kBackwardPaths) != 0;
+    const bool two_pass = kern::two_pass_paths(p.path_mask);
     if (p.cost == kern::kCostCensus)
       two_pass ? run_two_pass(census_, left, right, out) : run_one_pass(census_, left, right, out);
     else
@@ -89,7 +90,7 @@ class Engine : private PipelineRun<kTimed> {
     out.height_px = p.height_px;
     out.disparities = p.disparities;
     out.code.assign(std::size_t(frame_pixels()), 0);
-    if ((p.path_mask & kern::kBackwardPaths) != 0 ||
+    if (kern::two_pass_paths(p.path_mask) ||
         tokens.size() != std::size_t(frame_pixels()) * std::size_t(p.disparities / p.parallel_units))
       internal_error("run_from_costs: a one-pass design and the tokens of its cost stage are needed");
     auto costs = make_graph_fifo<CostTok>("cost", kTokenDepth, "replay", "aggregate");
@@ -224,37 +225,43 @@ class Engine : private PipelineRun<kTimed> {
 
   template <class CostIn, class FwdIn, class SumOut, class TeeOut>
   std::function<bool()> agg_pump(NodeT& n, CostIn& c, FwdIn* f, SumOut& s, TeeOut* t) {
+    return agg_pump_of(agg_, true, n, c, f, s, t);
+  }
+  // The same for any aggregation stage; row_memories: whether its firings meet the path-cost row
+  // memories' port conflicts (the pixel kind alone has no row memory).
+  template <class Agg, class CostIn, class FwdIn, class SumOut, class TeeOut>
+  std::function<bool()> agg_pump_of(Agg& agg, bool row_memories, NodeT& n, CostIn& c, FwdIn* f, SumOut& s, TeeOut* t) {
     // Extra cycles of each chunk's firing from the path-cost row memories' ports.
     std::vector<int> conflicts(std::size_t(p_.disparities / p_.parallel_units), 0);
-    if (kTimed && setup_.opt)
+    if (kTimed && setup_.opt && row_memories)
       for (std::size_t k = 0; k < conflicts.size(); ++k)
         conflicts[k] = row_memory_conflict_cycles(p_, setup_.opt->row_packing, setup_.opt->row_banks, int(k),
                                                   timing_.count(n.name()) ? timing_.at(n.name()).ii_cycles : 1);
-    return [this, &n, &c, f, &s, t, conflicts, chunk = std::size_t(0)]() mutable {
+    return [&agg, &n, &c, f, &s, t, conflicts, chunk = std::size_t(0)]() mutable {
       bool fired = false;
       if (n.still_blocked()) return false;
       kern::NoStream<SumTok> no_sum;
       kern::NoStream<CostTok> no_cost;
-      while (!agg_.done()) {
-        const kern::AggPlan pl = agg_.plan();
+      while (!agg.done()) {
+        const kern::AggPlan pl = agg.plan();
         const int extra = conflicts[chunk];
         const bool ok = n.attempt(
             {Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}},
             [&] {
               if constexpr (!kData) {
-                agg_.step(pl);
+                agg.step(pl);
                 c.skip_read();
                 if (f) f->skip_read();
                 s.skip_write();
                 if (t) t->skip_write();
               } else if (f && t)
-                agg_.fire(pl, c, *f, s, *t);
+                agg.fire(pl, c, *f, s, *t);
               else if (f)
-                agg_.fire(pl, c, *f, s, no_cost);
+                agg.fire(pl, c, *f, s, no_cost);
               else if (t)
-                agg_.fire(pl, c, no_sum, s, *t);
+                agg.fire(pl, c, no_sum, s, *t);
               else
-                agg_.fire(pl, c, no_sum, s, no_cost);
+                agg.fire(pl, c, no_sum, s, no_cost);
             },
             0, extra);
         if (!ok) break;
@@ -295,6 +302,39 @@ class Engine : private PipelineRun<kTimed> {
   }
   std::function<bool()> median_pump(NodeT& n, Fifo<kern::DispCode>& in, Fifo<kern::DispCode>& out) {
     return io_pump(n, median_, in, out);
+  }
+  std::function<bool()> unreverse_pump(NodeT& n, Fifo<kern::DispCode>& in, Fifo<kern::DispCode>& out) {
+    return io_pump(n, code_rev_, in, out);
+  }
+  // The row reversal of costs and forward sums: both streams in, both out, one token of each.
+  std::function<bool()> row_reverse_pump(NodeT& n, Fifo<CostTok>& ci, Fifo<SumTok>& si, Fifo<CostTok>& co,
+                                         Fifo<SumTok>& so) {
+    return [this, &n, &ci, &si, &co, &so] {
+      bool fired = false;
+      if (n.still_blocked()) return false;
+      while (!row_rev_.done()) {
+        const kern::RowReversePlan pl = row_rev_.plan();
+        if (!pl.read && !pl.write) break;
+        if (!n.attempt({Port{&ci, pl.read}, Port{&si, pl.read}}, {Port{&co, pl.write}, Port{&so, pl.write}}, [&] {
+              if constexpr (kData) {
+                row_rev_.fire(pl, ci, si, co, so);
+              } else {
+                row_rev_.step(pl);
+                if (pl.read) {
+                  ci.skip_read();
+                  si.skip_read();
+                }
+                if (pl.write) {
+                  co.skip_write();
+                  so.skip_write();
+                }
+              }
+            }))
+          break;
+        fired = true;
+      }
+      return fired;
+    };
   }
 
   // The sink of a one-pass design takes the codes in raster order, one per firing; in the timing
@@ -419,32 +459,68 @@ class Engine : private PipelineRun<kTimed> {
   }
 
   // The one-pass graph after the cost FIFO: aggregate -> sum -> wta_lr -> disp_lr -> median ->
-  // disp_out -> sink. Configures the stages, makes the FIFOs and nodes (after the caller's, so
-  // stage and FIFO order are the graph's) and returns their pumps; shared by the whole one-pass
-  // run and the replay of recorded costs, so the two cannot drift apart.
+  // disp_out -> sink; with the 180-degree path (row_reverse.hpp) aggregate -> cost_to_row /
+  // fwd_to_row -> row_reverse -> cost_row / fwd_row -> aggregate_row -> sum -> wta_lr (reverse
+  // mode) -> disp_lr -> median -> disp_out -> row_unreverse -> disp_row -> sink. Configures the
+  // stages, makes the FIFOs and nodes (after the caller's, so stage and FIFO order are the
+  // graph's) and returns their pumps; shared by the whole one-pass run and the replay of recorded
+  // costs, so the two cannot drift apart.
   struct BackEnd {
-    std::unique_ptr<Fifo<SumTok>> sums;
-    std::unique_ptr<Fifo<kern::DispCode>> disp, filtered;
+    std::unique_ptr<Fifo<CostTok>> cost_to_row, cost_row;
+    std::unique_ptr<Fifo<SumTok>> fwd_to_row, fwd_row, sums;
+    std::unique_ptr<Fifo<kern::DispCode>> disp, filtered, disp_row;
     std::vector<std::function<bool()>> pumps;
   };
   std::unique_ptr<BackEnd> one_pass_back_end(Fifo<CostTok>& costs, DisparityCodes& out, int64_t& got) {
-    agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, false);
-    wta_.configure(p_, false);
+    const bool rr = kern::row_reverse_paths(p_.path_mask);
+    agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, rr);
+    wta_.configure(p_, rr);
     median_.configure(p_);
     auto be = std::make_unique<BackEnd>();
+    if (rr) {
+      row_rev_.configure(p_);
+      agg_row_.configure(p_, kern::stream_kinds(kern::kPath180, true), true, false);
+      code_rev_.configure(p_);
+      be->cost_to_row = make_fifo<CostTok>("cost_to_row", kTokenDepth);
+      be->fwd_to_row = make_fifo<SumTok>("fwd_to_row", kTokenDepth);
+      be->cost_row = make_fifo<CostTok>("cost_row", kTokenDepth);
+      be->fwd_row = make_fifo<SumTok>("fwd_row", kTokenDepth);
+    }
     be->sums = make_fifo<SumTok>("sum", kTokenDepth);
     be->disp = make_fifo<kern::DispCode>("disp_lr", kPixelDepth);
     be->filtered = make_fifo<kern::DispCode>("disp_out", kPixelDepth);
+    if (rr) be->disp_row = make_fifo<kern::DispCode>("disp_row", kPixelDepth);
     NodeT& n_agg = node("aggregate");
+    if (rr) {
+      NodeT& n_rev = node("row_reverse");
+      NodeT& n_row = node("aggregate_row");
+      be->pumps.push_back(agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(
+          n_agg, costs, nullptr, *be->fwd_to_row, be->cost_to_row.get()));
+      be->pumps.push_back(row_reverse_pump(n_rev, *be->cost_to_row, *be->fwd_to_row, *be->cost_row, *be->fwd_row));
+      be->pumps.push_back(agg_pump_of<decltype(agg_row_), Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(
+          agg_row_, false, n_row, *be->cost_row, be->fwd_row.get(), *be->sums, nullptr));
+    } else {
+      be->pumps.push_back(agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, costs, nullptr,
+                                                                                             *be->sums, nullptr));
+    }
     NodeT& n_wta = node("wta_lr");
     NodeT& n_med = node("median");
-    NodeT& n_sink = node("sink");
-    be->pumps.push_back(
-        agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, costs, nullptr, *be->sums, nullptr));
     be->pumps.push_back(wta_pump(n_wta, *be->sums, *be->disp));
     be->pumps.push_back(median_pump(n_med, *be->disp, *be->filtered));
-    be->pumps.push_back(sink_pump(n_sink, *be->filtered, out, got));
+    if (rr) {
+      NodeT& n_unrev = node("row_unreverse");
+      be->pumps.push_back(unreverse_pump(n_unrev, *be->filtered, *be->disp_row));
+    }
+    NodeT& n_sink = node("sink");
+    be->pumps.push_back(sink_pump(n_sink, rr ? *be->disp_row : *be->filtered, out, got));
     return be;
+  }
+  // Moves the back end's FIFO statistics into the report, in graph order.
+  void collect_back_end(BackEnd& be) {
+    if (be.cost_to_row)
+      collect(std::move(be.cost_to_row), std::move(be.fwd_to_row), std::move(be.cost_row), std::move(be.fwd_row));
+    collect(std::move(be.sums), std::move(be.disp), std::move(be.filtered));
+    if (be.disp_row) collect(std::move(be.disp_row));
   }
 
   template <class CostStage>
@@ -464,8 +540,8 @@ class Engine : private PipelineRun<kTimed> {
     pumps.insert(pumps.end(), be->pumps.begin(), be->pumps.end());
     schedule(pumps, [&] { return got >= total; });
     collect_front_end(*fe);
-    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(be->sums), std::move(be->disp),
-            std::move(be->filtered));
+    collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs));
+    collect_back_end(*be);
   }
 
   // Pass 1 writes C and F to the frame buffer through `ddr_write`; pass 2 starts when the last
@@ -555,7 +631,7 @@ class Engine : private PipelineRun<kTimed> {
       if (setup_.opt->truncate_input_px >= 0)
         run.source_total = std::min(run.source_total, setup_.opt->truncate_input_px);
       run.width = p_.width_px;
-      run.settle_rows = p_.window_h / 2 + p_.median / 2 + 2;
+      run.settle_rows = p_.window_h / 2 + p_.median / 2 + 2 + (kern::row_reverse_paths(p_.path_mask) ? 2 : 0);
       const double stride = setup_.opt->input == InputKind::camera ? double(p_.width_px + setup_.opt->camera_h_blank_px)
                                                                    : double(p_.width_px);
       run.row_input_cycles = stride * input_rate_.cycles_per_token;
@@ -569,15 +645,21 @@ class Engine : private PipelineRun<kTimed> {
     else
       sad_.visit(io);
     agg_.visit(io);
+    row_rev_.visit(io);
+    agg_row_.visit(io);
     wta_.visit(io);
     median_.visit(io);
+    code_rev_.visit(io);
   }
   void resync_kernels() {
     census_.resync();
     sad_.resync();
     agg_.resync();
+    row_rev_.resync();
+    agg_row_.resync();
     wta_.resync();
     median_.resync();
+    code_rev_.resync();
   }
   friend class FastForward<kTimed>;
 
@@ -585,8 +667,11 @@ class Engine : private PipelineRun<kTimed> {
   kern::CensusCostStage<Caps> census_;
   kern::SadCostStage<Caps> sad_;
   kern::SgmAggregate<Caps, Word> agg_;
+  kern::RowReverse<Caps, Word> row_rev_;
+  kern::SgmAggregate<kern::PixelPathCaps<Caps>, Word> agg_row_;
   kern::WtaLr<Caps, Word> wta_;
   kern::Median<Caps> median_;
+  kern::RowReverseCodes<Caps> code_rev_;
   std::unique_ptr<RectifyStage> rect_l_, rect_r_;
   FrameBufferStages<Caps, Word, kTimed, kData> fb_;
 };

@@ -78,7 +78,7 @@ CostRecording::CostRecording(CostRecording&&) noexcept = default;
 CostRecording& CostRecording::operator=(CostRecording&&) noexcept = default;
 
 std::string cost_sharing_key(const kern::StereoParams& p) {
-  if ((p.path_mask & kern::kBackwardPaths) != 0) return "";
+  if (kern::two_pass_paths(p.path_mask)) return "";
   return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) +
          " window " + std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " +
          std::to_string(p.disparities);

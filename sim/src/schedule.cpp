@@ -12,6 +12,7 @@
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/median.hpp"
 #include "parallax/kernels/rectify.hpp"
+#include "parallax/kernels/row_reverse.hpp"
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
@@ -180,9 +181,19 @@ std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const ke
     auto agg = make_stage<kern::SgmAggregate<ScheduleCaps, uint32_t>>();
     agg->configure(p, kern::stream_kinds(p.path_mask, false), false, false);
     out.push_back(collect("aggregate", *agg, clock_hz));
-    if ((p.path_mask & kern::kBackwardPaths) != 0) {
+    if (kern::two_pass_paths(p.path_mask)) {
       agg->configure(p, kern::stream_kinds(p.path_mask, true), true, false);
       out.push_back(collect("aggregate_back", *agg, clock_hz));
+    }
+    if (kern::row_reverse_paths(p.path_mask)) {
+      auto rev = make_stage<kern::RowReverse<ScheduleCaps, uint32_t>>();
+      rev->configure(p);
+      out.push_back(collect("row_reverse", *rev, clock_hz));
+      agg->configure(p, kern::stream_kinds(kern::kPath180, true), true, false);
+      out.push_back(collect("aggregate_row", *agg, clock_hz));
+      auto codes = make_stage<kern::RowReverseCodes<ScheduleCaps>>();
+      codes->configure(p);
+      out.push_back(collect("row_unreverse", *codes, clock_hz));
     }
   }
   {

@@ -39,6 +39,8 @@ const Design kDesigns[] = {
      "--set parallel_units=12 --set disparities=48 --set paths=0,45,90 --set median=3 --set lr_tolerance=2 "
      "--set uniqueness_pct=10 --set census=sparse --clock-mhz 150"},
     {"eight_paths", "configs/ruf2018-census.yaml", "--set paths=8 --set uniqueness_pct=25 --set census=symmetric"},
+    {"five_paths", "configs/ruf2018-census.yaml",
+     "--set paths=5 --set disparities=32 --set parallel_units=8 --set window=9x7 --set p2=64"},
 };
 
 // Undefined symbols the synthesisable top may need: the stream interface and C builtins.

@@ -37,6 +37,7 @@ const Design kDesigns[] = {
     {"rectify", "configs/ruf2018-census.yaml", "--set paths=4", true},
     // The uniqueness register and a census variant, through the vendor's ap_uint ports.
     {"knobs", "configs/ruf2018-census.yaml", "--set uniqueness_pct=10 --set census=sparse --set window=9x7", false},
+    {"five_paths", "configs/ruf2018-census.yaml", "--set paths=5 --set disparities=32 --set parallel_units=8", false},
 };
 
 // Exports d into dir / "hls" and returns that folder (empty on failure, with the reason in `why`).

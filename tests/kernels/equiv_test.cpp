@@ -31,8 +31,15 @@ void expect_equivalent(const StereoParams& p, Pattern pat, uint32_t seed) {
                                                   << c.mismatches << " mismatching pixels, first at " << c.first;
 }
 
-const unsigned kPathSets[] = {kern::kPath0, kern::kPath0 | kern::kPath90, kern::kPath0 | kern::kPath45 | kern::kPath90,
-                              kern::kForwardPaths, kern::kAllPaths};
+// With 180 alone among the backward paths the design stays one pass (row_reverse.hpp).
+const unsigned kPathSets[] = {kern::kPath0,
+                              kern::kPath0 | kern::kPath90,
+                              kern::kPath0 | kern::kPath45 | kern::kPath90,
+                              kern::kForwardPaths,
+                              kern::kForwardPaths | kern::kPath180,
+                              kern::kPath0 | kern::kPath180,
+                              kern::kPath180,
+                              kern::kAllPaths};
 
 // The table of the issue: D in {16, 60, 64, 128} with several PU, paths 1-4 and 8, both costs.
 struct TableRow {
@@ -87,7 +94,7 @@ TEST(Equiv, UniquenessAcrossChunkShapes) {
   for (int d : {4, 16, 24})
     for (int pu : {1, 2, d / 2, d})
       for (int u : {0, 1, 5, 15, 50, 100})
-        for (unsigned paths : {kern::kForwardPaths, kern::kAllPaths}) {
+        for (unsigned paths : {kern::kForwardPaths, kern::kForwardPaths | kern::kPath180, kern::kAllPaths}) {
           StereoParams p = base_params(29, 11);
           p.disparities = d;
           p.parallel_units = pu;
@@ -129,7 +136,9 @@ TEST(Equiv, WindowsAndPatterns) {
         p.cost = cost;
         p.disparities = 20;
         p.parallel_units = 5;
-        p.path_mask = seed % 2 ? kern::kAllPaths : kern::kForwardPaths;
+        p.path_mask = seed % 3 == 0   ? kern::kAllPaths
+                      : seed % 3 == 1 ? kern::kForwardPaths
+                                      : kern::kForwardPaths | kern::kPath180;
         expect_equivalent(p, pat, ++seed);
       }
 }
@@ -139,7 +148,8 @@ TEST(Equiv, AwkwardSizes) {
   uint32_t seed = 4000;
   const int sizes[][2] = {{1, 1}, {2, 3}, {3, 2}, {4, 4}, {1, 9}, {9, 1}, {17, 5}, {31, 7}, {33, 3}, {65, 6}};
   for (const auto& sz : sizes)
-    for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths), unsigned(kern::kPath135)})
+    for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths), unsigned(kern::kPath135),
+                           unsigned(kern::kForwardPaths | kern::kPath180)})
       for (int median : {0, 7}) {
         StereoParams p = base_params(sz[0], sz[1]);
         p.disparities = 16;

@@ -119,8 +119,9 @@ void expect_cycle_equivalent(const StereoParams& p, const sim::CycleOptions& o, 
 
 TEST(CycleEquiv, TableOfConfigurations) {
   const struct { int d, pu; } rows[] = {{16, 1}, {16, 16}, {60, 6}, {60, 60}, {64, 8}, {128, 16}};
-  const unsigned path_sets[] = {kern::kPath0, kern::kPath0 | kern::kPath90,
-                                kern::kPath0 | kern::kPath45 | kern::kPath90, kern::kForwardPaths, kern::kAllPaths};
+  const unsigned path_sets[] = {
+      kern::kPath0,        kern::kPath0 | kern::kPath90,         kern::kPath0 | kern::kPath45 | kern::kPath90,
+      kern::kForwardPaths, kern::kForwardPaths | kern::kPath180, kern::kAllPaths};
   uint32_t seed = 7000;
   for (const auto& row : rows)
     for (unsigned paths : path_sets)
@@ -150,7 +151,10 @@ TEST(CycleEquiv, AwkwardSizesFifoDepthsAndCameraInput) {
         o.camera_h_blank_px = 3;
         o.fifo_depths["left_px"] = o.fifo_depths["right_px"] = 4096;
       }
-      const StereoParams p = params(sz[0], sz[1], 16, 8, seed % 3 ? kern::kForwardPaths : kern::kAllPaths);
+      const unsigned paths = seed % 3 == 0   ? kern::kAllPaths
+                             : seed % 3 == 1 ? kern::kForwardPaths
+                                             : kern::kForwardPaths | kern::kPath180;
+      const StereoParams p = params(sz[0], sz[1], 16, 8, paths);
       expect_cycle_equivalent(p, o, ++seed);
     }
 }
@@ -459,7 +463,8 @@ TEST(CycleEquiv, FastForwardEqualsEveryFiring) {
   for (int variant = 0; variant < 12; ++variant) {
     const int d = variant % 3 == 0 ? 16 : 32;
     const int pu = variant % 4 == 0 ? 16 : variant % 4 == 1 ? 4 : 8;
-    StereoParams p = params(variant % 2 ? 24 : 41, 40 + variant, d, pu, kern::kForwardPaths);
+    StereoParams p = params(variant % 2 ? 24 : 41, 40 + variant, d, pu,
+                            variant % 5 == 3 ? kern::kForwardPaths | kern::kPath180 : kern::kForwardPaths);
     p.cost = variant % 5 == 2 ? int(kern::kCostSad) : int(kern::kCostCensus);
     p.median = variant % 3 == 1 ? 0 : (variant % 2 ? 3 : 5);
     p.lr_check = variant % 4 != 3;
@@ -530,7 +535,8 @@ TEST(FuncSharing, ReplayedCostsGiveTheCodesOfTheRun) {
     } variants[] = {{8, 32, 5, kern::kForwardPaths, true},
                     {4, 96, 0, kern::kPath0, false},
                     {20, 400, 3, kern::kPath0 | kern::kPath90, true},
-                    {2, 3, 7, kern::kPath45 | kern::kPath135, true}};
+                    {2, 3, 7, kern::kPath45 | kern::kPath135, true},
+                    {6, 48, 5, kern::kForwardPaths | kern::kPath180, true}};
     for (const auto& v : variants) {
       StereoParams p = base;
       p.p1 = cost == kern::kCostSad ? v.p1 * 25 : v.p1;
@@ -571,7 +577,8 @@ TEST(Deadlock, FastForwardKeepsTheDiagnosis) {
 // schedule and the coupled run agree on every figure.
 TEST(CycleEquiv, ControlPathScheduleEqualsCoupledRun) {
   uint32_t seed = 9100;
-  for (unsigned paths : {kern::kForwardPaths, kern::kAllPaths, kern::kPath0 | kern::kPath45})
+  for (unsigned paths :
+       {kern::kForwardPaths, kern::kAllPaths, kern::kPath0 | kern::kPath45, kern::kForwardPaths | kern::kPath180})
     for (std::size_t depth : {std::size_t(1), std::size_t(2), std::size_t(5)}) {
       StereoParams p = params(37, 9, 32, seed % 2 ? 4 : 8, paths);
       p.cost = seed % 3 ? int(kern::kCostCensus) : int(kern::kCostSad);
@@ -603,7 +610,8 @@ namespace {
 // The kernels' plans depend on counters only, never on pixel values: timing is a property of the
 // design, so a sweep needs one cycle run per design, not one per frame.
 TEST(Timing, IndependentOfImageContent) {
-  for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths)}) {
+  for (unsigned paths :
+       {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths), unsigned(kern::kForwardPaths | kern::kPath180)}) {
     StereoParams p = params(50, 12, 24, 6, paths);
     const StereoPair a = make_pair(Pattern::kRandom, p.width_px, p.height_px, 11);
     const StereoPair b = make_pair(Pattern::kFlat, p.width_px, p.height_px, 12);
@@ -705,7 +713,8 @@ namespace {
 
 // Every stage the cycle model times can be calibrated from a configuration, and nothing else.
 TEST(Timing, ConfigurationKnowsEveryStage) {
-  for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths)}) {
+  for (unsigned paths :
+       {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths), unsigned(kern::kForwardPaths | kern::kPath180)}) {
     for (const auto& kv : sim::default_timing(params(8, 8, 16, 4, paths))) {
       config::PipelineConfig c;
       config::set_field(c, "ii_" + kv.first, "2");

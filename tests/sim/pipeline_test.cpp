@@ -1,6 +1,6 @@
 // unit: the pipeline table (kernels/pipeline.hpp) is the graph the cycle model builds, for each
-// variant (one pass, two passes, rectifying): the same stages, and the same FIFOs with the same
-// producer and consumer; token widths follow the design.
+// variant (one pass, one pass with the 180-degree path on reversed rows, two passes, rectifying): the same stages, and
+// the same FIFOs with the same producer and consumer; token widths follow the design.
 #include <gtest/gtest.h>
 
 #include <set>
@@ -41,7 +41,8 @@ GreyImage blank(int w, int h) {
 }
 
 TEST(PipelineTable, OnePassAndTwoPassGraphs) {
-  for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths)}) {
+  for (unsigned paths :
+       {unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths), unsigned(kern::kForwardPaths | kern::kPath180)}) {
     const kern::StereoParams p = design(paths);
     const CycleReport r = run_timing(blank(p.width_px, p.height_px), blank(p.width_px, p.height_px), p, CycleOptions{});
     expect_graph_is_the_table(r, p, false);
@@ -62,18 +63,20 @@ TEST(PipelineTable, RectifyingGraph) {
 }
 
 TEST(PipelineTable, EveryFifoJoinsTwoStagesOfItsVariantAndTokensHaveTheDesignsWidths) {
-  for (unsigned conditions : {kern::kWhenOnePass | kern::kWhenNoRectify, kern::kWhenTwoPass | kern::kWhenNoRectify,
-                              kern::kWhenOnePass | kern::kWhenRectify, kern::kWhenTwoPass | kern::kWhenRectify}) {
-    std::set<std::string> stages, names;
-    for (const kern::PipelineStage& s : kern::kPipelineStages)
-      if (kern::pipeline_has(s.when, conditions)) stages.insert(s.name);
-    for (const kern::PipelineFifo& f : kern::kPipelineFifos) {
-      if (!kern::pipeline_has(f.when, conditions)) continue;
-      EXPECT_TRUE(stages.count(f.producer)) << f.name << " from " << f.producer;
-      EXPECT_TRUE(stages.count(f.consumer)) << f.name << " to " << f.consumer;
-      EXPECT_TRUE(names.insert(f.name).second) << f.name << " twice in one variant";
+  for (unsigned rectify : {unsigned(kern::kWhenNoRectify), unsigned(kern::kWhenRectify)})
+    for (unsigned passes : {kern::kWhenOnePass | kern::kWhenNoRowReverse, kern::kWhenTwoPass | kern::kWhenNoRowReverse,
+                            kern::kWhenOnePass | kern::kWhenRowReverse}) {
+      const unsigned conditions = rectify | passes;
+      std::set<std::string> stages, names;
+      for (const kern::PipelineStage& s : kern::kPipelineStages)
+        if (kern::pipeline_has(s.when, conditions)) stages.insert(s.name);
+      for (const kern::PipelineFifo& f : kern::kPipelineFifos) {
+        if (!kern::pipeline_has(f.when, conditions)) continue;
+        EXPECT_TRUE(stages.count(f.producer)) << f.name << " from " << f.producer;
+        EXPECT_TRUE(stages.count(f.consumer)) << f.name << " to " << f.consumer;
+        EXPECT_TRUE(names.insert(f.name).second) << f.name << " twice in one variant";
+      }
     }
-  }
   const kern::StereoParams p = design(kern::kForwardPaths);  // census 5x5: 5-bit costs, PU 4
   EXPECT_EQ(kern::token_bits(kern::kTokenCost, p), 4 * 5);
   EXPECT_EQ(kern::token_bits(kern::kTokenCode, p), 5);  // codes 0..16

@@ -83,7 +83,7 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   // one-pass call lasts the frame's latency; a two-pass call runs pass 1 of its frame beside pass 2
   // of the previous one, so it lasts the longer pass. Never shorter than the busiest stage.
   int64_t call_cycles = pr.last_pixel_cycle;
-  if ((cfg.path_mask & kern::kBackwardPaths) != 0) {
+  if (kern::two_pass_paths(cfg.path_mask)) {
     int64_t pass1_end = -1, pass2_start = -1;
     for (const auto& s : res.cycle.stages) {
       if (s.name == "ddr_write") pass1_end = s.last_fire_cycle + 1;

@@ -361,7 +361,8 @@ FieldRow window_row() {
 
 FieldRow paths_row() {
   FieldRow r = row("paths", "SGM path directions aggregated (docs/algorithm.md §3)",
-                   "a count 1, 2, 3, 4 or 8, or a list of angles of 0, 45, ..., 315 such as [0, 90, 180]");
+                   "a count 1, 2, 3, 4, 5 (4 and 180, one pass) or 8 (two passes), or a list of angles of 0, 45, ..., "
+                   "315 such as [0, 90, 180]");
   r.parse = [](PipelineConfig& c, const std::string&, const std::string& v) { c.path_mask = parse_paths(v); };
   r.check = [](const PipelineConfig& c, Errors& e) {
     if (!(c.path_mask != 0 && (c.path_mask & ~kern::kAllPaths) == 0))
@@ -476,11 +477,13 @@ unsigned parse_paths(const std::string& text) {
         return kern::kPath0 | kern::kPath45 | kern::kPath90;
       case 4:
         return kern::kForwardPaths;
+      case 5:
+        return kern::kForwardPaths | kern::kPath180;
       case 8:
         return kern::kAllPaths;
       default:
         throw ConfigError("field 'paths': " + t +
-                          " is not a path count (1, 2, 3, 4 or 8); give a list of angles such as 0,90 otherwise");
+                          " is not a path count (1, 2, 3, 4, 5 or 8); give a list of angles such as 0,90 otherwise");
     }
   }
   std::string body = t;
@@ -504,6 +507,7 @@ unsigned parse_paths(const std::string& text) {
 
 std::string paths_to_string(unsigned mask) {
   if (mask == kern::kForwardPaths) return "4";
+  if (mask == (kern::kForwardPaths | kern::kPath180)) return "5";
   if (mask == kern::kAllPaths) return "8";
   std::string s;
   for (int i = 0; i < 8; ++i)

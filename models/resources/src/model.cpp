@@ -16,6 +16,7 @@
 #include "parallax/kernels/median.hpp"
 #include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/rectify.hpp"
+#include "parallax/kernels/row_reverse.hpp"
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
@@ -160,10 +161,11 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
       st->declare(c);
     }
   }
-  const bool two_pass = (p.path_mask & kern::kBackwardPaths) != 0;
+  const bool two_pass = kern::two_pass_paths(p.path_mask);
+  const bool row_reverse = kern::row_reverse_paths(p.path_mask);
   {
     auto agg = std::make_unique<kern::SgmAggregate<DeclCaps, uint32_t>>();
-    agg->configure(p, kern::stream_kinds(p.path_mask, false), false, two_pass);
+    agg->configure(p, kern::stream_kinds(p.path_mask, false), false, two_pass || row_reverse);
     Collector c(inv, "aggregate");
     agg->declare(c, cfg.row_packing, cfg.row_banks);
     if (two_pass) {
@@ -176,10 +178,21 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
       Collector b(inv, "aggregate_back");
       agg->declare(b, cfg.row_packing, cfg.row_banks);
     }
+    if (row_reverse) {
+      // The 180-degree path in the one pass (kernels/row_reverse.hpp): the row memories of costs
+      // and forward sums, the pixel kind's aggregation, the codes' row memory.
+      auto rev = std::make_unique<kern::RowReverse<DeclCaps, uint32_t>>();
+      rev->configure(p);
+      Collector r(inv, "row_reverse");
+      rev->declare(r);
+      agg->configure(p, kern::stream_kinds(kern::kPath180, true), true, false);
+      Collector a(inv, "aggregate_row");
+      agg->declare(a, cfg.row_packing, cfg.row_banks);
+    }
   }
   {
     auto wta = std::make_unique<kern::WtaLr<DeclCaps, uint32_t>>();
-    wta->configure(p, two_pass);
+    wta->configure(p, two_pass || row_reverse);
     Collector c(inv, "wta_lr");
     wta->declare(c);
   }
@@ -188,6 +201,12 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
     med->configure(p);
     Collector c(inv, "median");
     med->declare(c, db);
+  }
+  if (row_reverse) {
+    auto codes = std::make_unique<kern::RowReverseCodes<DeclCaps>>();
+    codes->configure(p);
+    Collector c(inv, "row_unreverse");
+    codes->declare(c);
   }
   if (two_pass) {
     // The map writer of two passes: the codes' on-chip reversal (kernels/frame_buffer.hpp).

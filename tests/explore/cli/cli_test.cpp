@@ -116,7 +116,7 @@ TEST(Cli, EveryViolatedConfigFieldIsNamed) {
 }
 
 TEST(Cli, BadOverrideIsNamed) {
-  const CliRun r = run_cli("config --config " + kCensus + " --set paths=5");
+  const CliRun r = run_cli("config --config " + kCensus + " --set paths=6");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("'paths'"), std::string::npos) << r.output;
 }

@@ -44,7 +44,9 @@ TEST(Config, PathCountsAndLists) {
   EXPECT_EQ(parse_paths("8"), kern::kAllPaths);
   EXPECT_EQ(parse_paths("[0, 180]"), unsigned(kern::kPath0 | kern::kPath180));
   EXPECT_EQ(parse_paths("90,270"), unsigned(kern::kPath90 | kern::kPath270));
-  EXPECT_THROW(parse_paths("5"), ConfigError);
+  EXPECT_EQ(parse_paths("5"), unsigned(kern::kForwardPaths | kern::kPath180));  // one pass, rows reversed
+  EXPECT_EQ(paths_to_string(kern::kForwardPaths | kern::kPath180), "5");
+  EXPECT_THROW(parse_paths("6"), ConfigError);
   EXPECT_THROW(parse_paths("0,30"), ConfigError);
   EXPECT_EQ(paths_to_string(kern::kForwardPaths), "4");
   EXPECT_EQ(paths_to_string(kern::kPath0 | kern::kPath180), "[0,180]");

@@ -30,6 +30,16 @@ constexpr unsigned kForwardPaths = kPath0 | kPath45 | kPath90 | kPath135;
 constexpr unsigned kBackwardPaths = kPath180 | kPath225 | kPath270 | kPath315;
 constexpr unsigned kAllPaths = kForwardPaths | kBackwardPaths;
 
+// The 180-degree path alone among the backward paths runs in the one raster pass, on a row
+// memory after each row is complete (row_reverse.hpp); any other backward path needs the
+// second pass over the reversed frame through DDR (frame_buffer.hpp), which then also takes 180.
+constexpr bool row_reverse_paths(unsigned path_mask) {
+  return (path_mask & kBackwardPaths) == kPath180;
+}
+constexpr bool two_pass_paths(unsigned path_mask) {
+  return (path_mask & kBackwardPaths) != 0 && (path_mask & kBackwardPaths) != kPath180;
+}
+
 // Hard limits of the software instantiations (the HLS export replaces them by the exact values).
 constexpr int kMaxWidthPx = 4096;
 constexpr int kMaxHeightPx = 4096;

@@ -13,10 +13,12 @@ namespace kern {
 // Which variants an entry belongs to: a mask of the conditions below, all of which must hold.
 enum PipelineWhen : unsigned {
   kWhenAlways = 0,
-  kWhenOnePass = 1u << 0,    // no backward paths
-  kWhenTwoPass = 1u << 1,    // backward paths: a second, reversed pass through DDR
-  kWhenRectify = 1u << 2,    // rectification in front of the cost stage
-  kWhenNoRectify = 1u << 3,  // no rectification
+  kWhenOnePass = 1u << 0,       // no backward paths but 180
+  kWhenTwoPass = 1u << 1,       // backward paths: a second, reversed pass through DDR
+  kWhenRectify = 1u << 2,       // rectification in front of the cost stage
+  kWhenNoRectify = 1u << 3,     // no rectification
+  kWhenRowReverse = 1u << 4,    // one pass with the 180-degree path on reversed rows
+  kWhenNoRowReverse = 1u << 5,  // no 180-degree path in the one pass
 };
 
 // The token a FIFO carries; its width in bits follows from the design (token_bits()).
@@ -54,8 +56,11 @@ constexpr PipelineStage kPipelineStages[] = {
     {"ddr_write", kWhenTwoPass, "costs and forward sums into the DDR frame buffer"},
     {"ddr_read", kWhenTwoPass, "the same, read back in reverse order"},
     {"aggregate_back", kWhenTwoPass, "SGM over the backward paths on the reversed stream (sgm.hpp)"},
+    {"row_reverse", kWhenRowReverse, "each row's costs and forward sums, pixels reversed (row_reverse.hpp)"},
+    {"aggregate_row", kWhenRowReverse, "SGM's 180-degree path on the reversed rows (sgm.hpp)"},
     {"wta_lr", kWhenAlways, "winner-takes-all and left-right check (wta_lr.hpp)"},
     {"median", kWhenAlways, "k x k median of the codes (median.hpp)"},
+    {"row_unreverse", kWhenRowReverse, "the codes of each row back in raster order (row_reverse.hpp)"},
     {"sink", kWhenAlways, "the disparity codes out"},
 };
 
@@ -73,11 +78,18 @@ constexpr PipelineFifo kPipelineFifos[] = {
     {"fwd_to_ddr", "aggregate", "ddr_write", kTokenSum, kWhenTwoPass, 1},
     {"cost_from_ddr", "ddr_read", "aggregate_back", kTokenCost, kWhenTwoPass, 2},
     {"fwd_from_ddr", "ddr_read", "aggregate_back", kTokenSum, kWhenTwoPass, 2},
-    {"sum", "aggregate", "wta_lr", kTokenSum, kWhenOnePass, 1},
+    {"cost_to_row", "aggregate", "row_reverse", kTokenCost, kWhenRowReverse, 1},
+    {"fwd_to_row", "aggregate", "row_reverse", kTokenSum, kWhenRowReverse, 1},
+    {"cost_row", "row_reverse", "aggregate_row", kTokenCost, kWhenRowReverse, 1},
+    {"fwd_row", "row_reverse", "aggregate_row", kTokenSum, kWhenRowReverse, 1},
+    {"sum", "aggregate", "wta_lr", kTokenSum, kWhenOnePass | kWhenNoRowReverse, 1},
+    {"sum", "aggregate_row", "wta_lr", kTokenSum, kWhenRowReverse, 1},
     {"sum", "aggregate_back", "wta_lr", kTokenSum, kWhenTwoPass, 2},
     {"disp_lr", "wta_lr", "median", kTokenCode, kWhenOnePass, 1},
     {"disp_lr", "wta_lr", "median", kTokenCode, kWhenTwoPass, 2},
-    {"disp_out", "median", "sink", kTokenCode, kWhenOnePass, 1},
+    {"disp_out", "median", "sink", kTokenCode, kWhenOnePass | kWhenNoRowReverse, 1},
+    {"disp_out", "median", "row_unreverse", kTokenCode, kWhenRowReverse, 1},
+    {"disp_row", "row_unreverse", "sink", kTokenCode, kWhenRowReverse, 1},
     {"disp_out", "median", "sink", kTokenCode, kWhenTwoPass, 2},
 };
 
@@ -86,8 +98,8 @@ constexpr int kPipelineFifoCount = int(sizeof(kPipelineFifos) / sizeof(kPipeline
 
 // The conditions a design meets.
 inline unsigned pipeline_conditions(const StereoParams& p, bool rectify) {
-  return ((p.path_mask & kBackwardPaths) != 0 ? kWhenTwoPass : kWhenOnePass) |
-         (rectify ? kWhenRectify : kWhenNoRectify);
+  return (two_pass_paths(p.path_mask) ? kWhenTwoPass : kWhenOnePass) | (rectify ? kWhenRectify : kWhenNoRectify) |
+         (row_reverse_paths(p.path_mask) ? kWhenRowReverse : kWhenNoRowReverse);
 }
 inline bool pipeline_has(unsigned when, unsigned conditions) {
   return (when & ~conditions) == 0;

@@ -43,6 +43,7 @@ constexpr int kChunks = kDisparities / kParallelUnits;
 constexpr unsigned kPathMask = 15u;  // paths 4
 constexpr bool kTwoPass = false;  // paths beyond 0/45/90/135: a second, reversed pass
 #define PARALLAX_DESIGN_TWO_PASS 0  // the same, for the testbench's #if
+constexpr bool kRowReverse = false;  // paths 0/45/90/135 and 180: one pass, rows reversed on chip
 constexpr bool kLrCheck = true;
 constexpr int kMedian = 5;  // 0 = off
 constexpr int kMedianRows = 5;

@@ -20,6 +20,7 @@
 
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/median.hpp"
+#include "parallax/kernels/row_reverse.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
 
@@ -42,6 +43,9 @@ namespace kern = parallax::kern;
 
 typedef kern::CensusCostStage<DesignCaps> CostStageT;
 typedef kern::SgmAggregate<DesignCaps, AggWord> AggregateT;
+typedef kern::RowReverse<DesignCaps, AggWord> RowReverseT;                       // 180-degree path only
+typedef kern::SgmAggregate<kern::PixelPathCaps<DesignCaps>, AggWord> AggregateRowT;  // 180-degree path only
+typedef kern::RowReverseCodes<DesignCaps> CodeReverseT;                            // 180-degree path only
 typedef kern::WtaLr<DesignCaps, AggWord> WtaLrT;
 typedef kern::Median<DesignCaps> MedianT;
 typedef CostStageT::Token CostToken;
@@ -133,7 +137,8 @@ void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_b
   WtaLrT stage;
   SumStream sum(sum_beats);
   CodeStream disp(disp_beats);
-  stage.configure(wta_lr_params(lr_tolerance, uniqueness_pct), kTwoPass);  // two passes: the reversed stream
+  // Two passes, or the 180-degree path in one: the stream runs right to left.
+  stage.configure(wta_lr_params(lr_tolerance, uniqueness_pct), kTwoPass || kRowReverse);
 wta_lr_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1

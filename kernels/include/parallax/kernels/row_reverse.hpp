@@ -1,0 +1,253 @@
+// Row reversal: the stream order of a one-pass design with the 180-degree path (docs/kernels.md,
+// "The 180-degree path in one pass"). The 180-degree path runs right to left within a row, so
+// it can start only when its row is complete, as in OpenCV's single-pass MODE_SGBM: the forward
+// aggregation's costs and sums of a row go into a row memory, leave it with the row's pixels in
+// reverse order (each pixel's chunks still ascending), and a second SgmAggregate with the pixel
+// kind alone adds the 180-degree path on that stream. The WTA / left-right check runs in its
+// reverse mode on it, the median on the mirrored rows (a k x k median with clamped borders
+// commutes with mirroring), and a second reversal of the codes restores raster order for the
+// output.
+//
+// One memory per stream, a row deep: a firing emits token t of row y and stores token t of row
+// y + 1 at the same address (read before write). Rows alternate their layout: an even row's
+// pixel x lives in slot x, an odd row's in slot W - 1 - x, so reading row y backwards visits the
+// slots in the order row y + 1 fills them. The first row is only read in, the last only
+// emitted; in between, input and output advance in lock step, so a row leaves as the next one
+// arrives (one row of latency). C++14 synthesisable subset.
+#pragma once
+
+#include "parallax/kernels/caps.hpp"
+#include "parallax/kernels/common.hpp"
+#include "parallax/kernels/resources.hpp"
+
+namespace parallax {
+namespace kern {
+
+struct RowReversePlan {
+  bool read;   // one token of the next row in
+  bool write;  // one token of the buffered row out
+  bool prime;  // always false
+};
+
+// The counters of a row reversal of rows of W pixels, `per_px` tokens per pixel.
+class RowReverseControl {
+ public:
+  void configure(int width_px, int height_px, int per_px) {
+    w_ = width_px;
+    h_ = height_px;
+    per_px_ = per_px;
+    start_frame();
+  }
+  void start_frame() {
+    in_x_ = in_c_ = in_row_ = 0;
+    out_j_ = out_c_ = out_row_ = 0;
+  }
+  bool done() const { return out_row_ >= h_; }
+  RowReversePlan plan() const {
+    RowReversePlan pl;
+    pl.prime = false;
+    pl.read = in_row_ < h_;
+    pl.write = out_row_ < in_row_;  // a whole row is buffered
+    return pl;
+  }
+  // Slot of the next input token's pixel (image column in_x_ of row in_row_).
+  int in_slot() const { return (in_row_ & 1) == 0 ? in_x_ : w_ - 1 - in_x_; }
+  int in_chunk() const { return in_c_; }
+  // Slot of the next output token's pixel: stream position out_j_ is image column W - 1 - out_j_.
+  int out_slot() const { return (out_row_ & 1) == 0 ? w_ - 1 - out_j_ : out_j_; }
+  int out_chunk() const { return out_c_; }
+  void advance(const RowReversePlan& pl) {
+    if (pl.read) step(in_x_, in_c_, in_row_);
+    if (pl.write) step(out_j_, out_c_, out_row_);
+  }
+  template <class V>
+  void visit(V& v) {
+    v(in_x_);
+    v(in_c_);
+    v(in_row_);
+    v(out_j_);
+    v(out_c_);
+    v(out_row_);
+  }
+  // Control: input and output pixel, chunk and row counters with their end compares, the two
+  // slot subtractions and their selects.
+  template <class R>
+  void declare(R& r) const {
+    const int xb = bits_for(uint64_t(w_));
+    declare_raster_control(r, w_, h_, per_px_);
+    declare_raster_control(r, w_, h_, per_px_);
+    r.op("row_reverse_slot", kOpAdd, xb, 2);
+    r.op("row_reverse_slot_select", kOpMux, xb, 2);
+  }
+
+ private:
+  void step(int& px, int& c, int& row) const {
+    if (++c < per_px_) return;
+    c = 0;
+    if (++px < w_) return;
+    px = 0;
+    ++row;
+  }
+  int w_ = 1, h_ = 0, per_px_ = 1;
+  int in_x_ = 0, in_c_ = 0, in_row_ = 0;
+  int out_j_ = 0, out_c_ = 0, out_row_ = 0;
+};
+
+// The costs and forward sums of the aggregation, reversed row by row: two input and two output
+// streams, one token of each per firing (the pair travels together). Memories: cost_ and sum_,
+// [W][D] lanes, each chunk's PU lanes one word (reshaped by PU): one read and one write per
+// firing on a simple dual-port RAM. A slot is always written by its row before the row reads it
+// back, so nothing needs clearing.
+template <class Caps, class Word>
+class RowReverse {
+ public:
+  typedef Lanes<uint16_t, Caps::lanes> CostToken;
+  typedef Lanes<Word, Caps::lanes> SumToken;
+  static constexpr int kMaxW = Caps::max_width_px;
+  static constexpr int kMaxD = Caps::max_disparities;
+  static constexpr int kLanes = Caps::lanes;
+
+  RowReverse() {
+    PX_PRAGMA("HLS ARRAY_RESHAPE variable=cost_ type=cyclic factor=kLanes dim=2")
+    PX_PRAGMA("HLS ARRAY_RESHAPE variable=sum_ type=cyclic factor=kLanes dim=2")
+    PX_PRAGMA("HLS BIND_STORAGE variable=cost_ type=ram_s2p")
+    PX_PRAGMA("HLS BIND_STORAGE variable=sum_ type=ram_s2p")
+    PX_PRAGMA("HLS DEPENDENCE variable=cost_ type=inter dependent=false")
+    PX_PRAGMA("HLS DEPENDENCE variable=sum_ type=inter dependent=false")
+  }
+
+  void configure(const StereoParams& p) {
+    p_ = p;
+    d_ = Caps::disparities(p.disparities);
+    lanes_ = Caps::parallel_units(p.parallel_units);
+    ctl_.configure(p.width_px, p.height_px, d_ / lanes_);
+  }
+  void start_frame() { ctl_.start_frame(); }
+  bool done() const { return ctl_.done(); }
+  RowReversePlan plan() const { return ctl_.plan(); }
+
+  // One firing: the buffered row's next token out (read first), then the next row's token in,
+  // at the same address when both happen.
+  template <class CostIn, class SumIn, class CostOut, class SumOut>
+  void fire(const RowReversePlan& pl, CostIn& cost_in, SumIn& sum_in, CostOut& cost_out, SumOut& sum_out) {
+    const int trip = Caps::trip(lanes_, kLanes);
+    if (pl.write) {
+      const int xs = ctl_.out_slot();
+      const int lo = ctl_.out_chunk() * lanes_;
+      CostToken c;
+      SumToken s;
+    row_reverse_out:
+      for (int i = 0; i < trip; ++i) {
+        PX_PRAGMA("HLS UNROLL")
+        c.v[i] = cost_[xs][lo + i];
+        s.v[i] = sum_[xs][lo + i];
+      }
+      cost_out.write(c);
+      sum_out.write(s);
+    }
+    if (pl.read) {
+      const CostToken c = cost_in.read();
+      const SumToken s = sum_in.read();
+      const int xs = ctl_.in_slot();
+      const int lo = ctl_.in_chunk() * lanes_;
+    row_reverse_in:
+      for (int i = 0; i < trip; ++i) {
+        PX_PRAGMA("HLS UNROLL")
+        cost_[xs][lo + i] = c.v[i];
+        sum_[xs][lo + i] = s.v[i];
+      }
+    }
+    ctl_.advance(pl);
+  }
+  void step(const RowReversePlan& pl) { ctl_.advance(pl); }
+
+  template <class V>
+  void visit(V& v) {
+    ctl_.visit(v);
+  }
+  void resync() {}
+
+  // Schedule of one firing: each memory sees one read and one write; no value recurs.
+  template <class S>
+  void schedule(S& s) const {
+    s.memory("row_reverse_cost", 1, 1, 2);
+    s.memory("row_reverse_sum", 1, 1, 2);
+  }
+  template <class R>
+  void declare(R& r) const {
+    ctl_.declare(r);
+    declare_storage(r, *this);
+    r.registers("row_reverse_tokens", lanes_ * (cost_bits(p_) + aggregate_bits(p_)), 1);
+  }
+  // Storage descriptor: the two row memories, W x D / PU words of PU lanes each.
+  template <class V>
+  void storage(V& v) const {
+    const int64_t words = int64_t(p_.width_px) * (d_ / lanes_);
+    v.memory("row_reverse_cost", cost_, words, lanes_ * cost_bits(p_), 1, false, lanes_);
+    v.memory("row_reverse_sum", sum_, words, lanes_ * aggregate_bits(p_), 1, false, lanes_);
+  }
+
+ private:
+  StereoParams p_;
+  int d_ = 1, lanes_ = 1;
+  RowReverseControl ctl_;
+  uint16_t cost_[kMaxW][kMaxD];
+  Word sum_[kMaxW][kMaxD];
+};
+
+// The disparity codes reversed row by row (raster order again after a row-reversed back end):
+// one code in and one out per firing, one memory of W codes.
+template <class Caps>
+class RowReverseCodes {
+ public:
+  static constexpr int kMaxW = Caps::max_width_px;
+
+  RowReverseCodes() {
+    PX_PRAGMA("HLS BIND_STORAGE variable=codes_ type=ram_s2p")
+    PX_PRAGMA("HLS DEPENDENCE variable=codes_ type=inter dependent=false")
+  }
+
+  void configure(const StereoParams& p) {
+    p_ = p;
+    ctl_.configure(p.width_px, p.height_px, 1);
+  }
+  void start_frame() { ctl_.start_frame(); }
+  bool done() const { return ctl_.done(); }
+  RowReversePlan plan() const { return ctl_.plan(); }
+
+  template <class In, class Out>
+  void fire(const RowReversePlan& pl, In& in, Out& out) {
+    if (pl.write) out.write(codes_[ctl_.out_slot()]);
+    if (pl.read) codes_[ctl_.in_slot()] = in.read();
+    ctl_.advance(pl);
+  }
+  void step(const RowReversePlan& pl) { ctl_.advance(pl); }
+
+  template <class V>
+  void visit(V& v) {
+    ctl_.visit(v);
+  }
+  void resync() {}
+
+  template <class S>
+  void schedule(S& s) const {
+    s.memory("row_reverse_codes", 1, 1, 2);
+  }
+  template <class R>
+  void declare(R& r) const {
+    ctl_.declare(r);
+    declare_storage(r, *this);
+  }
+  template <class V>
+  void storage(V& v) const {
+    v.memory("row_reverse_codes", codes_, p_.width_px, disparity_bits(p_), 1, false, 1);
+  }
+
+ private:
+  StereoParams p_;
+  RowReverseControl ctl_;
+  DispCode codes_[kMaxW];
+};
+
+}  // namespace kern
+}  // namespace parallax
