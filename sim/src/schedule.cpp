@@ -163,6 +163,7 @@ void derive_ii(StageSchedule& s, double clock_hz) {
   }
   s.ii = std::max({1, s.res_mii, s.rec_mii});
   if (s.rec_mii > s.res_mii || s.limit.empty()) s.limit = rec_limit;
+  if (s.limit.empty()) s.limit = "no loop-carried dependence; every memory access within its ports";
 }
 
 std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const kern::RectifyParams& rectify,

@@ -731,3 +731,38 @@ TEST(Timing, ConfigurationKnowsEveryStage) {
 
 }  // namespace
 }  // namespace parallax::test
+
+namespace parallax::test {
+namespace {
+
+// The 180-degree path in one pass (kernels/row_reverse.hpp) keeps the frame rate: the stages it
+// adds fire at the aggregation's rate. It costs latency: the last row's 180-degree path starts
+// only when the row is complete, and the codes' reversal holds one more row.
+TEST(Timing, RowReverseKeepsTheRateAndAddsTheLastRows) {
+  for (const auto& c : {std::make_pair(16, 4), std::make_pair(32, 32)}) {
+    StereoParams four = params(80, 20, c.first, c.second, kern::kForwardPaths);
+    four.lr_check = false;
+    four.median = 0;
+    StereoParams five = four;
+    five.path_mask = kern::kForwardPaths | kern::kPath180;
+    const StereoPair sp = make_pair(Pattern::kRandom, four.width_px, four.height_px, 2);
+    const sim::CycleReport r4 = sim::run_cycle(sp.left, sp.right, four, one_pair_per_cycle());
+    const sim::CycleReport r5 = sim::run_cycle(sp.left, sp.right, five, one_pair_per_cycle());
+    const int64_t row_tokens = int64_t(four.width_px) * (c.first / c.second);
+    const int64_t ii = stage(r5, "aggregate_row").busy_cycles / stage(r5, "aggregate_row").fires;
+    EXPECT_EQ(r5.cycles_per_frame, r4.cycles_per_frame);
+    // The first row is only read in and the last only emitted: one row more than the frame.
+    EXPECT_EQ(stage(r5, "row_reverse").fires, row_tokens * (four.height_px + 1));
+    // The last row: its 180-degree path runs once its last token is in (a row of tokens at the
+    // aggregation's II), then its codes leave the reversal W firings later; on top, the pipeline
+    // latency of the three stages the variant adds.
+    const sim::TimingModel t = sim::default_timing(five, 200e6);
+    const int64_t added_latency = t.at("row_reverse").latency_cycles + t.at("aggregate_row").latency_cycles +
+                                  t.at("row_unreverse").latency_cycles;
+    EXPECT_EQ(r5.last_pixel_cycle - r4.last_pixel_cycle, ii * row_tokens + four.width_px + added_latency)
+        << "D " << c.first << " PU " << c.second;
+  }
+}
+
+}  // namespace
+}  // namespace parallax::test

@@ -24,6 +24,7 @@
 #include "parallax/kernels/median.hpp"
 #include "parallax/kernels/rectify.hpp"
 #include "parallax/kernels/sad.hpp"
+#include "parallax/kernels/row_reverse.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
 #include "parallax/resources/model.hpp"
@@ -106,8 +107,8 @@ struct StorageCheck {
 
 // Registers a kernel declares that are no member (stream tokens, raster counters, outputs).
 bool non_member(const std::string& name) {
-  for (const char* n :
-       {"counters", "cost_token", "cost_in", "sum_token", "median_out", "map_entry", "taps", "rectify_out"})
+  for (const char* n : {"counters", "cost_token", "cost_in", "sum_token", "median_out", "map_entry", "taps",
+                        "rectify_out", "row_reverse_tokens"})
     if (name == n) return true;
   return false;
 }
@@ -196,12 +197,13 @@ void check_design(const config::PipelineConfig& cfg) {
     }
     EXPECT_TRUE(f.empty()) << cfg.name << join(f);
   }
-  const bool two_pass = (p.path_mask & kern::kBackwardPaths) != 0;
+  const bool two_pass = kern::two_pass_paths(p.path_mask);
+  const bool row_reverse = kern::row_reverse_paths(p.path_mask);
   {
     auto agg = std::make_unique<kern::SgmAggregate<Caps, uint16_t>>();
     for (int pass = 0; pass < (two_pass ? 2 : 1); ++pass) {
       const std::string stage = pass == 0 ? "aggregate" : "aggregate_back";
-      agg->configure(p, kern::stream_kinds(p.path_mask, pass == 1), pass == 1, two_pass && pass == 0);
+      agg->configure(p, kern::stream_kinds(p.path_mask, pass == 1), pass == 1, (two_pass || row_reverse) && pass == 0);
       res::Collector r(inv, stage);
       agg->declare(r, cfg.row_packing, cfg.row_banks);
       StorageCheck c;
@@ -210,9 +212,35 @@ void check_design(const config::PipelineConfig& cfg) {
       EXPECT_TRUE(f.empty()) << cfg.name << join(f);
     }
   }
+  if (row_reverse) {  // the 180-degree path in one pass (kernels/row_reverse.hpp)
+    auto rev = std::make_unique<kern::RowReverse<Caps, uint16_t>>();
+    rev->configure(p);
+    res::Collector r(inv, "row_reverse");
+    rev->declare(r);
+    StorageCheck c;
+    rev->storage(c);
+    auto f = compare(inv, "row_reverse", c, int64_t(sizeof(*rev)));
+    EXPECT_TRUE(f.empty()) << cfg.name << join(f);
+    auto row = std::make_unique<kern::SgmAggregate<kern::PixelPathCaps<Caps>, uint16_t>>();
+    row->configure(p, kern::stream_kinds(kern::kPath180, true), true, false);
+    res::Collector a(inv, "aggregate_row");
+    row->declare(a, cfg.row_packing, cfg.row_banks);
+    StorageCheck ca;
+    row->storage(ca, cfg.row_packing, cfg.row_banks);
+    f = compare(inv, "aggregate_row", ca, int64_t(sizeof(*row)));
+    EXPECT_TRUE(f.empty()) << cfg.name << join(f);
+    auto codes = std::make_unique<kern::RowReverseCodes<Caps>>();
+    codes->configure(p);
+    res::Collector u(inv, "row_unreverse");
+    codes->declare(u);
+    StorageCheck cu;
+    codes->storage(cu);
+    f = compare(inv, "row_unreverse", cu, int64_t(sizeof(*codes)));
+    EXPECT_TRUE(f.empty()) << cfg.name << join(f);
+  }
   {
     auto wta = std::make_unique<kern::WtaLr<Caps, uint16_t>>();
-    wta->configure(p, two_pass);
+    wta->configure(p, two_pass || row_reverse);
     res::Collector r(inv, "wta_lr");
     wta->declare(r);
     StorageCheck c;
@@ -240,7 +268,8 @@ void check_design(const config::PipelineConfig& cfg) {
     EXPECT_LE(db + kern::Median<Caps>::kKeyIndexBits, 16);  // the key is a uint16_t
   }
   // (4) the model (software instantiation) declares what the FIXED instantiation declares.
-  for (const std::string stage : {"cost", "aggregate", "aggregate_back", "wta_lr", "median"}) {
+  for (const std::string stage :
+       {"cost", "aggregate", "aggregate_back", "row_reverse", "aggregate_row", "wta_lr", "median", "row_unreverse"}) {
     EXPECT_EQ(regs_of(model, stage), regs_of(inv, stage)) << cfg.name << " " << stage;
     EXPECT_EQ(ops(model, stage), ops(inv, stage)) << cfg.name << " " << stage;
   }
@@ -261,6 +290,13 @@ TEST(ResourcesStorage, EightPathsTwoPassKinds) {
   auto cfg = seed();
   cfg.name = "8 paths";
   cfg.path_mask = 0xFFu;
+  check_design<640, 60, 6, 5, 5>(cfg);
+}
+
+TEST(ResourcesStorage, FivePathsRowReverse) {
+  auto cfg = seed();
+  cfg.name = "5 paths";
+  cfg.path_mask = kern::kForwardPaths | kern::kPath180;
   check_design<640, 60, 6, 5, 5>(cfg);
 }
 
