@@ -67,6 +67,7 @@ struct Point {
   double x, y;
   std::string colour_key, shape_key, label;
   bool front;
+  std::string tag;  // a reference point (the seed, an OpenCV peer): a black diamond named beside it
 };
 
 // A scatter plot as inline SVG: colour by one key, marker shape (circle / square) by another,
@@ -120,6 +121,7 @@ std::string svg_scatter(const std::string& id, const std::string& title, const s
     << html_escape(ylabel) << "</text>";
   std::vector<std::string> colours, shapes;
   for (const auto& q : p) {
+    if (!q.tag.empty()) continue;
     if (std::find(colours.begin(), colours.end(), q.colour_key) == colours.end()) colours.push_back(q.colour_key);
     if (std::find(shapes.begin(), shapes.end(), q.shape_key) == shapes.end()) shapes.push_back(q.shape_key);
   }
@@ -140,7 +142,17 @@ std::string svg_scatter(const std::string& id, const std::string& title, const s
       << (std::find(shapes.begin(), shapes.end(), shape) - shapes.begin() == 0 ? "</circle>" : "</rect>");
     return m.str();
   };
-  for (const auto& q : p) o << marker(q.shape_key, sx(q.x), sy(q.y), colour(q.colour_key), q.front, q.label);
+  for (const auto& q : p) {
+    if (q.tag.empty()) {
+      o << marker(q.shape_key, sx(q.x), sy(q.y), colour(q.colour_key), q.front, q.label);
+      continue;
+    }
+    const double x = sx(q.x), y = sy(q.y);
+    o << "<path class=\"ref\" d=\"M" << x << " " << y - 6 << " L" << x + 6 << " " << y << " L" << x << " " << y + 6
+      << " L" << x - 6 << " " << y << " Z\" fill=\"#000\"><title>" << html_escape(q.label)
+      << "</title></path><text x=\"" << x + 8 << "\" y=\"" << y - 6 << "\" class=\"k\">" << html_escape(q.tag)
+      << "</text>";
+  }
   double ly = T + 8;
   for (const auto& c : colours) {
     o << "<circle cx=\"" << W - R + 14 << "\" cy=\"" << ly << "\" r=\"4.5\" fill=\"" << colour(c) << "\"/><text x=\""
@@ -153,7 +165,10 @@ std::string svg_scatter(const std::string& id, const std::string& title, const s
       << "\" class=\"k\">" << html_escape(sh) << "</text>";
     ly += 15;
   }
-  o << "<text x=\"" << W - R + 8 << "\" y=\"" << ly + 10 << "\" class=\"k\">outlined: front</text></svg>";
+  o << "<text x=\"" << W - R + 8 << "\" y=\"" << ly + 10 << "\" class=\"k\">outlined: front</text>";
+  if (std::any_of(p.begin(), p.end(), [](const Point& q) { return !q.tag.empty(); }))
+    o << "<text x=\"" << W - R + 8 << "\" y=\"" << ly + 24 << "\" class=\"k\">&#9670;: seed, peers</text>";
+  o << "</svg>";
   return o.str();
 }
 
@@ -472,6 +487,13 @@ bool all_numeric(const std::vector<std::string>& values) {
   return true;
 }
 
+// A peer's method, from its stored description ("baseline: NAME").
+std::string peer_name(const ResultStore::Row& r) {
+  const auto pos = r.config_yaml.find("baseline: ");
+  if (pos == std::string::npos) return r.hash;
+  return r.config_yaml.substr(pos + 10, r.config_yaml.find('\n', pos) - pos - 10);
+}
+
 }  // namespace
 
 std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt) {
@@ -496,7 +518,19 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
     << (spec.max_latency_ms > 0 ? ", latency &le; " + number(spec.max_latency_ms) + " ms" : "") << "</td></tr>"
     << "<tr><td>meet them</td><td>" << meets << "</td></tr><tr><td>objectives</td><td>";
   for (const auto& ob : spec.objectives) o << (ob.maximise ? "max " : "min ") << ob.key << " ";
-  o << "</td></tr><tr><td>on the Pareto front</td><td>" << front.size() << "</td></tr></table></section>";
+  o << "</td></tr><tr><td>on the Pareto front</td><td>" << front.size() << "</td></tr>";
+  for (const auto& peer : opt.peers) {
+    int beat = 0;  // front designs at least as good on both accuracy figures, better on one
+    const double pc = metric(peer, "correct_3px_pct"), pd = metric(peer, "density_pct");
+    for (const auto& r : front) {
+      const double c = metric(r, "correct_3px_pct"), d = metric(r, "density_pct");
+      beat += c >= pc && d >= pd && (c > pc || d > pd) ? 1 : 0;
+    }
+    o << "<tr><td>peer " << html_escape(peer_name(peer)) << "</td><td>correct " << number(std::round(pc * 100) / 100)
+      << " %, density " << number(std::round(pd * 100) / 100) << " % on the same frames; beaten on both by " << beat
+      << " front design(s)</td></tr>";
+  }
+  o << "</table></section>";
   // Plots.
   auto pts = [&](const std::string& xk, const std::string& yk, bool x_field) {
     std::vector<Point> p;
@@ -505,8 +539,17 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
       const std::string xs = xk == "paths" ? path_count(field(r, xk)) : field(r, xk);
       const double x = x_field ? std::atof(xs.c_str()) : metric(r, xk);
       p.push_back({x, metric(r, yk), "paths " + path_count(field(r, "paths")), field(r, "cost"),
-                   r.hash + " " + field(r, "name"), on_front.count(r.hash) > 0});
+                   r.hash + " " + field(r, "name"), on_front.count(r.hash) > 0, ""});
+      if (!opt.seed_hash.empty() && r.hash == opt.seed_hash) {  // the seed again, marked on top
+        p.push_back(p.back());
+        p.back().tag = "seed";
+      }
     }
+    if (!x_field)
+      for (const auto& peer : opt.peers) {  // only where the peer has both figures (no BRAM, no latency)
+        const std::string name = peer_name(peer);
+        p.push_back({metric(peer, xk), metric(peer, yk), "", "", name + " (same frames)", false, name});
+      }
     return p;
   };
   o << "<section id=\"pareto\"><h2>Pareto plots</h2><div class=\"plots\">"

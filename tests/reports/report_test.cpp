@@ -207,6 +207,54 @@ TEST(Report, TableAndSensitivityFollowTheSweepAxes) {
     EXPECT_EQ(html.find(absent), std::string::npos) << absent;
 }
 
+// The Pareto plots mark the seed and the peers stored beside the sweep (black diamonds named
+// beside them), only where the peer has both figures (no BRAM, no latency: the density plot),
+// and the summary says how many front designs beat each peer.
+TEST(Report, ParetoPlotsMarkTheSeedAndThePeers) {
+  explore::SweepSpec spec;
+  spec.name = "peers";
+  spec.base = kCensus;
+  explore::add_axis(spec, "p1=8,12");
+  std::vector<explore::ResultStore::Row> rows;
+  for (int p1 : {8, 12}) {
+    config::PipelineConfig c = config::load_config(kCensus);
+    c.p1 = p1;
+    explore::ResultStore::Row r;
+    r.hash = p1 == 8 ? "seedhash" : "other";
+    r.config_yaml = config::to_yaml(c);
+    r.status = "ok";
+    r.metrics = {{"correct_3px_pct", p1 == 8 ? 90.0 : 95.0},
+                 {"density_pct", 88.0},
+                 {"bram18k", 140},
+                 {"latency_ms", 20},
+                 {"fits_device", 1}};
+    rows.push_back(r);
+  }
+  explore::ReportOptions opt;
+  opt.details = 0;
+  opt.seed_hash = "seedhash";
+  for (const char* name : {"opencv-hh4", "opencv-sgbm"}) {
+    explore::ResultStore::Row peer;
+    peer.hash = std::string("peer-") + name;
+    peer.config_yaml = std::string("baseline: ") + name + "\n";
+    peer.status = "peer";
+    peer.metrics = {{"correct_3px_pct", 94.0}, {"density_pct", 87.0}};
+    opt.peers.push_back(peer);
+  }
+  const std::string html = explore::html_report(spec, rows, opt);
+  const std::size_t density = html.find("id=\"pareto-density\"");
+  ASSERT_NE(density, std::string::npos);
+  const std::string plot = html.substr(density, html.find("</svg>", density) - density);
+  for (const char* want : {">seed</text>", ">opencv-hh4</text>", ">opencv-sgbm</text>", "class=\"ref\""})
+    EXPECT_NE(plot.find(want), std::string::npos) << want;
+  const std::size_t bram = html.find("id=\"pareto-bram\"");
+  const std::string bram_plot = html.substr(bram, html.find("</svg>", bram) - bram);
+  EXPECT_EQ(bram_plot.find("opencv-hh4"), std::string::npos);  // no BRAM figure: not drawn
+  EXPECT_NE(bram_plot.find(">seed</text>"), std::string::npos);
+  EXPECT_NE(html.find("peer opencv-hh4</td><td>correct 94 %, density 87 % on the same frames; beaten on both by 1"),
+            std::string::npos);
+}
+
 // `run` and `sim` write the per-design section as a page of its own.
 TEST(Report, RunAndSimWriteTheDesignSection) {
   const fs::path d = fs::temp_directory_path() / "parallax_report_test_pages";

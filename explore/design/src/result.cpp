@@ -118,6 +118,8 @@ std::map<std::string, double> metric_columns(const DesignResult& r) {
     m["frame_interval_ms"] = r.timing->frame_interval_ms;
     m["fps"] = r.timing->fps;
     m["cycles_per_frame"] = double(r.timing->cycle.cycles_per_frame);
+    // 2: the 8-path variant's second pass through a DDR frame buffer (kernels/pipeline.hpp).
+    m["passes"] = kern::two_pass_paths(r.config.path_mask) ? 2.0 : 1.0;
   }
   if (r.resources) {
     const res::Usage& u = r.resources->estimate.total;

@@ -16,6 +16,7 @@ bool meets_constraints(const SweepSpec& s, const ResultStore::Row& r) {
   if (s.require_fit && !(get("fits_device") >= 0.5)) return false;
   if (s.min_fps > 0 && !(get("fps") >= s.min_fps)) return false;
   if (s.max_latency_ms > 0 && !(get("latency_ms") <= s.max_latency_ms)) return false;
+  if (s.one_pass && !(get("passes") <= 1.0)) return false;
   return true;
 }
 

@@ -40,9 +40,9 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
   }
   if (!n.IsMap()) throw InputError(source + ": expected a mapping of sweep fields");
   SweepSpec s;
-  static const std::set<std::string> known = {"name",        "base",      "strategy", "samples", "seed",
-                                              "generations", "avoidance", "flight",   "axes",    "constraints",
-                                              "objectives",  "frames",    "gt"};
+  static const std::set<std::string> known = {"name",        "base",      "strategy", "samples",  "seed",
+                                              "generations", "avoidance", "flight",   "axes",     "constraints",
+                                              "objectives",  "frames",    "gt",       "baselines"};
   for (const auto& kv : n) {
     const std::string key = kv.first.as<std::string>();
     if (!known.count(key)) throw InputError(source + ": unknown field '" + key + "'");
@@ -60,6 +60,16 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
     if (n["seed"]) s.seed = n["seed"].as<uint32_t>();
     if (n["generations"]) s.generations = n["generations"].as<int>();
     if (n["avoidance"]) s.avoidance = n["avoidance"].as<bool>();
+    if (n["baselines"]) {
+      if (!n["baselines"].IsSequence())
+        throw InputError(source + ": field 'baselines' must be a list such as [opencv-hh4, opencv-sgbm]");
+      for (const auto& b : n["baselines"]) {
+        const std::string name = b.as<std::string>();
+        if (name != "opencv-hh4" && name != "opencv-sgbm")
+          throw InputError(source + ": baselines: unknown peer '" + name + "' (known: opencv-hh4, opencv-sgbm)");
+        if (std::find(s.baselines.begin(), s.baselines.end(), name) == s.baselines.end()) s.baselines.push_back(name);
+      }
+    }
     if (n["flight"]) {
       const YAML::Node f = n["flight"];
       if (!f.IsMap())
@@ -100,18 +110,19 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
     if (!c.IsMap()) throw InputError(source + ": field 'constraints' must map constraint names to values");
     for (const auto& kv : c) {
       const std::string k = kv.first.as<std::string>();
-      if (k != "device" && k != "fits_device" && k != "min_fps" && k != "max_latency_ms")
+      if (k != "device" && k != "fits_device" && k != "min_fps" && k != "max_latency_ms" && k != "one_pass")
         throw InputError(source + ": constraints: unknown constraint '" + k +
-                         "' (known: device, fits_device, min_fps, max_latency_ms)");
+                         "' (known: device, fits_device, min_fps, max_latency_ms, one_pass)");
     }
     try {
       if (c["device"]) s.device = c["device"].as<std::string>();
       if (c["fits_device"]) s.require_fit = c["fits_device"].as<bool>();
       if (c["min_fps"]) s.min_fps = c["min_fps"].as<double>();
       if (c["max_latency_ms"]) s.max_latency_ms = c["max_latency_ms"].as<double>();
+      if (c["one_pass"]) s.one_pass = c["one_pass"].as<bool>();
     } catch (const YAML::Exception&) {
       throw InputError(source +
-                       ": field 'constraints': device is a name, fits_device a bool, min_fps and "
+                       ": field 'constraints': device is a name, fits_device and one_pass bools, min_fps and "
                        "max_latency_ms numbers");
     }
     if (!res::find_device(s.device))
@@ -154,11 +165,13 @@ std::string sweep_to_yaml(const SweepSpec& s) {
   for (const auto& a : s.axes) e << YAML::Key << a.first << YAML::Value << YAML::Flow << a.second;
   e << YAML::EndMap << YAML::Key << "constraints" << YAML::Value << YAML::BeginMap << YAML::Key << "device"
     << YAML::Value << s.device << YAML::Key << "fits_device" << YAML::Value << s.require_fit << YAML::Key << "min_fps"
-    << YAML::Value << s.min_fps << YAML::Key << "max_latency_ms" << YAML::Value << s.max_latency_ms << YAML::EndMap;
+    << YAML::Value << s.min_fps << YAML::Key << "max_latency_ms" << YAML::Value << s.max_latency_ms << YAML::Key
+    << "one_pass" << YAML::Value << s.one_pass << YAML::EndMap;
   e << YAML::Key << "objectives" << YAML::Value << YAML::BeginSeq;
   for (const auto& o : s.objectives) e << (std::string(o.maximise ? "max " : "min ") + o.key);
   e << YAML::EndSeq << YAML::Key << "frames" << YAML::Value << s.frames << YAML::Key << "gt" << YAML::Value << s.gt
     << YAML::Key << "avoidance" << YAML::Value << s.avoidance;
+  if (!s.baselines.empty()) e << YAML::Key << "baselines" << YAML::Value << YAML::Flow << s.baselines;
   if (!s.flight_scenario.empty())
     e << YAML::Key << "flight" << YAML::Value << YAML::BeginMap << YAML::Key << "scenario" << YAML::Value
       << s.flight_scenario << YAML::Key << "seeds" << YAML::Value << s.flight_seeds << YAML::Key << "speed_mps"
@@ -189,8 +202,8 @@ void add_axis(SweepSpec& s, const std::string& kv) {
 std::vector<std::string> metric_names(const SweepSpec& s) {
   std::vector<std::string> out;
   for (const auto& kv : named_metrics(DerivedMetrics{})) out.push_back(kv.first);
-  for (const char* k : {"frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "bram18k", "lut", "ff",
-                        "dsp", "fits_device", "power_w", "energy_mj_per_frame"})
+  for (const char* k : {"frames", "latency_ms", "frame_interval_ms", "fps", "cycles_per_frame", "passes", "bram18k",
+                        "lut", "ff", "dsp", "fits_device", "power_w", "energy_mj_per_frame"})
     out.emplace_back(k);
   if (s.avoidance)
     for (const auto& kv : AvoidAccumulator{}.metrics()) out.push_back(kv.first);

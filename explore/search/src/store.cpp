@@ -212,7 +212,7 @@ void warn(const std::string& what) {
 }
 
 bool reusable_status(const std::string& s) {
-  return s == "ok" || s == "invalid";
+  return s == "ok" || s == "invalid" || s == "peer";  // peer: a baseline stored beside a sweep
 }
 
 }  // namespace
@@ -567,20 +567,32 @@ void ResultStore::release(const std::string& key) {
 }
 
 std::vector<ResultStore::Row> ResultStore::designs(const std::string& sweep, bool with_frames) {
+  return rows_of(sweep, with_frames, false);
+}
+
+std::vector<ResultStore::Row> ResultStore::peers(const std::string& sweep) {
+  return rows_of(sweep, true, true);
+}
+
+std::vector<ResultStore::Row> ResultStore::rows_of(const std::string& sweep, bool with_frames, bool peers) {
   std::lock_guard<std::mutex> lock(impl_->mu);
   Impl& im = *impl_;
   // A sweep lists its members measured as the sweep was last run (a store written through the
-  // API without put_sweep: every member).
-  const char* sql = sweep.empty() ? "SELECT r.rowid, r.key, r.hash, r.sweep, r.config, r.status, r.reason, r.metrics, "
-                                    "r.model_version, r.started_at,"
-                                    " r.finished_at, r.measurement FROM results r ORDER BY r.rowid"
-                                  : "SELECT r.rowid, r.key, r.hash, r.sweep, r.config, r.status, r.reason, r.metrics, "
-                                    "r.model_version, r.started_at,"
-                                    " r.finished_at, r.measurement FROM members m JOIN results r ON r.key = m.key LEFT "
-                                    "JOIN sweeps s ON s.name = m.sweep"
-                                    " WHERE m.sweep = ?1 AND (s.name IS NULL OR s.measurement = '' OR r.measurement = "
+  // API without put_sweep: every member). Peers (status peer) are listed apart from designs.
+  const std::string status = peers ? "r.status = 'peer'" : "r.status <> 'peer'";
+  const std::string sql = sweep.empty()
+                              ? "SELECT r.rowid, r.key, r.hash, r.sweep, r.config, r.status, r.reason, "
+                                "r.metrics, r.model_version, r.started_at, r.finished_at, r.measurement "
+                                "FROM results r WHERE " +
+                                    status + " ORDER BY r.rowid"
+                              : "SELECT r.rowid, r.key, r.hash, r.sweep, r.config, r.status, r.reason, "
+                                "r.metrics, r.model_version, r.started_at, r.finished_at, r.measurement "
+                                "FROM members m JOIN results r ON r.key = m.key LEFT JOIN sweeps s ON s.name = "
+                                "m.sweep WHERE m.sweep = ?1 AND " +
+                                    status +
+                                    " AND (s.name IS NULL OR s.measurement = '' OR r.measurement = "
                                     "s.measurement) ORDER BY r.rowid";
-  Stmt st(im, sql);
+  Stmt st(im, sql.c_str());
   if (!sweep.empty()) st.text(1, sweep);
   std::vector<Row> out;
   std::map<std::string, std::size_t> index;

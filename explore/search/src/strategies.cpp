@@ -180,4 +180,12 @@ void rank_and_crowd(const std::vector<std::vector<double>>& f, std::vector<int>&
 
 }  // namespace nsga2
 
+std::string seed_hash(const SweepSpec& spec) {
+  try {
+    return materialise(config::load_config(spec.base), DesignPoint{}).hash;
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
 }  // namespace parallax::explore

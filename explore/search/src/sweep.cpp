@@ -368,6 +368,57 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
   sum.failed += failed;
 }
 
+// The seed (the base design) and the peers of SweepSpec::baselines, measured on the sweep's frames
+// and crops (the base design's ROI) and stored beside its designs, once per measurement; the
+// peers with `parallax baseline`'s defaults (BaselineParams), as status peer.
+void evaluate_peers(const SweepSpec& spec, const config::PipelineConfig& base, const Dataset& dataset,
+                    const std::string& measurement, ResultStore& store, const SweepRunOptions& opt, SweepSummary& sum) {
+  if (spec.baselines.empty()) return;
+  const std::vector<MaterialisedDesign> seed = {materialise(base, DesignPoint{})};
+  evaluate_batch(spec, seed, store, dataset, opt, sum, sum.total + 1, sum.total, measurement);
+  const BaselineParams bp;
+  for (const std::string& name : spec.baselines) {
+    ResultStore::Row row;
+    row.hash = "peer-" + name;
+    row.sweep = spec.name;
+    row.config_yaml = "baseline: " + name + "\ndisparities: " + std::to_string(bp.disparities) +
+                      "\nblock_size: " + std::to_string(bp.block_size) + "\np1: " + std::to_string(bp.p1) +
+                      "\np2: " + std::to_string(bp.p2) + "\ndisp12_max_diff: " + std::to_string(bp.disp12_max_diff) +
+                      "\n";
+    row.measurement = measurement;
+    row.key = result_key(row.hash, measurement);
+    if (store.has_result(row.key)) {
+      store.add_member(spec.name, row.key);
+      continue;
+    }
+    row.model_version = kModelVersion;
+    row.started_at = utc_now();
+    EvalOptions eo;
+    eo.gt_kind = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
+    eo.frames = spec.frames;
+    eo.roi_from_config = false;
+    eo.roi = roi_for(base);
+    eo.threads = opt.jobs > 0 ? opt.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
+    const Baseline b = parse_baseline(name);
+    const EvalResult r = evaluate(
+        dataset, eo.roi,
+        [&]() -> Matcher { return [&](const cv::Mat& l, const cv::Mat& rr) { return run_baseline(b, bp, l, rr); }; },
+        eo);
+    for (const auto& kv : named_metrics(r.pooled.metrics)) row.metrics[kv.first] = kv.second;
+    row.metrics["frames"] = double(r.frames.size());
+    for (const auto& f : r.frames) {
+      std::map<std::string, double> fm;
+      for (const auto& kv : named_metrics(f.metrics)) fm[kv.first] = kv.second;
+      row.frames.emplace_back(f.frame_id, std::move(fm));
+    }
+    row.status = "peer";
+    row.finished_at = utc_now();
+    store.put_design(row);
+    std::fprintf(stderr, "parallax: peer %s: correct %.2f %%, density %.2f %% (%zu frames)\n", name.c_str(),
+                 row.metrics["correct_3px_pct"], row.metrics["density_pct"], r.frames.size());
+  }
+}
+
 }  // namespace
 
 SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt) {
@@ -497,6 +548,7 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
     for (const auto& p : points) designs.push_back(materialise(base, p));
     evaluate_batch(spec, designs, store, dataset, opt, sum, sum.total, 0, measurement);
   }
+  if (opt.shard_index == 1) evaluate_peers(spec, base, dataset, measurement, store, opt, sum);
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }

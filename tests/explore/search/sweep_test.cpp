@@ -399,6 +399,61 @@ TEST(SweepPareto, NonDominatedUnderConstraints) {
   for (const auto& r : explore::pareto_front(s, rows)) front.insert(r.hash);
   // c is dominated by b; d is too slow; e does not fit; h is invalid; a and f tie (both stay).
   EXPECT_EQ(front, (std::set<std::string>{"a", "b", "f", "g"}));
+  // one_pass: a design that needs the second pass through DDR (passes 2) leaves the front.
+  s.one_pass = true;
+  rows[1].metrics["passes"] = 2;  // b
+  for (auto& r : rows)
+    if (!r.metrics.count("passes")) r.metrics["passes"] = 1;
+  front.clear();
+  for (const auto& r : explore::pareto_front(s, rows)) front.insert(r.hash);
+  EXPECT_EQ(front, (std::set<std::string>{"a", "c", "f", "g"}));
+}
+
+// The peers (SweepSpec::baselines) and the seed are measured on the sweep's frames and stored
+// beside its designs: designs() never lists a peer, peers() lists exactly them, a rerun reuses
+// them, and an unknown peer is refused by name.
+TEST(SweepRun, PeersAndSeedStoredBesideTheDesigns) {
+  const fs::path d = fresh("peers");
+  SweepSpec s = explore::parse_sweep("name: p\nbase: " + kCensus +
+                                         "\naxes:\n  p1: [6]\n  paths: [4, 5]\nbaselines: [opencv-hh4, opencv-sgbm]\n"
+                                         "frames: \"1-2\"\nconstraints:\n  one_pass: true\n",
+                                     "peers.yaml");
+  ASSERT_EQ(s.baselines, (std::vector<std::string>{"opencv-hh4", "opencv-sgbm"}));
+  EXPECT_TRUE(s.one_pass);
+  EXPECT_EQ(explore::parse_sweep(explore::sweep_to_yaml(s), "round trip").baselines, s.baselines);
+  ResultStore store((d / "r.db").string());
+  explore::SweepRunOptions ro;
+  ro.dataset = kData;
+  ro.jobs = 2;
+  explore::run_sweep(s, store, ro);
+  const auto designs = store.designs("p");
+  ASSERT_EQ(designs.size(), 3u);  // two points and the seed (p1 8, paths 4)
+  const std::string seed = explore::seed_hash(s);
+  EXPECT_EQ(std::count_if(designs.begin(), designs.end(), [&](const ResultStore::Row& r) { return r.hash == seed; }),
+            1);
+  for (const auto& r : designs) {
+    EXPECT_EQ(r.status, "ok");
+    EXPECT_EQ(r.metrics.at("passes"), 1.0);
+  }
+  const auto peers = store.peers("p");
+  ASSERT_EQ(peers.size(), 2u);
+  for (const auto& r : peers) {
+    EXPECT_EQ(r.status, "peer");
+    EXPECT_NE(r.config_yaml.find("baseline: opencv-"), std::string::npos) << r.config_yaml;
+    EXPECT_EQ(r.metrics.at("frames"), designs[0].metrics.at("frames"));  // the designs' frames
+    EXPECT_GT(r.metrics.at("correct_3px_pct"), 50.0);
+    EXPECT_EQ(r.frames.size(), designs[0].frames.size());
+  }
+  const auto again = explore::run_sweep(s, store, ro);
+  EXPECT_EQ(again.evaluated, 0);
+  EXPECT_EQ(store.peers("p").size(), 2u);
+  EXPECT_EQ(store.count_designs(), 5);
+  try {
+    explore::parse_sweep("baselines: [opencv-bm]\n", "bad.yaml");
+    ADD_FAILURE() << "an unknown peer was accepted";
+  } catch (const explore::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("opencv-bm"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // parallax pareto: the non-dominated designs of a sweep that meet its constraints.
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -60,6 +61,36 @@ void print_front_text(const SweepSpec& spec, const std::vector<ResultStore::Row>
   }
 }
 
+// The seed and the peers stored beside the sweep (SweepSpec::baselines), with the front designs
+// that beat each on both accuracy figures.
+void print_references(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows,
+                      const std::vector<ResultStore::Row>& front, const std::vector<ResultStore::Row>& peers) {
+  if (peers.empty()) return;
+  auto get = [](const ResultStore::Row& r, const char* k) {
+    const auto it = r.metrics.find(k);
+    return it == r.metrics.end() ? std::nan("") : it->second;
+  };
+  auto line = [&](const std::string& what, const ResultStore::Row& r) {
+    const double c = get(r, "correct_3px_pct"), d = get(r, "density_pct");
+    int beat = 0;
+    for (const auto& f : front) {
+      const double fc = get(f, "correct_3px_pct"), fd = get(f, "density_pct");
+      beat += fc >= c && fd >= d && (fc > c || fd > d) ? 1 : 0;
+    }
+    std::printf("%-30s correct %6.2f %%  density %6.2f %%  beaten on both by %d front design(s)\n", what.c_str(), c, d,
+                beat);
+  };
+  std::printf("\nreferences on the same frames:\n");
+  const std::string seed = seed_hash(spec);
+  for (const auto& r : rows)
+    if (!seed.empty() && r.hash == seed) line("seed (" + spec.base + ")", r);
+  for (const auto& p : peers) {
+    const auto pos = p.config_yaml.find("baseline: ");
+    line(pos == std::string::npos ? p.hash : p.config_yaml.substr(pos + 10, p.config_yaml.find('\n', pos) - pos - 10),
+         p);
+  }
+}
+
 int run_pareto(const ParetoOptions& o, const Invocation&) {
   ResultStore store(o.db, ResultStore::Access::read);
   const SweepSpec spec = choose_sweep(store, o.db, o.sweep);
@@ -67,8 +98,10 @@ int run_pareto(const ParetoOptions& o, const Invocation&) {
   const auto front = pareto_front(spec, rows);
   if (o.json)
     std::cout << front_json(front).dump(2) << "\n";
-  else
+  else {
     print_front_text(spec, rows, front);
+    print_references(spec, rows, front, store.peers(spec.name));
+  }
   return 0;
 }
 

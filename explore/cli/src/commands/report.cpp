@@ -44,6 +44,8 @@ int run_report(const ReportCommandOptions& o, const Invocation&) {
     ro.dataset = o.dataset.empty() ? images_dataset(swept) : o.dataset;
     ro.frame = o.frame;
     ro.details = o.details;
+    ro.peers = store.peers(spec.name);
+    ro.seed_hash = seed_hash(spec);
     write_text_file(o.html, html_report(spec, rows, ro));
   }
   return 0;

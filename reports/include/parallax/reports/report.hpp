@@ -70,6 +70,10 @@ struct ReportOptions {
   std::string dataset;  // to render the per-design images; "" = none
   std::string frame;    // frame of the images ("" = the first with ground truth)
   int details = 6;      // designs on the front that get a section
+  // Marked in the Pareto plots and listed in the summary: the peers stored beside the sweep
+  // (ResultStore::peers) and the seed design (seed_hash, the base design's hash; "" = none).
+  std::vector<ResultStore::Row> peers;
+  std::string seed_hash;
 };
 std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt);
 

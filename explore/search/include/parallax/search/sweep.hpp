@@ -35,6 +35,7 @@ struct SweepSpec {
   bool require_fit = true;
   double min_fps = 0.0;
   double max_latency_ms = 0.0;  // 0: none
+  bool one_pass = false;        // no second pass through a DDR frame buffer (metric passes = 1)
   std::vector<Objective> objectives = {{"correct_3px_pct", true}, {"density_pct", true}};
   // Evaluation.
   std::string frames;      // dataset frame filter ("" = all with ground truth)
@@ -46,6 +47,9 @@ struct SweepSpec {
   double flight_speed_mps = 5.0;
   int flight_size_px = 160;
   std::string gt = "noc";
+  // Peers measured on the same frames and crops and stored beside the designs (status peer:
+  // ResultStore::peers), with the base design itself as the seed: opencv-hh4, opencv-sgbm.
+  std::vector<std::string> baselines;
 };
 
 // Reads a sweep file (YAML, docs/explorer.md). Throws InputError naming the file and the field.
@@ -151,6 +155,9 @@ class ResultStore {
   // whose stored metrics cannot be read (not JSON, not numbers) is returned as status error with
   // the reason, and a warning naming the store and the row goes to stderr.
   std::vector<Row> designs(const std::string& sweep = "", bool with_frames = true);
+  // The peers stored beside a sweep's designs (SweepSpec::baselines): rows of status peer whose
+  // config_yaml names the method and its parameters, measured as the sweep was last run.
+  std::vector<Row> peers(const std::string& sweep);
   std::vector<SweepSpec> sweeps();
   int64_t count_designs();
   // Copies every sweep, result, membership and frame of another store that this one lacks (same
@@ -160,6 +167,7 @@ class ResultStore {
   struct Impl;  // store.cpp
 
  private:
+  std::vector<Row> rows_of(const std::string& sweep, bool with_frames, bool peers);
   Impl* impl_;
 };
 
@@ -186,6 +194,10 @@ struct SweepSummary {
   std::vector<std::string> first_problems;
 };
 SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt);
+
+// The hash of the sweep's base design as a sweep stores it (the seed its peers stand beside); ""
+// when the base configuration cannot be read any more.
+std::string seed_hash(const SweepSpec& spec);
 
 // The designs of a sweep that meet its constraints and are not dominated on its objectives. A
 // design without a metric (absent or not finite) ranks last on it: it fails a constraint on it,
