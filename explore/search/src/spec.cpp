@@ -21,6 +21,50 @@ namespace {
 SweepSpec parse_sweep_fields(const std::string& text, const std::string& source);
 }
 
+namespace {
+
+// baselines: [opencv-hh4, opencv-sgbm]: the peers measured beside the sweep.
+void parse_baselines(const YAML::Node& n, const std::string& source, SweepSpec& s) {
+  if (!n["baselines"]) return;
+  if (!n["baselines"].IsSequence())
+    throw InputError(source + ": field 'baselines' must be a list such as [opencv-hh4, opencv-sgbm]");
+  for (const auto& b : n["baselines"]) {
+    const std::string name = b.as<std::string>();
+    if (name != "opencv-hh4" && name != "opencv-sgbm")
+      throw InputError(source + ": baselines: unknown peer '" + name + "' (known: opencv-hh4, opencv-sgbm)");
+    if (std::find(s.baselines.begin(), s.baselines.end(), name) == s.baselines.end()) s.baselines.push_back(name);
+  }
+}
+
+// designs: [{field: value, ...}, ...] (strategy list): each design's fields over the base. The
+// axes become the fields the designs set, with the values they take, in order of appearance
+// (checked like any axis; the report's columns).
+void parse_designs(const YAML::Node& n, const std::string& source, SweepSpec& s) {
+  if (!n["designs"]) return;
+  if (!n["designs"].IsSequence()) throw InputError(source + ": field 'designs' must be a list of field maps");
+  int i = 0;
+  for (const auto& d : n["designs"]) {
+    ++i;
+    if (!d.IsMap() && !d.IsNull())
+      throw InputError(source + ": designs: entry " + std::to_string(i) + " is not a map of fields");
+    std::vector<std::pair<std::string, std::string>> fields;
+    if (d.IsMap())
+      for (const auto& kv : d) {
+        const std::string k = kv.first.as<std::string>(), v = kv.second.as<std::string>();
+        fields.emplace_back(k, v);
+        auto axis = std::find_if(s.axes.begin(), s.axes.end(), [&](const auto& a) { return a.first == k; });
+        if (axis == s.axes.end()) {
+          s.axes.emplace_back(k, std::vector<std::string>{});
+          axis = s.axes.end() - 1;
+        }
+        if (std::find(axis->second.begin(), axis->second.end(), v) == axis->second.end()) axis->second.push_back(v);
+      }
+    s.designs.push_back(fields);
+  }
+}
+
+}  // namespace
+
 SweepSpec parse_sweep(const std::string& text, const std::string& source) {
   try {
     return parse_sweep_fields(text, source);
@@ -40,9 +84,9 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
   }
   if (!n.IsMap()) throw InputError(source + ": expected a mapping of sweep fields");
   SweepSpec s;
-  static const std::set<std::string> known = {"name",        "base",      "strategy", "samples",  "seed",
-                                              "generations", "avoidance", "flight",   "axes",     "constraints",
-                                              "objectives",  "frames",    "gt",       "baselines"};
+  static const std::set<std::string> known = {"designs",     "name",        "base",      "strategy", "samples",
+                                              "seed",        "generations", "avoidance", "flight",   "axes",
+                                              "constraints", "objectives",  "frames",    "gt",       "baselines"};
   for (const auto& kv : n) {
     const std::string key = kv.first.as<std::string>();
     if (!known.count(key)) throw InputError(source + ": unknown field '" + key + "'");
@@ -60,16 +104,8 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
     if (n["seed"]) s.seed = n["seed"].as<uint32_t>();
     if (n["generations"]) s.generations = n["generations"].as<int>();
     if (n["avoidance"]) s.avoidance = n["avoidance"].as<bool>();
-    if (n["baselines"]) {
-      if (!n["baselines"].IsSequence())
-        throw InputError(source + ": field 'baselines' must be a list such as [opencv-hh4, opencv-sgbm]");
-      for (const auto& b : n["baselines"]) {
-        const std::string name = b.as<std::string>();
-        if (name != "opencv-hh4" && name != "opencv-sgbm")
-          throw InputError(source + ": baselines: unknown peer '" + name + "' (known: opencv-hh4, opencv-sgbm)");
-        if (std::find(s.baselines.begin(), s.baselines.end(), name) == s.baselines.end()) s.baselines.push_back(name);
-      }
-    }
+    parse_baselines(n, source, s);
+    parse_designs(n, source, s);
     if (n["flight"]) {
       const YAML::Node f = n["flight"];
       if (!f.IsMap())
@@ -88,8 +124,12 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
   } catch (const YAML::Exception&) {
     throw InputError(source + ": a scalar field has the wrong type (samples and seed are integers)");
   }
-  if (s.strategy != "grid" && s.strategy != "random" && s.strategy != "lhs" && s.strategy != "nsga2")
-    throw InputError(source + ": field 'strategy': '" + s.strategy + "' is not grid, random, lhs or nsga2");
+  if (s.strategy != "grid" && s.strategy != "random" && s.strategy != "lhs" && s.strategy != "nsga2" &&
+      s.strategy != "list")
+    throw InputError(source + ": field 'strategy': '" + s.strategy + "' is not grid, random, lhs, nsga2 or list");
+  if ((s.strategy == "list") != !s.designs.empty())
+    throw InputError(source + (s.designs.empty() ? ": strategy list needs a field 'designs'"
+                                                 : ": field 'designs' belongs to strategy list"));
   if (s.generations < 1) throw InputError(source + ": field 'generations' must be at least 1");
   if (s.samples < 1) throw InputError(source + ": field 'samples' must be at least 1");
   if (s.gt != "noc" && s.gt != "occ") throw InputError(source + ": field 'gt' must be noc or occ");
@@ -162,7 +202,8 @@ std::string sweep_to_yaml(const SweepSpec& s) {
     << YAML::Key << "strategy" << YAML::Value << s.strategy << YAML::Key << "samples" << YAML::Value << s.samples
     << YAML::Key << "seed" << YAML::Value << s.seed << YAML::Key << "generations" << YAML::Value << s.generations
     << YAML::Key << "axes" << YAML::Value << YAML::BeginMap;
-  for (const auto& a : s.axes) e << YAML::Key << a.first << YAML::Value << YAML::Flow << a.second;
+  if (s.strategy != "list")  // a list's axes are its designs' fields (parse_designs)
+    for (const auto& a : s.axes) e << YAML::Key << a.first << YAML::Value << YAML::Flow << a.second;
   e << YAML::EndMap << YAML::Key << "constraints" << YAML::Value << YAML::BeginMap << YAML::Key << "device"
     << YAML::Value << s.device << YAML::Key << "fits_device" << YAML::Value << s.require_fit << YAML::Key << "min_fps"
     << YAML::Value << s.min_fps << YAML::Key << "max_latency_ms" << YAML::Value << s.max_latency_ms << YAML::Key
@@ -172,6 +213,15 @@ std::string sweep_to_yaml(const SweepSpec& s) {
   e << YAML::EndSeq << YAML::Key << "frames" << YAML::Value << s.frames << YAML::Key << "gt" << YAML::Value << s.gt
     << YAML::Key << "avoidance" << YAML::Value << s.avoidance;
   if (!s.baselines.empty()) e << YAML::Key << "baselines" << YAML::Value << YAML::Flow << s.baselines;
+  if (!s.designs.empty()) {
+    e << YAML::Key << "designs" << YAML::Value << YAML::BeginSeq;
+    for (const auto& d : s.designs) {
+      e << YAML::Flow << YAML::BeginMap;
+      for (const auto& f : d) e << YAML::Key << f.first << YAML::Value << f.second;
+      e << YAML::EndMap;
+    }
+    e << YAML::EndSeq;
+  }
   if (!s.flight_scenario.empty())
     e << YAML::Key << "flight" << YAML::Value << YAML::BeginMap << YAML::Key << "scenario" << YAML::Value
       << s.flight_scenario << YAML::Key << "seeds" << YAML::Value << s.flight_seeds << YAML::Key << "speed_mps"
@@ -217,6 +267,7 @@ std::vector<std::string> metric_names(const SweepSpec& s) {
 double requested_designs(const SweepSpec& s) {
   if (s.strategy == "random" || s.strategy == "lhs") return double(s.samples);
   if (s.strategy == "nsga2") return double(std::max(4, s.samples)) * double(s.generations + 1);
+  if (s.strategy == "list") return double(s.designs.size());
   double n = 1;
   for (const auto& a : s.axes) n *= double(a.second.size());
   return n;

@@ -16,6 +16,10 @@ namespace parallax::explore {
 
 std::vector<DesignPoint> enumerate_designs(const SweepSpec& s) {
   std::vector<DesignPoint> out;
+  if (s.strategy == "list") {
+    for (const auto& d : s.designs) out.push_back(DesignPoint{d});
+    return out;
+  }
   if (s.axes.empty()) {
     out.push_back({});
     return out;

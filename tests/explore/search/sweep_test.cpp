@@ -70,6 +70,25 @@ TEST(SweepSpec, RandomAndLatinHypercubeAreSeededAndDistinct) {
   }
 }
 
+// strategy list: the designs as written, in order; the axes are the fields they set, with the
+// values they take (for the checks and the report's columns); a round trip keeps them.
+TEST(SweepSpec, ListIsTheDesignsAsWritten) {
+  const SweepSpec s = explore::parse_sweep(
+      "strategy: list\ndesigns:\n  - {}\n  - {uniqueness_pct: 5}\n  - {paths: 5, window: 9x7}\n  - {paths: 8}\n",
+      "list.yaml");
+  const auto d = explore::enumerate_designs(s);
+  ASSERT_EQ(d.size(), 4u);
+  EXPECT_TRUE(d[0].fields.empty());
+  EXPECT_EQ(d[2].fields, (std::vector<std::pair<std::string, std::string>>{{"paths", "5"}, {"window", "9x7"}}));
+  EXPECT_EQ(s.axes, (std::vector<std::pair<std::string, std::vector<std::string>>>{
+                        {"uniqueness_pct", {"5"}}, {"paths", {"5", "8"}}, {"window", {"9x7"}}}));
+  const SweepSpec t = explore::parse_sweep(explore::sweep_to_yaml(s), "round trip");
+  EXPECT_EQ(t.designs, s.designs);
+  EXPECT_EQ(t.axes, s.axes);
+  EXPECT_THROW(explore::parse_sweep("strategy: list\n", "s.yaml"), explore::InputError);
+  EXPECT_THROW(explore::parse_sweep("designs:\n  - {p1: 4}\n", "s.yaml"), explore::InputError);  // grid
+}
+
 TEST(SweepSpec, ShippedSweepsParse) {
   for (const char* f : {"ruf2018-neighbourhood.yaml", "census-penalties.yaml"}) {
     const SweepSpec s = explore::load_sweep(std::string(PARALLAX_CONFIG_DIR) + "/sweeps/" + f);

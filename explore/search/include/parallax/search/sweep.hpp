@@ -26,7 +26,7 @@ struct SweepSpec {
   std::string name = "sweep";
   std::string base;                                                    // configuration file the axes modify
   std::vector<std::pair<std::string, std::vector<std::string>>> axes;  // field -> values, in order
-  std::string strategy = "grid";                                       // grid | random | lhs | nsga2
+  std::string strategy = "grid";                                       // grid | random | lhs | nsga2 | list
   int samples = 20;                                                    // random / lhs: designs; nsga2: population size
   int generations = 10;                                                // nsga2: generations after the first population
   uint32_t seed = 1;
@@ -50,6 +50,9 @@ struct SweepSpec {
   // Peers measured on the same frames and crops and stored beside the designs (status peer:
   // ResultStore::peers), with the base design itself as the seed: opencv-hh4, opencv-sgbm.
   std::vector<std::string> baselines;
+  // Strategy list: the designs, each the fields it sets over the base (axes then hold the fields
+  // and values they use, for checking and reports).
+  std::vector<std::vector<std::pair<std::string, std::string>>> designs;
 };
 
 // Reads a sweep file (YAML, docs/explorer.md). Throws InputError naming the file and the field.
