@@ -79,9 +79,10 @@ CostRecording& CostRecording::operator=(CostRecording&&) noexcept = default;
 
 std::string cost_sharing_key(const kern::StereoParams& p) {
   if (kern::two_pass_paths(p.path_mask)) return "";
+  // Everything the cost stage reads: size, cost, census taps (census only), window, D.
   return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) +
-         " window " + std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " +
-         std::to_string(p.disparities);
+         (p.cost == kern::kCostCensus ? " census " + std::to_string(p.census) : std::string()) + " window " +
+         std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities);
 }
 
 // One engine per instantiation the func run uses, made on first use and kept (its stages are

@@ -554,6 +554,14 @@ TEST(FuncSharing, ReplayedCostsGiveTheCodesOfTheRun) {
   }
   StereoParams eight = params(20, 9, 16, 4, kern::kAllPaths);
   EXPECT_EQ(sim::cost_sharing_key(eight), "");
+  StereoParams sparse = params(20, 9, 16, 4, kern::kForwardPaths);
+  StereoParams full = sparse;
+  sparse.census = kern::kCensusSparse;
+  EXPECT_NE(sim::cost_sharing_key(sparse), sim::cost_sharing_key(full));  // other taps, other costs
+  StereoParams five = sparse;  // the stages after the costs do not matter to the key
+  five.path_mask = kern::kForwardPaths | kern::kPath180;
+  five.uniqueness_pct = 5;
+  EXPECT_EQ(sim::cost_sharing_key(five), sim::cost_sharing_key(sparse));
 }
 
 // A frame that never completes is diagnosed the same with the fast-forward: the skipped rows

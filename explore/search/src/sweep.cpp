@@ -46,7 +46,9 @@ using nsga2::rank_and_crowd;
 
 namespace {
 
-constexpr const char* kModelVersion = "parallax-models/2026-11-23 (kernels, cycle schedule, resources)";
+// Changes when a model's results change: 2026-12-01, census variants no longer share the full
+// census's costs in a sweep (sim::cost_sharing_key), and the 180-degree path in one pass.
+constexpr const char* kModelVersion = "parallax-models/2026-12-01 (kernels, cycle schedule, resources)";
 
 std::string absolute_path(const std::string& p) {
   std::error_code ec;

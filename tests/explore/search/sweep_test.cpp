@@ -300,6 +300,24 @@ TEST(SweepSharing, SharedCostsGiveTheSameResults) {
   explore::run_sweep(s, alone, ro);
   EXPECT_EQ(shared.count_designs(), 12);
   EXPECT_EQ(by_hash(shared), by_hash(alone));
+  // Census variants read other taps: they share no costs with each other (they once did, and a
+  // sparse design scored the full census's figures).
+  SweepSpec v;
+  v.name = "variants";
+  v.base = kCensus;
+  v.frames = "1";
+  explore::add_axis(v, "census=full,sparse,symmetric");
+  explore::add_axis(v, "window=9x7");
+  ResultStore shared_v((d / "shared_v.db").string()), alone_v((d / "alone_v.db").string());
+  ro.share_costs = true;
+  explore::run_sweep(v, shared_v, ro);
+  ro.share_costs = false;
+  explore::run_sweep(v, alone_v, ro);
+  const auto variants = by_hash(shared_v);
+  EXPECT_EQ(variants, by_hash(alone_v));
+  std::set<double> correct;
+  for (const auto& kv : variants) correct.insert(kv.second.at("correct_3px_pct"));
+  EXPECT_EQ(correct.size(), 3u) << "census variants scored alike";
 }
 
 // With avoidance on, every design carries the avoidance stage's scores, shared or not.
