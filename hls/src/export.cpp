@@ -294,6 +294,19 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
 
 // Storage directives of the line buffers and the path-cost rows, from the resource model's mapping.
 void storage_values(const config::PipelineConfig& c, const res::Inventory& inv, Values& v) {
+  // The row reversals' memories (5 paths, kernels/row_reverse.hpp), bound as the model maps them.
+  std::string reverse;
+  const struct {
+    const char *stage, *memory, *macro, *member;
+  } reversals[] = {{"row_reverse", "row_reverse_cost", "COST", "cost_"},
+                   {"row_reverse", "row_reverse_sum", "SUM", "sum_"},
+                   {"row_unreverse", "row_reverse_codes", "CODES", "codes_"}};
+  for (const auto& m : reversals)
+    if (const res::MemoryItem* item = find_memory(inv, m.stage, m.memory))
+      reverse += std::string("#define PX_HLS_ROW_REVERSE_") + m.macro +
+                 "_STORAGE \"HLS BIND_STORAGE variable=" + m.member +
+                 " type=ram_s2p impl=" + ram_impl(item->per_copy.storage) + "\"\n";
+  v["ROW_REVERSE_STORAGE"] = reverse;
   const res::MemoryItem* lb = find_memory(inv, "cost", "left_line_buffer");
   v["LINE_BUFFER_IMPL"] = lb ? ram_impl(lb->per_copy.storage) : "bram";
   const res::MemoryItem* row = nullptr;

@@ -5,6 +5,7 @@
 // software (sgm.hpp), over whole frames of random costs at the widths' limits.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <random>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "parallax/kernels/common.hpp"
+#include "parallax/kernels/row_reverse.hpp"
 #include "parallax/kernels/sgm.hpp"
 
 namespace parallax::kern {
@@ -143,6 +145,58 @@ TEST(SgmAggregate, LaneMinimumOffTheRecurrenceEqualsTheDirectOne) {
   // 32-bit words: two paths of the same SAD.
   sad.path_mask = kPath0 | kPath45;
   expect_same_sums<32, 8, uint32_t>(sad, (1u << kKindPixel) | (1u << kKindRowLeft), 6);
+}
+
+// The row reversal's memory carries no dependence between firings (its DEPENDENCE inter false,
+// row_reverse.hpp): walking the control's firings over whole frames, every memory slot a firing
+// reads was written at least 3C firings before (C = tokens per pixel), the bypassed last pixel
+// never touches the memory, and every token comes out in reversed pixel order, chunks ascending.
+TEST(RowReverse, MemorySlotsComeBackAtLeastThreeTokensPerPixelLater) {
+  for (int w : {1, 2, 3, 7, 16})
+    for (int c : {1, 2, 5}) {
+      const int h = 4;
+      RowReverseControl ctl;
+      ctl.configure(w, h, c);
+      std::vector<int64_t> written(std::size_t(w) * std::size_t(c), -1);  // firing that wrote slot
+      std::vector<std::pair<int, int>> in_tokens, out_tokens;             // (row, x * c + chunk)
+      int64_t firing = 0, min_gap = INT64_MAX;
+      int in_row = 0, in_tok = 0, out_row = 0, out_tok = 0;
+      while (!ctl.done()) {
+        const RowReversePlan pl = ctl.plan();
+        ASSERT_TRUE(pl.read || pl.write) << "stuck at firing " << firing;
+        if (pl.write) {
+          const int x = w - 1 - out_tok / c;  // stream position j is image column W - 1 - j
+          out_tokens.emplace_back(out_row, x * c + ctl.out_chunk());
+          if (!ctl.out_first()) {
+            const std::size_t a = std::size_t(ctl.out_slot()) * std::size_t(c) + std::size_t(ctl.out_chunk());
+            ASSERT_GE(written[a], 0) << "read before any write";
+            min_gap = std::min(min_gap, firing - written[a]);
+          } else {
+            EXPECT_EQ(x, w - 1);
+          }
+          if (++out_tok == w * c) out_tok = 0, ++out_row;
+        }
+        if (pl.read) {
+          in_tokens.emplace_back(in_row, in_tok);
+          if (!ctl.in_last())
+            written[std::size_t(ctl.in_slot()) * std::size_t(c) + std::size_t(ctl.in_chunk())] = firing;
+          else
+            EXPECT_EQ(in_tok / c, w - 1);
+          if (++in_tok == w * c) in_tok = 0, ++in_row;
+        }
+        ctl.advance(pl);
+        ++firing;
+      }
+      EXPECT_EQ(firing, int64_t(h + 1) * w * c);
+      if (w > 1) {
+        EXPECT_GE(min_gap, 3 * c) << "W " << w << " C " << c;
+      }
+      ASSERT_EQ(out_tokens.size(), in_tokens.size());
+      for (std::size_t i = 0; i < out_tokens.size(); ++i) {  // each row's pixels reversed
+        const int row = int(i) / (w * c), t = int(i) % (w * c);
+        EXPECT_EQ(out_tokens[i], std::make_pair(row, (w - 1 - t / c) * c + t % c)) << "W " << w << " C " << c;
+      }
+    }
 }
 
 }  // namespace

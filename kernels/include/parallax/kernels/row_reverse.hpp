@@ -9,11 +9,20 @@
 // output.
 //
 // One memory per stream, a row deep: a firing emits token t of row y and stores token t of row
-// y + 1 at the same address (read before write). Rows alternate their layout: an even row's
-// pixel x lives in slot x, an odd row's in slot W - 1 - x, so reading row y backwards visits the
-// slots in the order row y + 1 fills them. The first row is only read in, the last only
-// emitted; in between, input and output advance in lock step, so a row leaves as the next one
-// arrives (one row of latency). C++14 synthesisable subset.
+// y + 1 at the same address (read before write, within the firing). Rows alternate their layout:
+// an even row's pixel x lives in slot x, an odd row's in slot W - 1 - x, so reading row y
+// backwards visits the slots in the order row y + 1 fills them. The first row is only read in,
+// the last only emitted; in between, input and output advance in lock step, so a row leaves as
+// the next one arrives (one row of latency).
+//
+// Dependences between firings: pixel x of a row is written at stream position x and read back,
+// in the next row's emission, (2W - 1 - 2x) pixels later, i.e. (2W - 1 - 2x) x C firings (C =
+// D/PU tokens per pixel). The last pixel (x = W - 1) would come back C firings after it was
+// written, as little as one firing: it bypasses the memory through registers (its C tokens, the
+// first the next emission reads). Every slot of the memory is then read at least 3C >= 3
+// firings after its write, more than the firing's depth from read to write, so the memory
+// carries no dependence between firings (DEPENDENCE inter false); the registers carry theirs as
+// registers do. C++14 synthesisable subset.
 #pragma once
 
 #include "parallax/kernels/caps.hpp"
@@ -56,6 +65,10 @@ class RowReverseControl {
   // Slot of the next output token's pixel: stream position out_j_ is image column W - 1 - out_j_.
   int out_slot() const { return (out_row_ & 1) == 0 ? w_ - 1 - out_j_ : out_j_; }
   int out_chunk() const { return out_c_; }
+  // The input token is of a row's last pixel, the output token of a row's first stream pixel
+  // (image column W - 1): the bypass registers' tokens.
+  bool in_last() const { return in_x_ + 1 == w_; }
+  bool out_first() const { return out_j_ == 0; }
   void advance(const RowReversePlan& pl) {
     if (pl.read) step(in_x_, in_c_, in_row_);
     if (pl.write) step(out_j_, out_c_, out_row_);
@@ -78,6 +91,8 @@ class RowReverseControl {
     declare_raster_control(r, w_, h_, per_px_);
     r.op("row_reverse_slot", kOpAdd, xb, 2);
     r.op("row_reverse_slot_select", kOpMux, xb, 2);
+    r.op("row_reverse_plan", kOpCompare, bits_for(uint64_t(h_)), 2);
+    r.op("row_reverse_bypass_test", kOpCompare, xb, 2);
   }
 
  private:
@@ -94,10 +109,13 @@ class RowReverseControl {
 };
 
 // The costs and forward sums of the aggregation, reversed row by row: two input and two output
-// streams, one token of each per firing (the pair travels together). Memories: cost_ and sum_,
-// [W][D] lanes, each chunk's PU lanes one word (reshaped by PU): one read and one write per
-// firing on a simple dual-port RAM. A slot is always written by its row before the row reads it
-// back, so nothing needs clearing.
+// streams, one token of each per firing (the pair travels together). Memories cost_ and sum_: a
+// FIXED instantiation keeps each chunk's PU lanes as one word, [W][D/PU][PU] reshaped in its
+// last dimension (W x D/PU words of PU lanes); software instantiations run any PU up to their
+// lanes and keep a row's lanes flat, [W][D][1]. One read and one write per firing on a simple
+// dual-port RAM. The last pixel's tokens go through the bypass registers last_cost_ / last_sum_
+// (D lanes) instead. A slot is always written by its row before the row reads it back, so
+// nothing needs clearing.
 template <class Caps, class Word>
 class RowReverse {
  public:
@@ -106,14 +124,23 @@ class RowReverse {
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
+  static constexpr int kWords = Caps::fixed ? kMaxD / kLanes : kMaxD;  // words per pixel
+  static constexpr int kPerWord = Caps::fixed ? kLanes : 1;            // lanes per word
 
   RowReverse() {
-    PX_PRAGMA("HLS ARRAY_RESHAPE variable=cost_ type=cyclic factor=kLanes dim=2")
-    PX_PRAGMA("HLS ARRAY_RESHAPE variable=sum_ type=cyclic factor=kLanes dim=2")
+    PX_PRAGMA("HLS ARRAY_RESHAPE variable=cost_ type=complete dim=3")
+    PX_PRAGMA("HLS ARRAY_RESHAPE variable=sum_ type=complete dim=3")
+#ifdef PX_HLS_ROW_REVERSE_COST_STORAGE
+    PX_PRAGMA(PX_HLS_ROW_REVERSE_COST_STORAGE)
+    PX_PRAGMA(PX_HLS_ROW_REVERSE_SUM_STORAGE)
+#else
     PX_PRAGMA("HLS BIND_STORAGE variable=cost_ type=ram_s2p")
     PX_PRAGMA("HLS BIND_STORAGE variable=sum_ type=ram_s2p")
+#endif
     PX_PRAGMA("HLS DEPENDENCE variable=cost_ type=inter dependent=false")
     PX_PRAGMA("HLS DEPENDENCE variable=sum_ type=inter dependent=false")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=last_cost_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=last_sum_ type=complete dim=1")
   }
 
   void configure(const StereoParams& p) {
@@ -122,44 +149,61 @@ class RowReverse {
     lanes_ = Caps::parallel_units(p.parallel_units);
     ctl_.configure(p.width_px, p.height_px, d_ / lanes_);
   }
-  void start_frame() { ctl_.start_frame(); }
-  bool done() const { return ctl_.done(); }
-  RowReversePlan plan() const { return ctl_.plan(); }
+  void start_frame() {
+    ctl_.start_frame();
+  }
+  bool done() const {
+    return ctl_.done();
+  }
+  RowReversePlan plan() const {
+    return ctl_.plan();
+  }
 
   // One firing: the buffered row's next token out (read first), then the next row's token in,
-  // at the same address when both happen.
+  // at the same address when both happen (or the same bypass registers, when W = 1).
   template <class CostIn, class SumIn, class CostOut, class SumOut>
   void fire(const RowReversePlan& pl, CostIn& cost_in, SumIn& sum_in, CostOut& cost_out, SumOut& sum_out) {
     const int trip = Caps::trip(lanes_, kLanes);
     if (pl.write) {
       const int xs = ctl_.out_slot();
-      const int lo = ctl_.out_chunk() * lanes_;
-      CostToken c;
-      SumToken s;
+      const int c = ctl_.out_chunk();
+      const bool bypass = ctl_.out_first();
+      CostToken ct;
+      SumToken st;
     row_reverse_out:
       for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
-        c.v[i] = cost_[xs][lo + i];
-        s.v[i] = sum_[xs][lo + i];
+        const int w = Caps::fixed ? c : c * lanes_ + i, l = Caps::fixed ? i : 0;
+        ct.v[i] = bypass ? last_cost_[c * lanes_ + i] : cost_[xs][w][l];
+        st.v[i] = bypass ? last_sum_[c * lanes_ + i] : sum_[xs][w][l];
       }
-      cost_out.write(c);
-      sum_out.write(s);
+      cost_out.write(ct);
+      sum_out.write(st);
     }
     if (pl.read) {
-      const CostToken c = cost_in.read();
-      const SumToken s = sum_in.read();
+      const CostToken ct = cost_in.read();
+      const SumToken st = sum_in.read();
       const int xs = ctl_.in_slot();
-      const int lo = ctl_.in_chunk() * lanes_;
+      const int c = ctl_.in_chunk();
+      const bool bypass = ctl_.in_last();
     row_reverse_in:
       for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
-        cost_[xs][lo + i] = c.v[i];
-        sum_[xs][lo + i] = s.v[i];
+        const int w = Caps::fixed ? c : c * lanes_ + i, l = Caps::fixed ? i : 0;
+        if (bypass) {
+          last_cost_[c * lanes_ + i] = ct.v[i];
+          last_sum_[c * lanes_ + i] = st.v[i];
+        } else {
+          cost_[xs][w][l] = ct.v[i];
+          sum_[xs][w][l] = st.v[i];
+        }
       }
     }
     ctl_.advance(pl);
   }
-  void step(const RowReversePlan& pl) { ctl_.advance(pl); }
+  void step(const RowReversePlan& pl) {
+    ctl_.advance(pl);
+  }
 
   template <class V>
   void visit(V& v) {
@@ -167,7 +211,8 @@ class RowReverse {
   }
   void resync() {}
 
-  // Schedule of one firing: each memory sees one read and one write; no value recurs.
+  // Schedule of one firing: each memory sees one read and one write; the bypass registers are
+  // written by the last pixel and read by the first, never a chain within one firing.
   template <class S>
   void schedule(S& s) const {
     s.memory("row_reverse_cost", 1, 1, 2);
@@ -175,35 +220,50 @@ class RowReverse {
   }
   template <class R>
   void declare(R& r) const {
+    const int cb = cost_bits(p_), ab = aggregate_bits(p_);
     ctl_.declare(r);
     declare_storage(r, *this);
-    r.registers("row_reverse_tokens", lanes_ * (cost_bits(p_) + aggregate_bits(p_)), 1);
+    r.registers("row_reverse_tokens", lanes_ * (cb + ab), 1);
+    // Per lane: the bypass registers' D/PU-input read and the choice between them and the memory.
+    const int chunks = d_ / lanes_;
+    if (chunks > 1) r.op("row_reverse_bypass_read", kOpMux, cb + ab, lanes_ * (chunks - 1));
+    r.op("row_reverse_bypass_select", kOpMux, cb + ab, lanes_);
   }
-  // Storage descriptor: the two row memories, W x D / PU words of PU lanes each.
+  // Storage descriptor: the two row memories (W x D / PU words of PU lanes each) and the bypass
+  // registers of the last pixel (D lanes).
   template <class V>
   void storage(V& v) const {
     const int64_t words = int64_t(p_.width_px) * (d_ / lanes_);
     v.memory("row_reverse_cost", cost_, words, lanes_ * cost_bits(p_), 1, false, lanes_);
     v.memory("row_reverse_sum", sum_, words, lanes_ * aggregate_bits(p_), 1, false, lanes_);
+    v.registers_part("row_reverse_last_cost", last_cost_, d_, cost_bits(p_));
+    v.registers_part("row_reverse_last_sum", last_sum_, d_, aggregate_bits(p_));
   }
 
  private:
   StereoParams p_;
   int d_ = 1, lanes_ = 1;
   RowReverseControl ctl_;
-  uint16_t cost_[kMaxW][kMaxD];
-  Word sum_[kMaxW][kMaxD];
+  uint16_t cost_[kMaxW][kWords][kPerWord];
+  Word sum_[kMaxW][kWords][kPerWord];
+  uint16_t last_cost_[kMaxD];
+  Word last_sum_[kMaxD];
 };
 
 // The disparity codes reversed row by row (raster order again after a row-reversed back end):
-// one code in and one out per firing, one memory of W codes.
+// one code in and one out per firing, one memory of W codes; the last pixel's code bypasses it
+// through a register (C = 1 above: the memory's slots come back at least 3 firings later).
 template <class Caps>
 class RowReverseCodes {
  public:
   static constexpr int kMaxW = Caps::max_width_px;
 
   RowReverseCodes() {
+#ifdef PX_HLS_ROW_REVERSE_CODES_STORAGE
+    PX_PRAGMA(PX_HLS_ROW_REVERSE_CODES_STORAGE)
+#else
     PX_PRAGMA("HLS BIND_STORAGE variable=codes_ type=ram_s2p")
+#endif
     PX_PRAGMA("HLS DEPENDENCE variable=codes_ type=inter dependent=false")
   }
 
@@ -211,17 +271,31 @@ class RowReverseCodes {
     p_ = p;
     ctl_.configure(p.width_px, p.height_px, 1);
   }
-  void start_frame() { ctl_.start_frame(); }
-  bool done() const { return ctl_.done(); }
-  RowReversePlan plan() const { return ctl_.plan(); }
+  void start_frame() {
+    ctl_.start_frame();
+  }
+  bool done() const {
+    return ctl_.done();
+  }
+  RowReversePlan plan() const {
+    return ctl_.plan();
+  }
 
   template <class In, class Out>
   void fire(const RowReversePlan& pl, In& in, Out& out) {
-    if (pl.write) out.write(codes_[ctl_.out_slot()]);
-    if (pl.read) codes_[ctl_.in_slot()] = in.read();
+    if (pl.write) out.write(ctl_.out_first() ? last_ : codes_[ctl_.out_slot()]);
+    if (pl.read) {
+      const DispCode c = in.read();
+      if (ctl_.in_last())
+        last_ = c;
+      else
+        codes_[ctl_.in_slot()] = c;
+    }
     ctl_.advance(pl);
   }
-  void step(const RowReversePlan& pl) { ctl_.advance(pl); }
+  void step(const RowReversePlan& pl) {
+    ctl_.advance(pl);
+  }
 
   template <class V>
   void visit(V& v) {
@@ -237,16 +311,19 @@ class RowReverseCodes {
   void declare(R& r) const {
     ctl_.declare(r);
     declare_storage(r, *this);
+    r.op("row_reverse_bypass_select", kOpMux, disparity_bits(p_), 1);
   }
   template <class V>
   void storage(V& v) const {
     v.memory("row_reverse_codes", codes_, p_.width_px, disparity_bits(p_), 1, false, 1);
+    v.registers("row_reverse_last_code", last_, 1, disparity_bits(p_));
   }
 
  private:
   StereoParams p_;
   RowReverseControl ctl_;
   DispCode codes_[kMaxW];
+  DispCode last_ = 0;
 };
 
 }  // namespace kern
