@@ -108,6 +108,23 @@ class RowReverseControl {
   int out_j_ = 0, out_c_ = 0, out_row_ = 0;
 };
 
+// What both reversals share: the control and its entry points (a stage's plan, step, visit).
+class RowReverseStage {
+ public:
+  void start_frame() { ctl_.start_frame(); }
+  bool done() const { return ctl_.done(); }
+  RowReversePlan plan() const { return ctl_.plan(); }
+  void step(const RowReversePlan& pl) { ctl_.advance(pl); }
+  template <class V>
+  void visit(V& v) {
+    ctl_.visit(v);
+  }
+  void resync() {}
+
+ protected:
+  RowReverseControl ctl_;
+};
+
 // The costs and forward sums of the aggregation, reversed row by row: two input and two output
 // streams, one token of each per firing (the pair travels together). Memories cost_ and sum_: a
 // FIXED instantiation keeps each chunk's PU lanes as one word, [W][D/PU][PU] reshaped in its
@@ -117,7 +134,7 @@ class RowReverseControl {
 // (D lanes) instead. A slot is always written by its row before the row reads it back, so
 // nothing needs clearing.
 template <class Caps, class Word>
-class RowReverse {
+class RowReverse : public RowReverseStage {
  public:
   typedef Lanes<uint16_t, Caps::lanes> CostToken;
   typedef Lanes<Word, Caps::lanes> SumToken;
@@ -148,15 +165,6 @@ class RowReverse {
     d_ = Caps::disparities(p.disparities);
     lanes_ = Caps::parallel_units(p.parallel_units);
     ctl_.configure(p.width_px, p.height_px, d_ / lanes_);
-  }
-  void start_frame() {
-    ctl_.start_frame();
-  }
-  bool done() const {
-    return ctl_.done();
-  }
-  RowReversePlan plan() const {
-    return ctl_.plan();
   }
 
   // One firing: the buffered row's next token out (read first), then the next row's token in,
@@ -201,15 +209,6 @@ class RowReverse {
     }
     ctl_.advance(pl);
   }
-  void step(const RowReversePlan& pl) {
-    ctl_.advance(pl);
-  }
-
-  template <class V>
-  void visit(V& v) {
-    ctl_.visit(v);
-  }
-  void resync() {}
 
   // Schedule of one firing: each memory sees one read and one write; the bypass registers are
   // written by the last pixel and read by the first, never a chain within one firing.
@@ -243,7 +242,6 @@ class RowReverse {
  private:
   StereoParams p_;
   int d_ = 1, lanes_ = 1;
-  RowReverseControl ctl_;
   uint16_t cost_[kMaxW][kWords][kPerWord];
   Word sum_[kMaxW][kWords][kPerWord];
   uint16_t last_cost_[kMaxD];
@@ -254,7 +252,7 @@ class RowReverse {
 // one code in and one out per firing, one memory of W codes; the last pixel's code bypasses it
 // through a register (C = 1 above: the memory's slots come back at least 3 firings later).
 template <class Caps>
-class RowReverseCodes {
+class RowReverseCodes : public RowReverseStage {
  public:
   static constexpr int kMaxW = Caps::max_width_px;
 
@@ -271,15 +269,6 @@ class RowReverseCodes {
     p_ = p;
     ctl_.configure(p.width_px, p.height_px, 1);
   }
-  void start_frame() {
-    ctl_.start_frame();
-  }
-  bool done() const {
-    return ctl_.done();
-  }
-  RowReversePlan plan() const {
-    return ctl_.plan();
-  }
 
   template <class In, class Out>
   void fire(const RowReversePlan& pl, In& in, Out& out) {
@@ -293,15 +282,6 @@ class RowReverseCodes {
     }
     ctl_.advance(pl);
   }
-  void step(const RowReversePlan& pl) {
-    ctl_.advance(pl);
-  }
-
-  template <class V>
-  void visit(V& v) {
-    ctl_.visit(v);
-  }
-  void resync() {}
 
   template <class S>
   void schedule(S& s) const {
@@ -321,7 +301,6 @@ class RowReverseCodes {
 
  private:
   StereoParams p_;
-  RowReverseControl ctl_;
   DispCode codes_[kMaxW];
   DispCode last_ = 0;
 };
