@@ -36,6 +36,16 @@ TEST(Config, PaperPresetsReproduceTheSeedDesign) {
   }
 }
 
+// The frontier design (issue 18) is a single-pass design: 5 paths with 180 on reversed rows.
+TEST(Config, FrontierDesignIsOnePass) {
+  const PipelineConfig c = load_config(std::string(PARALLAX_CONFIG_DIR) + "/frontier-census.yaml");
+  EXPECT_TRUE(validate(c).empty());
+  EXPECT_EQ(c.path_mask, unsigned(kern::kForwardPaths | kern::kPath180));
+  EXPECT_TRUE(kern::row_reverse_paths(c.path_mask));
+  EXPECT_FALSE(kern::two_pass_paths(c.path_mask));
+  EXPECT_EQ(c.name, "frontier-census");
+}
+
 TEST(Config, PathCountsAndLists) {
   EXPECT_EQ(parse_paths("1"), unsigned(kern::kPath0));
   EXPECT_EQ(parse_paths("2"), unsigned(kern::kPath0 | kern::kPath90));
