@@ -487,13 +487,6 @@ bool all_numeric(const std::vector<std::string>& values) {
   return true;
 }
 
-// A peer's method, from its stored description ("baseline: NAME").
-std::string peer_name(const ResultStore::Row& r) {
-  const auto pos = r.config_yaml.find("baseline: ");
-  if (pos == std::string::npos) return r.hash;
-  return r.config_yaml.substr(pos + 10, r.config_yaml.find('\n', pos) - pos - 10);
-}
-
 }  // namespace
 
 std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt) {
@@ -520,12 +513,8 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
   for (const auto& ob : spec.objectives) o << (ob.maximise ? "max " : "min ") << ob.key << " ";
   o << "</td></tr><tr><td>on the Pareto front</td><td>" << front.size() << "</td></tr>";
   for (const auto& peer : opt.peers) {
-    int beat = 0;  // front designs at least as good on both accuracy figures, better on one
+    const int beat = beaten_on_accuracy_by(peer, front);
     const double pc = metric(peer, "correct_3px_pct"), pd = metric(peer, "density_pct");
-    for (const auto& r : front) {
-      const double c = metric(r, "correct_3px_pct"), d = metric(r, "density_pct");
-      beat += c >= pc && d >= pd && (c > pc || d > pd) ? 1 : 0;
-    }
     o << "<tr><td>peer " << html_escape(peer_name(peer)) << "</td><td>correct " << number(std::round(pc * 100) / 100)
       << " %, density " << number(std::round(pd * 100) / 100) << " % on the same frames; beaten on both by " << beat
       << " front design(s)</td></tr>";

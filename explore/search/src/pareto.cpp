@@ -52,4 +52,24 @@ std::vector<ResultStore::Row> pareto_front(const SweepSpec& s, const std::vector
   return front;
 }
 
+std::string peer_name(const ResultStore::Row& peer) {
+  const auto pos = peer.config_yaml.find("baseline: ");
+  if (pos == std::string::npos) return peer.hash;
+  return peer.config_yaml.substr(pos + 10, peer.config_yaml.find('\n', pos) - pos - 10);
+}
+
+int beaten_on_accuracy_by(const ResultStore::Row& reference, const std::vector<ResultStore::Row>& designs) {
+  auto get = [](const ResultStore::Row& r, const char* k) {
+    const auto it = r.metrics.find(k);
+    return it == r.metrics.end() ? std::nan("") : it->second;
+  };
+  const double c = get(reference, "correct_3px_pct"), d = get(reference, "density_pct");
+  int n = 0;
+  for (const auto& r : designs) {
+    const double rc = get(r, "correct_3px_pct"), rd = get(r, "density_pct");
+    n += rc >= c && rd >= d && (rc > c || rd > d) ? 1 : 0;
+  }
+  return n;
+}
+
 }  // namespace parallax::explore

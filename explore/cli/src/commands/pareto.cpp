@@ -66,29 +66,17 @@ void print_front_text(const SweepSpec& spec, const std::vector<ResultStore::Row>
 void print_references(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows,
                       const std::vector<ResultStore::Row>& front, const std::vector<ResultStore::Row>& peers) {
   if (peers.empty()) return;
-  auto get = [](const ResultStore::Row& r, const char* k) {
-    const auto it = r.metrics.find(k);
-    return it == r.metrics.end() ? std::nan("") : it->second;
-  };
   auto line = [&](const std::string& what, const ResultStore::Row& r) {
-    const double c = get(r, "correct_3px_pct"), d = get(r, "density_pct");
-    int beat = 0;
-    for (const auto& f : front) {
-      const double fc = get(f, "correct_3px_pct"), fd = get(f, "density_pct");
-      beat += fc >= c && fd >= d && (fc > c || fd > d) ? 1 : 0;
-    }
-    std::printf("%-30s correct %6.2f %%  density %6.2f %%  beaten on both by %d front design(s)\n", what.c_str(), c, d,
-                beat);
+    const auto c = r.metrics.find("correct_3px_pct"), d = r.metrics.find("density_pct");
+    std::printf("%-30s correct %6.2f %%  density %6.2f %%  beaten on both by %d front design(s)\n", what.c_str(),
+                c == r.metrics.end() ? std::nan("") : c->second, d == r.metrics.end() ? std::nan("") : d->second,
+                beaten_on_accuracy_by(r, front));
   };
   std::printf("\nreferences on the same frames:\n");
   const std::string seed = seed_hash(spec);
   for (const auto& r : rows)
     if (!seed.empty() && r.hash == seed) line("seed (" + spec.base + ")", r);
-  for (const auto& p : peers) {
-    const auto pos = p.config_yaml.find("baseline: ");
-    line(pos == std::string::npos ? p.hash : p.config_yaml.substr(pos + 10, p.config_yaml.find('\n', pos) - pos - 10),
-         p);
-  }
+  for (const auto& p : peers) line(peer_name(p), p);
 }
 
 int run_pareto(const ParetoOptions& o, const Invocation&) {

@@ -198,6 +198,12 @@ struct SweepSummary {
 };
 SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRunOptions& opt);
 
+// A peer's method from its stored description ("baseline: NAME"; its hash when there is none).
+std::string peer_name(const ResultStore::Row& peer);
+// How many of `designs` beat `reference` on both accuracy figures: at least as good on correct
+// pixels and density, better on one (a missing figure beats nothing and is beaten by nothing).
+int beaten_on_accuracy_by(const ResultStore::Row& reference, const std::vector<ResultStore::Row>& designs);
+
 // The hash of the sweep's base design as a sweep stores it (the seed its peers stand beside); ""
 // when the base configuration cannot be read any more.
 std::string seed_hash(const SweepSpec& spec);
