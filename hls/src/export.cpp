@@ -260,6 +260,10 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["WINDOW_H"] = std::to_string(p.window_h);
   v["DISPARITIES"] = std::to_string(p.disparities);
   v["DISPARITIES_MINUS_1"] = std::to_string(p.disparities - 1);
+  v["MIN_DISPARITY"] = std::to_string(p.min_disparity);
+  v["MIN_DISPARITY_TEXT"] = p.min_disparity == 0
+                                ? std::string()
+                                : " from m = " + std::to_string(p.min_disparity) + " (code d is the disparity m + d)";
   v["PARALLEL_UNITS"] = std::to_string(p.parallel_units);
   v["PATH_MASK"] = std::to_string(p.path_mask);
   v["PATHS"] = config::paths_to_string(p.path_mask);

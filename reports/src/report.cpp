@@ -331,7 +331,7 @@ void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::
     const StereoFrame f = render(scene, rig, size, size * 9 / 16, r.trajectory[k]);
     const DisparityMap d = run_design(c, f.left, f.right, pipe);
     s.flight_frames.push_back({f.left, "flight frame " + std::to_string(k)});
-    s.flight_frames.push_back({colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities)),
+    s.flight_frames.push_back({colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparity_end_px())),
                                "its disparity, frame " + std::to_string(k)});
   }
 }
@@ -347,13 +347,13 @@ void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const
   const cv::Mat gt = crop_to_roi(f.gt_disparity_px, r), gm = crop_to_roi(f.gt_mask, r);
   sim::FuncPipeline pipe;
   const DisparityMap d = run_design(cfg, l.clone(), rr.clone(), pipe);
-  const double max_d = double(cfg.disparities);
+  const double max_d = double(cfg.disparity_end_px());
   s.frame_id = f.id;
   s.left_grey = l.clone();
   s.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, max_d);
   s.gt_colour = colourize_disparity(gt, gm, max_d);
   s.error_map = error_map(d.disparity_px, d.valid_mask, gt, gm);
-  add_avoidance_images(s, d.disparity_px, d.valid_mask, cfg.disparities, r.x0, r.y0);
+  add_avoidance_images(s, d.disparity_px, d.valid_mask, cfg.disparity_end_px(), r.x0, r.y0);
 }
 
 void add_figures(DesignSection& s, const DesignResult& r) {

@@ -118,6 +118,7 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
   rep.codes.width_px = p.width_px;
   rep.codes.height_px = p.height_px;
   rep.codes.disparities = p.disparities;
+  rep.codes.min_disparity = p.min_disparity;
   if (rep.deadlock) {  // no frame leaves a deadlocked pipeline
     rep.codes.code.assign(std::size_t(p.width_px) * std::size_t(p.height_px), 0);
     return rep;
@@ -140,7 +141,7 @@ CycleReport run_timing(const GreyImage& left, const GreyImage& right, const kern
   detail::RunSetup setup;
   setup.opt = &opt;
   run_control(left, right, p, setup, rep);
-  rep.codes = DisparityCodes{p.width_px, p.height_px, p.disparities, {}};
+  rep.codes = DisparityCodes{p.width_px, p.height_px, p.disparities, p.min_disparity, {}};
   return rep;
 }
 

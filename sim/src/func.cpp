@@ -64,6 +64,7 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
        "median must be 0, 3, 5 or 7");
   need(p.lr_tolerance >= 0, "lr_tolerance must be >= 0");
   need(p.uniqueness_pct >= 0 && p.uniqueness_pct <= kern::kMaxUniquenessPct, "uniqueness_pct must be in [0, 100]");
+  need(p.min_disparity >= 0 && p.min_disparity <= kern::kMaxMinDisparity, "min_disparity must be in [0, 256]");
   need(kern::aggregate_bits(p) <= 31, "aggregate wider than 31 bits");
   return e;
 }
@@ -79,10 +80,11 @@ CostRecording& CostRecording::operator=(CostRecording&&) noexcept = default;
 
 std::string cost_sharing_key(const kern::StereoParams& p) {
   if (kern::two_pass_paths(p.path_mask)) return "";
-  // Everything the cost stage reads: size, cost, census taps (census only), window, D.
+  // Everything the cost stage reads: size, cost, census taps (census only), window, D, m.
   return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) +
          (p.cost == kern::kCostCensus ? " census " + std::to_string(p.census) : std::string()) + " window " +
-         std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities);
+         std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities) +
+         (p.min_disparity != 0 ? " min " + std::to_string(p.min_disparity) : std::string());
 }
 
 // One engine per instantiation the func run uses, made on first use and kept (its stages are

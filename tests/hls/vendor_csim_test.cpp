@@ -35,8 +35,10 @@ const Design kDesigns[] = {
     {"one_pass", "configs/ruf2018-census.yaml", "", false},
     {"two_pass", "configs/ruf2018-census.yaml", "--set paths=8", false},
     {"rectify", "configs/ruf2018-census.yaml", "--set paths=4", true},
-    // The uniqueness register and a census variant, through the vendor's ap_uint ports.
-    {"knobs", "configs/ruf2018-census.yaml", "--set uniqueness_pct=10 --set census=sparse --set window=9x7", false},
+    // The uniqueness register, a census variant and a minimum disparity, through the vendor's
+    // ap_uint ports.
+    {"knobs", "configs/ruf2018-census.yaml",
+     "--set uniqueness_pct=10 --set census=sparse --set window=9x7 --set min_disparity=6", false},
     {"five_paths", "configs/ruf2018-census.yaml", "--set paths=5 --set disparities=32 --set parallel_units=8", false},
 };
 

@@ -143,6 +143,46 @@ TEST(Equiv, WindowsAndPatterns) {
       }
 }
 
+// A minimum disparity m: costs against right column x - m - d, validity m + d <= x, the LR check's
+// right pixel x - m - d. Offsets below, around and beyond the image width (every pixel invalid),
+// one and many chunks, both costs, one pass, the row reversal and two passes, with the LR check
+// and the uniqueness test on and off; scenes shifted by m plus a few pixels so that the matches
+// fall inside [m, m + D).
+TEST(Equiv, MinDisparityOffsets) {
+  uint32_t seed = 9000;
+  const int offsets[] = {1, 3, 8, 17, 40, 70};
+  for (int m : offsets)
+    for (const TableRow& row : {TableRow{16, 4}, TableRow{24, 24}, TableRow{60, 6}})
+      for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kForwardPaths | kern::kPath180),
+                             unsigned(kern::kAllPaths), unsigned(kern::kPath0)})
+        for (int cost : {int(kern::kCostCensus), int(kern::kCostSad)}) {
+          StereoParams p = base_params(m < 40 ? 61 : 97, 13);
+          p.min_disparity = m;
+          p.disparities = row.d;
+          p.parallel_units = row.pu;
+          p.path_mask = paths;
+          p.cost = cost;
+          if (cost == kern::kCostSad) {
+            p.p1 = 200;
+            p.p2 = 800;
+          }
+          p.lr_check = seed % 3 != 0;
+          p.uniqueness_pct = seed % 4 == 0 ? 10 : 0;
+          p.median = seed % 2 == 0 ? 5 : 0;
+          ++seed;
+          const StereoPair sp = make_pair(seed % 5 == 0 ? Pattern::kRandom : Pattern::kShiftedTexture, p.width_px,
+                                          p.height_px, seed, m + 2 + int(seed % 7));
+          sim::FuncOptions opt;
+          opt.use_design_pu = true;
+          const sim::DisparityCodes k = sim::run_func(sp.left, sp.right, p, opt);
+          const std::vector<uint16_t> r = ref::compute_disparity(to_ref(sp.left), to_ref(sp.right), p);
+          const Comparison c = compare_maps(k.code, r, p.width_px);
+          EXPECT_TRUE(c.sizes_equal && c.mismatches == 0)
+              << describe(p) << " seed " << seed << ": " << c.mismatches << " mismatching pixels, first at " << c.first;
+          EXPECT_EQ(k.min_disparity, m);
+        }
+}
+
 // Odd widths, widths not a multiple of PU, images smaller than the window, single rows/columns.
 TEST(Equiv, AwkwardSizes) {
   uint32_t seed = 4000;
@@ -188,6 +228,7 @@ TEST(Equiv, SeededRandomConfigurations) {
     p.median = medians[rng() % 4];
     p.uniqueness_pct = rng() % 3 == 0 ? int(rng() % 101) : 0;
     p.census = int(rng() % 3);
+    p.min_disparity = rng() % 4 == 0 ? int(rng() % 48) : 0;
     SCOPED_TRACE("master seed " + std::to_string(master_seed) + " draw " + std::to_string(i));
     expect_equivalent(p, i % 2 ? Pattern::kRandom : Pattern::kShiftedTexture, master_seed + uint32_t(i));
   }

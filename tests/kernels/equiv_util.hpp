@@ -122,7 +122,8 @@ inline std::string describe(const kern::StereoParams& p) {
   o << p.width_px << "x" << p.height_px << " " << (p.cost == kern::kCostCensus ? "census" : "sad") << " " << p.window_w
     << "x" << p.window_h << " D=" << p.disparities << " PU=" << p.parallel_units << " paths=0x" << std::hex
     << p.path_mask << std::dec << " P1/P2=" << p.p1 << "/" << p.p2 << " lr=" << p.lr_check << "/" << p.lr_tolerance
-    << " median=" << p.median << " uniqueness=" << p.uniqueness_pct << " census=" << p.census;
+    << " median=" << p.median << " uniqueness=" << p.uniqueness_pct << " census=" << p.census
+    << " min_disparity=" << p.min_disparity;
   return o.str();
 }
 

@@ -86,7 +86,9 @@ TEST(Report, CsvColumnsInTheirDocumentedOrder) {
   std::string header, line;
   std::getline(csv, header);
   EXPECT_EQ(
-      header.rfind("hash,sweep,status,reason,name,roi,cost,census,window,disparities,parallel_units,paths,p1,p2,", 0),
+      header.rfind(
+          "hash,sweep,status,reason,name,roi,cost,census,window,disparities,min_disparity,parallel_units,paths,p1,p2,",
+          0),
       0u)
       << header;
   // The metrics follow the configuration, in metric_columns() order.

@@ -31,8 +31,8 @@ AvoidanceFigures measure_avoidance(const config::PipelineConfig& cfg, const Poin
     const Frame f = load_frame(ref);
     const Roi r = resolve_roi(roi_for(cfg), f.left.cols, f.left.rows);
     const DisparityMap d = run_design(cfg, crop_to_roi(f.left, r).clone(), crop_to_roi(f.right, r).clone(), pipe);
-    acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, r), crop_to_roi(f.gt_mask, r), cfg.disparities,
-            kitti_default_rig(r.x0, r.y0));
+    acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, r), crop_to_roi(f.gt_mask, r),
+            cfg.disparity_end_px(), kitti_default_rig(r.x0, r.y0));
   }
   return {acc.metrics()};
 }

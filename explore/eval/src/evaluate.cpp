@@ -36,7 +36,7 @@ DisparityMap to_disparity_map(const sim::DisparityCodes& codes) {
     const uint16_t* c = codes.code.data() + std::size_t(y) * std::size_t(codes.width_px);
     for (int x = 0; x < codes.width_px; ++x) {
       const bool ok = c[x] != invalid;
-      d[x] = ok ? float(c[x]) : 0.0f;
+      d[x] = ok ? float(codes.min_disparity + c[x]) : 0.0f;
       v[x] = ok ? 255 : 0;
     }
   }
@@ -129,7 +129,7 @@ EvalResult evaluate(const Dataset& dataset, const RoiSize& roi, const MatcherFac
         notes[i] = f.notes;
         converted_flags[i] = f.converted_from_colour ? 1 : 0;
         if (opt.design_disparities > 0) {
-          range_warnings[i] = disparity_range_warning(f, r, opt.design_disparities);
+          range_warnings[i] = disparity_range_warning(f, r, opt.design_disparities, opt.design_min_disparity);
           range_gt_max_px[i] = f.gt_max_disparity_px;
         }
         if (!opt.save_dir.empty()) {
@@ -277,6 +277,7 @@ EvalResult evaluate_design(const config::PipelineConfig& cfg, const Dataset& dat
   const RoiSize roi = opt_in.roi_from_config ? roi_for(cfg) : opt_in.roi;
   EvalOptions opt = opt_in;
   opt.design_disparities = cfg.disparities;
+  opt.design_min_disparity = cfg.min_disparity;
   auto misses = std::make_shared<std::atomic<int64_t>>(0);
   if (cfg.rectify != "none") {
     auto maps = std::make_shared<RectifyMaps>(load_rectify_maps(cfg));

@@ -228,8 +228,9 @@ Frame load_frame(const FrameRef& ref) {
   return frame;
 }
 
-std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disparities) {
+std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disparities, int min_disparity) {
   if (disparities <= 0) return "";
+  const int end = min_disparity + disparities;
   const cv::Mat gt = crop_to_roi(frame.gt_disparity_px, roi);
   const cv::Mat mask = crop_to_roi(frame.gt_mask, roi);
   std::int64_t gt_pixels = 0;
@@ -242,15 +243,15 @@ std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disp
       if (ok[x] == 0) continue;
       ++gt_pixels;
       max_px = std::max(max_px, static_cast<double>(d[x]));
-      if (d[x] >= static_cast<float>(disparities)) ++beyond;
+      if (d[x] >= static_cast<float>(end)) ++beyond;
     }
   }
-  const bool ndisp_beyond = frame.ndisp > disparities;
+  const bool ndisp_beyond = frame.ndisp > end;
   if (beyond == 0 && !ndisp_beyond) return "";
   std::ostringstream out;
   out.setf(std::ios::fixed);
   out.precision(1);
-  out << "frame " << frame.id << ": the design's D = " << disparities << " searches 0-" << disparities - 1
+  out << "frame " << frame.id << ": the design's D = " << disparities << " searches " << min_disparity << "-" << end - 1
       << " px, but ";
   if (frame.ndisp > 0) out << "the scene's ndisp is " << frame.ndisp << " (calib.txt) and ";
   out << "its ground truth inside the ROI reaches " << max_px << " px: ";

@@ -153,7 +153,8 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
       const DisparityMap d = to_disparity_map(pipe.run_from_costs(rec, p));
       accuracy[k].frames.push_back(make_frame_row(f.id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm)));
       if (spec.avoidance)
-        avoidance[k].add(d.disparity_px, d.valid_mask, gtd, gtm, p.disparities, kitti_default_rig(r.x0, r.y0));
+        avoidance[k].add(d.disparity_px, d.valid_mask, gtd, gtm, p.min_disparity + p.disparities,
+                         kitti_default_rig(r.x0, r.y0));
     }
   }
   for (std::size_t k = 0; k < group.size(); ++k) {

@@ -57,7 +57,7 @@ FlightResult fly(const config::PipelineConfig& cfg_in, const Scene& scene, const
           for (int i = 0; i < int(m->total()); ++i)
             m->data[i] = uint8_t(std::clamp(double(m->data[i]) + noise(rng), 0.0, 255.0));
       const DisparityMap d = run_design(cfg, f.left, f.right, pipe);
-      const AvoidResult a = avoid(d.disparity_px, d.valid_mask, cfg.disparities, rig, ap);
+      const AvoidResult a = avoid(d.disparity_px, d.valid_mask, cfg.disparity_end_px(), rig, ap);
       // Body (x forward, y right, z down) to world (x right, y down, z forward).
       const Eigen::Vector3d world(a.velocity_mps.y(), a.velocity_mps.z(), a.velocity_mps.x());
       pending.emplace_back(t + latency_ms / 1000.0 + a.timings.total_ms() / 1000.0, world);

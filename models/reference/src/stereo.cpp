@@ -235,6 +235,9 @@ void validate_stereo_params(const kern::StereoParams& p) {
   if (p.cost == kern::kCostSad && window_area * 255 > int64_t(1) << 30) fail("SAD window too large for 32-bit costs");
   if (p.disparities < 1 || p.disparities > kern::kMaxDisparities)
     fail("disparities must be in [1, 256], got " + std::to_string(p.disparities));
+  if (p.min_disparity < 0 || p.min_disparity > kern::kMaxMinDisparity)
+    fail("min_disparity must be in [0, " + std::to_string(kern::kMaxMinDisparity) + "], got " +
+         std::to_string(p.min_disparity));
   if (p.path_mask == 0) fail("path_mask must select at least one path");
   if ((p.path_mask & ~kern::kAllPaths) != 0) fail("path_mask has bits outside the eight kern::PathBit values");
   if (p.p1 < 0) fail("P1 must be >= 0, got " + std::to_string(p.p1));
@@ -300,6 +303,7 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right, const
   const uint32_t max_cost = kern::cost_max(p);
   const int rw = p.window_w / 2;
   const int rh = p.window_h / 2;
+  const int m = p.min_disparity;  // code d matches right column x - m - d
 
   std::vector<uint32_t> cost(pixel_count(width, height) * static_cast<std::size_t>(num_disp), 0);
   if (p.cost == kern::kCostCensus) {
@@ -309,10 +313,10 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right, const
       for (int x = 0; x < width; ++x) {
         const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width);
         for (int d = 0; d < num_disp; ++d) {
-          uint32_t c = max_cost;  // x - d < 0: no right pixel to match
-          if (x - d >= 0) {
+          uint32_t c = max_cost;  // x - m - d < 0: no right pixel to match
+          if (x - m - d >= 0) {
             const uint64_t diff =
-                codes_l[row + static_cast<std::size_t>(x)] ^ codes_r[row + static_cast<std::size_t>(x - d)];
+                codes_l[row + static_cast<std::size_t>(x)] ^ codes_r[row + static_cast<std::size_t>(x - m - d)];
             c = static_cast<uint32_t>(std::bitset<64>(diff).count());
           }
           PARALLAX_REF_CHECK(c <= max_cost);
@@ -324,14 +328,14 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right, const
     for (int y = 0; y < height; ++y) {
       for (int x = 0; x < width; ++x) {
         for (int d = 0; d < num_disp; ++d) {
-          uint32_t c = max_cost;  // x - d < 0: no right pixel to match
-          if (x - d >= 0) {
+          uint32_t c = max_cost;  // x - m - d < 0: no right pixel to match
+          if (x - m - d >= 0) {
             c = 0;
             for (int j = -rh; j <= rh; ++j) {
               const int yy = clamp_int(y + j, 0, height - 1);
               for (int i = -rw; i <= rw; ++i) {
                 const int l = left.at(clamp_int(x + i, 0, width - 1), yy);
-                const int r = right.at(clamp_int(x - d + i, 0, width - 1), yy);
+                const int r = right.at(clamp_int(x - m - d + i, 0, width - 1), yy);
                 c += static_cast<uint32_t>(std::abs(l - r));
               }
             }
@@ -445,6 +449,7 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
   const int height = p.height_px;
   const int num_disp = p.disparities;
   const uint16_t invalid = static_cast<uint16_t>(kern::invalid_code(p));
+  const int m = p.min_disparity;  // code d is disparity m + d
   auto s = [&](int x, int y, int d) { return aggregate_volume[volume_index(x, y, d, width, num_disp)]; };
   // Uniqueness: no S at two or more disparities from the best below (100 + u) / 100 of the best.
   auto unique = [&](int x, int y, int best_d) {
@@ -466,18 +471,19 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
         if (s(x, y, d) < s(x, y, best_d)) best_d = d;
       d_left[static_cast<std::size_t>(x)] = unique(x, y, best_d) ? best_d : num_disp;
     }
-    // dR(xr, y): the smallest d with xr + d < W minimising S(xr + d, y, d).
+    // dR(xr, y): the smallest d with xr + m + d < W minimising S(xr + m + d, y, d) (0 when no
+    // left pixel matches xr).
     for (int xr = 0; xr < width; ++xr) {
       int best_d = 0;
-      for (int d = 1; d < num_disp && xr + d < width; ++d)
-        if (s(xr + d, y, d) < s(xr + best_d, y, best_d)) best_d = d;
+      for (int d = 1; d < num_disp && xr + m + d < width; ++d)
+        if (s(xr + m + d, y, d) < s(xr + m + best_d, y, best_d)) best_d = d;
       d_right[static_cast<std::size_t>(xr)] = best_d;
     }
     for (int x = 0; x < width; ++x) {
       const int dl = d_left[static_cast<std::size_t>(x)];
-      bool valid = dl < num_disp && dl <= x;  // not unique, or the match lies outside the right image
+      bool valid = dl < num_disp && m + dl <= x;  // not unique, or the match lies outside the right image
       if (valid && p.lr_check) {
-        const int dr = d_right[static_cast<std::size_t>(x - dl)];
+        const int dr = d_right[static_cast<std::size_t>(x - m - dl)];
         valid = std::abs(dl - dr) <= p.lr_tolerance;
       }
       if (valid)

@@ -108,6 +108,17 @@ TEST(Config, CensusVariantsTakeLargerWindows) {
   EXPECT_EQ(parse_config("cost: census\nwindow: 5x5", "case.yaml").stereo_params(8, 8).census, kern::kCensusFull);
 }
 
+// min_disparity reaches the kernels' parameters and moves the design's disparity range.
+TEST(Config, MinDisparityMovesTheRange) {
+  const PipelineConfig c = parse_config("disparities: 64\nmin_disparity: 12\n", "case.yaml");
+  EXPECT_EQ(c.min_disparity, 12);
+  EXPECT_EQ(c.disparity_end_px(), 76);
+  EXPECT_EQ(c.stereo_params(64, 32).min_disparity, 12);
+  EXPECT_EQ(parse_config("disparities: 64\n", "case.yaml").stereo_params(64, 32).min_disparity, 0);
+  const PipelineConfig back = parse_config(to_yaml(c), "round.yaml");
+  EXPECT_EQ(back.min_disparity, 12);
+}
+
 TEST(Config, EveryViolationNamesItsField) {
   const struct {
     const char* yaml;
@@ -132,6 +143,8 @@ TEST(Config, EveryViolationNamesItsField) {
       {"clock_mhz: 0", "'clock_mhz'"},
       {"census: half", "'census'"},
       {"uniqueness_pct: 101", "'uniqueness_pct'"},
+      {"min_disparity: -1", "'min_disparity'"},
+      {"min_disparity: 257", "'min_disparity'"},
   };
   for (const auto& c : cases) {
     try {

@@ -147,6 +147,36 @@ TEST(SadCost, MaxContrastGivesCostMaxEverywhere) {
   for (const uint32_t c : cost_volume(left, right, p)) EXPECT_EQ(c, 255u * 25u);
 }
 
+// min_disparity m: code d matches right column x - m - d, so the volume of (D, m) is the
+// volume of (m + D, 0) without its first m disparities, cost_max included, for both costs.
+TEST(CostVolume, MinDisparityShiftsTheSearchedRange) {
+  std::mt19937 rng(31);
+  const Image8 left = test::random_image(23, 6, rng);
+  const Image8 right = test::random_image(23, 6, rng);
+  for (int cost : {int(kern::kCostCensus), int(kern::kCostSad)})
+    for (int m : {1, 5, 22, 30}) {
+      kern::StereoParams shifted = make_params(23, 6, cost, 5, 7, kern::kPath0, 1, 2);
+      shifted.min_disparity = m;
+      kern::StereoParams whole = make_params(23, 6, cost, 5, 7 + m, kern::kPath0, 1, 2);
+      const std::vector<uint32_t> a = cost_volume(left, right, shifted);
+      const std::vector<uint32_t> b = cost_volume(left, right, whole);
+      for (int y = 0; y < 6; ++y)
+        for (int x = 0; x < 23; ++x)
+          for (int d = 0; d < 7; ++d) {
+            ASSERT_EQ(at(a, x, y, d, shifted), at(b, x, y, d + m, whole))
+                << "cost " << cost << " m " << m << " at (" << x << ", " << y << ", " << d << ")";
+            if (x - m - d < 0) {
+              ASSERT_EQ(at(a, x, y, d, shifted), kern::cost_max(shifted));
+            }
+          }
+    }
+  kern::StereoParams bad = make_params(23, 6, kern::kCostCensus, 5, 7, kern::kPath0, 1, 2);
+  bad.min_disparity = -1;
+  EXPECT_THROW(cost_volume(left, right, bad), std::invalid_argument);
+  bad.min_disparity = kern::kMaxMinDisparity + 1;
+  EXPECT_THROW(cost_volume(left, right, bad), std::invalid_argument);
+}
+
 TEST(CostVolume, RejectsMismatchedImages) {
   const kern::StereoParams p = make_params(3, 1, kern::kCostSad, 1, 2, kern::kPath0, 1, 2);
   EXPECT_THROW(cost_volume(kGrid, kGrid, p), std::invalid_argument);

@@ -81,6 +81,23 @@ TEST(SelectDisparity, UniquenessInvalidatesAmbiguousWinners) {
   EXPECT_THROW(select_disparity(s, p), std::invalid_argument);
 }
 
+// The same volume kS with min_disparity m = 1: code d is disparity 1 + d, so a code is valid when
+// 1 + d <= x, and dR(xr) = argmin over d with xr + 1 + d < 4 of S(xr + 1 + d, d):
+//   xr0: S(1,0)=5 S(2,1)=9 S(3,2)=7 -> 0;  xr1: S(2,0)=9 S(3,1)=1 -> 1;  xr2: S(3,0)=4 -> 0.
+// x0 (dL 0) and x2 (dL 2) point left of the right image; x1 (dL 0) checks dR(0) = 0 and x3 (dL 1)
+// checks dR(1) = 1, both exact. (Without the offset in dR, or with x - dL instead of x - 1 - dL,
+// x3 would meet dR = 0 and fail at tolerance 0.)
+TEST(SelectDisparity, MinDisparityOffsetsValidityAndTheRightPixel) {
+  kern::StereoParams p = make_params(4, 1, kern::kCostSad, 1, 3, kern::kPath0, 1, 2);
+  p.min_disparity = 1;
+  EXPECT_EQ(select_disparity(kS, p), (std::vector<uint16_t>{3, 0, 3, 1}));
+  p.lr_check = true;
+  p.lr_tolerance = 0;
+  EXPECT_EQ(select_disparity(kS, p), (std::vector<uint16_t>{3, 0, 3, 1}));
+  p.min_disparity = 4;  // every match lies left of the right image
+  EXPECT_EQ(select_disparity(kS, p), (std::vector<uint16_t>{3, 3, 3, 3}));
+}
+
 std::vector<uint16_t> median3_centre_case(const std::vector<uint16_t>& window) {
   return median_filter(window, 3, 3, 3);
 }

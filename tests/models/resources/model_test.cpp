@@ -122,6 +122,35 @@ TEST(ResourcesModel, UniquenessCheckCostsLogicInTheWtaStageOnly) {
             stage(on, "wta_lr").lut - stage(off, "wta_lr").lut);
 }
 
+// A minimum disparity m keeps m more right codes (census) or right columns (SAD) in the cost
+// stage's registers, as the kernel declares them; nothing else changes, no memory at all.
+TEST(ResourcesModel, MinDisparityCostsRegistersInTheCostStageOnly) {
+  config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-census.yaml");
+  auto registers = [](const res::Inventory& inv, const std::string& name) {
+    for (const auto& r : inv.registers)
+      if (r.name == name) return r.count * r.width_bits;
+    return int64_t(-1);
+  };
+  for (const char* cost : {"census", "sad"}) {
+    cfg.cost = cost;
+    cfg.min_disparity = 0;
+    const res::Inventory base = res::design_inventory(cfg, 640, 360);
+    cfg.min_disparity = 20;
+    const res::Inventory shifted = res::design_inventory(cfg, 640, 360);
+    const std::string name = cfg.cost == "census" ? "right_codes" : "sad_right_columns";
+    const int64_t bits_per_column = cfg.cost == "census" ? 24 : 8 * cfg.window_h;
+    ASSERT_GT(registers(base, name), 0) << name;
+    EXPECT_EQ(registers(shifted, name) - registers(base, name), 20 * bits_per_column) << name;
+    const res::Estimate a = res::estimate(base), b = res::estimate(shifted);
+    EXPECT_EQ(a.total.bram18k, b.total.bram18k) << cost;
+    EXPECT_GT(b.total.ff, a.total.ff) << cost;
+    for (std::size_t k = 0; k < a.stages.size(); ++k)
+      if (a.stages[k].stage != "cost") {
+        EXPECT_EQ(a.stages[k].usage.lut, b.stages[k].usage.lut) << a.stages[k].stage;
+      }
+  }
+}
+
 TEST(ResourcesModel, UtilisationAndPower) {
   const res::Device* zu3 = res::find_device("XCZU3EG");
   ASSERT_NE(zu3, nullptr);

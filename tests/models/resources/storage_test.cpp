@@ -168,14 +168,15 @@ config::PipelineConfig seed() {
 
 // Instantiates the design's kernels with FIXED capacities (as parallax_config.hpp.in does),
 // checks every stage and returns the failures; also checks the model's inventory against them.
-template <int W, int D, int PU, int WR, int MR>
+template <int W, int D, int PU, int WR, int MR, int M = 0>
 void check_design(const config::PipelineConfig& cfg) {
-  typedef kern::Caps<W, D, PU, WR, MR, 0xFu, true> Caps;
+  typedef kern::Caps<W, D, PU, WR, MR, 0xFu, true, M> Caps;
   const int H = 360;
   const kern::StereoParams p = cfg.stereo_params(W, H);
   ASSERT_EQ(p.disparities, D);
   ASSERT_EQ(p.parallel_units, PU);
   ASSERT_EQ(p.window_h, WR);
+  ASSERT_EQ(p.min_disparity, M);
   res::Inventory inv;
   const res::Inventory model = res::design_inventory(cfg, W, H);
   {
@@ -298,6 +299,20 @@ TEST(ResourcesStorage, FivePathsRowReverse) {
   cfg.name = "5 paths";
   cfg.path_mask = kern::kForwardPaths | kern::kPath180;
   check_design<640, 60, 6, 5, 5>(cfg);
+}
+
+// The right census codes and SAD columns are kept m columns longer.
+TEST(ResourcesStorage, MinDisparity) {
+  auto cfg = seed();
+  cfg.name = "min_disparity 12";
+  cfg.min_disparity = 12;
+  check_design<640, 60, 6, 5, 5, 12>(cfg);
+  cfg.name = "SAD, min_disparity 7";
+  cfg.cost = "sad";
+  cfg.p1 = 200;
+  cfg.p2 = 800;
+  cfg.min_disparity = 7;
+  check_design<640, 60, 6, 5, 5, 7>(cfg);
 }
 
 TEST(ResourcesStorage, MedianThreeAndSeven) {

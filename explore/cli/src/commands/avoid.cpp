@@ -138,7 +138,7 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
     const Rig rig = frame_rig(o.calib, f, roi);
     const DisparityMap d = run_design(cfg, crop_to_roi(f.left, roi).clone(), crop_to_roi(f.right, roi).clone(), pipe);
     const AvoidScore s = acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, roi),
-                                 crop_to_roi(f.gt_mask, roi), cfg.disparities, rig);
+                                 crop_to_roi(f.gt_mask, roi), cfg.disparity_end_px(), rig);
     const AvoidResult& mine = acc.last_design();
     mav.send(mavlink_heartbeat(seq++, 1, 191));
     mav.send(mavlink_velocity_setpoint(seq++, 1, 191, uint32_t(acc.frames() * 100), mine.velocity_mps));

@@ -15,7 +15,8 @@ int run_config(const ConfigArgs& o, const Invocation&) {
   const kern::StereoParams p = cfg.stereo_params(cfg.roi_width_px, cfg.roi_height_px);
   std::cout << "# derived: cost_bits " << kern::cost_bits(p) << ", penalty_bits " << kern::penalty_bits(p)
             << ", path_bits " << kern::path_bits(p) << ", aggregate_bits " << kern::aggregate_bits(p)
-            << ", disparity_bits " << kern::disparity_bits(p) << " (invalid code " << kern::invalid_code(p) << ")\n";
+            << ", disparity_bits " << kern::disparity_bits(p) << " (invalid code " << kern::invalid_code(p)
+            << "); disparities " << cfg.min_disparity << "-" << cfg.disparity_end_px() - 1 << " px\n";
   return 0;
 }
 

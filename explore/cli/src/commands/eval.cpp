@@ -22,7 +22,7 @@ struct EvalCommandOptions {
 int run_eval(const EvalCommandOptions& o, const Invocation&) {
   const config::PipelineConfig cfg = load_config_args(o.cfg);
   const Dataset ds = open_dataset(o.dataset);
-  EvalOptions opt = eval_options(o.gt, o.frames, o.threads, o.save, cfg.disparities, o.quiet || o.json);
+  EvalOptions opt = eval_options(o.gt, o.frames, o.threads, o.save, cfg.disparity_end_px(), o.quiet || o.json);
   opt.match_full_image = o.context == "full";
   if (!o.roi.empty()) {
     opt.roi_from_config = false;

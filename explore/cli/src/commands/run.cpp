@@ -60,8 +60,8 @@ void write_run_page(const RunOptions& o, const Invocation& inv, const config::Pi
   section.command = command_line(inv);
   section.left_grey = l.clone();
   section.frame_id = fs::path(o.left).filename().string();
-  section.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities));
-  add_avoidance_images(section, d.disparity_px, d.valid_mask, cfg.disparities, roi.x0, roi.y0);
+  section.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparity_end_px()));
+  add_avoidance_images(section, d.disparity_px, d.valid_mask, cfg.disparity_end_px(), roi.x0, roi.y0);
   if (!section.metrics.count("density_pct")) section.metrics["density_pct"] = density_pct;
   DesignResult figures;  // timing and resources at the pair's ROI, on the default device
   figures.config = cfg;
@@ -108,7 +108,7 @@ int run_run(const RunOptions& o, const Invocation& inv) {
     fs::path p(o.out);
     colour = (p.parent_path() / (p.stem().string() + "_colour.png")).string();
   }
-  write_png(colour, colourize_disparity(d.disparity_px, d.valid_mask, cfg.disparities));
+  write_png(colour, colourize_disparity(d.disparity_px, d.valid_mask, cfg.disparity_end_px()));
   print_notes(notes);
   json j;
   j["config"] = cfg.name;
@@ -125,7 +125,7 @@ int run_run(const RunOptions& o, const Invocation& inv) {
         make_frame_row("pair", count_frame(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask));
     j.update(metrics_json(row.metrics));
     if (!o.html.empty()) {
-      section.gt_colour = colourize_disparity(gt.disparity_px, gt.valid_mask, double(cfg.disparities));
+      section.gt_colour = colourize_disparity(gt.disparity_px, gt.valid_mask, double(cfg.disparity_end_px()));
       section.error_map = error_map(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask);
       for (const auto& kv : named_metrics(row.metrics)) section.metrics[kv.first] = kv.second;
     }

@@ -244,7 +244,7 @@ void write_sim_page(const SimOptions& o, const Invocation& inv, const config::Pi
   s.command = command_line(inv);
   s.left_grey = l.clone();
   const DisparityMap d = to_disparity_map(result.cycle.codes);
-  s.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparities));
+  s.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparity_end_px()));
   s.metrics = {{"latency_ms", result.latency_ms},
                {"frame_interval_ms", result.frame_interval_ms},
                {"fps", result.fps},

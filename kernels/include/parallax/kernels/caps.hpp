@@ -13,12 +13,14 @@ namespace kern {
 // MEDIAN_ROWS: line-buffer rows of the median (>= its k; 1 when the median is off).
 // KIND_MASK: the stream path kinds (sgm.hpp, StreamPathKind bits) an aggregation stage may use;
 // a kind outside it has no hardware (its row memory is never touched).
+// MAX_MIN_D: the largest min_disparity (the right image's columns kept beyond D); when FIXED the
+// design's exact min_disparity, 0 unless given.
 // FIXED: the capacities are the design's exact structure (the HLS export): D = MAX_D and
 // PU = LANES, so the kernels use these constants instead of the runtime values and synthesis
 // sees compile-time lane addresses and trip counts. Software instantiations (FIXED = false) take
 // D and PU at run time within the capacities.
 template <int MAX_W, int MAX_D, int LANES, int WINDOW_ROWS = kMaxWindow, int MEDIAN_ROWS = kMaxMedian,
-          unsigned KIND_MASK = 0xFu, bool FIXED = false>
+          unsigned KIND_MASK = 0xFu, bool FIXED = false, int MAX_MIN_D = (FIXED ? 0 : kMaxMinDisparity)>
 struct Caps {
   static constexpr int max_width_px = MAX_W;
   static constexpr int max_disparities = MAX_D;
@@ -27,9 +29,11 @@ struct Caps {
   static constexpr int median_rows = MEDIAN_ROWS;
   static constexpr unsigned kind_mask = KIND_MASK;
   static constexpr bool fixed = FIXED;
+  static constexpr int max_min_disparity = MAX_MIN_D;
   // The design's D and PU: the capacities when FIXED, else the runtime values.
   static int disparities(int runtime) { return FIXED ? MAX_D : runtime; }
   static int parallel_units(int runtime) { return FIXED ? LANES : runtime; }
+  static int min_disparity(int runtime) { return FIXED ? MAX_MIN_D : runtime; }
   // Trip count of a loop over `runtime` items within `cap`: the compile-time cap when FIXED
   // (bodies guarded where the runtime value may be smaller; synthesis unrolls on it), the
   // runtime value in software instantiations (the same iterations that do anything).

@@ -17,6 +17,8 @@ template <class Caps>
 class CensusMatcher {
  public:
   static constexpr int kMaxD = Caps::max_disparities;
+  // Right codes kept: the D candidates and the min_disparity columns between them and x.
+  static constexpr int kMaxSpan = Caps::max_disparities + Caps::max_min_disparity;
   static constexpr int kLanes = Caps::lanes;
 
   void configure(const StereoParams& p) {
@@ -24,16 +26,18 @@ class CensusMatcher {
     h_ = p.window_h;
     kind_ = p.census;
     d_ = Caps::disparities(p.disparities);
+    m_ = Caps::min_disparity(p.min_disparity);
     cost_max_ = uint16_t(cost_max(p));
   }
 
   // Computes the left code of pixel (x, y) and shifts the right code of column x into the shift
-  // register of the last D right codes (entry k: column x - k). Contract: called once per pixel,
-  // in raster order, before its costs().
+  // register of the last m + D right codes (entry k: column x - k; m = min_disparity). Contract:
+  // called once per pixel, in raster order, before its costs().
   // Hardware (resources.hpp): a w x h window of registers per image, one comparison per code bit
-  // and image (w*h - 1 for the full census), the D right codes in a shift register (complete
-  // partitioning: one register each), and per lane an XOR and a popcount adder tree; lane i of chunk c reads entry c*PU
-  // + i through a D/PU-input multiplexer (none when PU = D).
+  // and image (w*h - 1 for the full census), the m + D right codes in a shift register (complete
+  // partitioning: one register each; lanes read entries m .. m + D - 1), and per lane an XOR and a
+  // popcount adder tree; lane i of chunk c reads entry m + c*PU + i through a D/PU-input
+  // multiplexer (none when PU = D).
   template <class R>
   void declare(R& r, const StereoParams& p) const {
     const int bits = code_bits();
@@ -58,7 +62,7 @@ class CensusMatcher {
   void begin_pixel(const LB& left, const LB& right, int x, int y) {
     prime(left, right, x, y);
     left_code_ = code(left_win_);
-    right_codes_.shift_in(code(right_win_), d_);
+    right_codes_.shift_in(code(right_win_), m_ + d_);
   }
   // Moves both windows one step to position x of row y (x < 0: the row's prologue).
   template <class LB>
@@ -67,8 +71,8 @@ class CensusMatcher {
     right_win_.step_to(right, x, y, w_, h_, w_ / 2);
   }
 
-  // Costs of lanes d0 .. d0 + n - 1: Hamming distance to the right code at x - d, or cost_max
-  // where x - d < 0. Contract: d0 is a multiple of PU and n = PU.
+  // Costs of lanes d0 .. d0 + n - 1: Hamming distance to the right code at x - m - d, or cost_max
+  // where x - m - d < 0. Contract: d0 is a multiple of PU and n = PU.
   template <class LB>
   void costs(const LB&, const LB&, int x, int, int d0, int n, uint16_t* PX_RESTRICT out) const {
     const uint64_t lc = left_code_;
@@ -76,8 +80,8 @@ class CensusMatcher {
     for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
       if (i < n) {
-        const int d = d0 + i;
-        out[i] = d <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ right_codes_.at(d))) : cost_max_;
+        const int k = m_ + d0 + i;  // right column x - k
+        out[i] = k <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ right_codes_.at(k))) : cost_max_;
       }
     }
   }
@@ -120,23 +124,23 @@ class CensusMatcher {
     return c;
   }
 
-  int w_ = 5, h_ = 5, kind_ = kCensusFull, d_ = 1;
+  int w_ = 5, h_ = 5, kind_ = kCensusFull, d_ = 1, m_ = 0;
   uint16_t cost_max_ = 24;
   uint64_t left_code_ = 0;
-  // The right codes of columns x .. x - D + 1: a shift register (one register per entry).
-  ShiftReg<uint64_t, kMaxD, Caps::fixed> right_codes_;
+  // The right codes of columns x .. x - m - D + 1: a shift register (one register per entry).
+  ShiftReg<uint64_t, kMaxSpan, Caps::fixed> right_codes_;
   Window left_win_, right_win_;  // the window registers of the two images
   int code_bits() const { return census_bits(kind_, w_, h_); }
 
  public:
   // Storage descriptor (resources.hpp) of the members above: the w x h window registers of each
-  // image, the left code and the D right codes of census_bits() bits.
+  // image, the left code and the m + D right codes of census_bits() bits.
   template <class V>
   void storage(V& v, const StereoParams&) const {
     left_win_.storage(v, "census_left_window", w_, h_, 8);
     right_win_.storage(v, "census_right_window", w_, h_, 8);
     v.registers("census_left_code", left_code_, 1, code_bits());
-    right_codes_.storage(v, "right_codes", d_, code_bits());
+    right_codes_.storage(v, "right_codes", m_ + d_, code_bits());
   }
 };
 

@@ -44,7 +44,8 @@ constexpr bool two_pass_paths(unsigned path_mask) {
 constexpr int kMaxWidthPx = 4096;
 constexpr int kMaxHeightPx = 4096;
 constexpr int kMaxDisparities = 256;
-constexpr int kMaxWindow = 9;  // census/SAD window side; census also needs w*h-1 <= 64
+constexpr int kMaxMinDisparity = 256;  // min_disparity: the right image's extra columns kept
+constexpr int kMaxWindow = 9;          // census/SAD window side; census also needs w*h-1 <= 64
 constexpr int kMaxCensusBits = 64;
 constexpr int kMaxMedian = 7;
 
@@ -63,10 +64,11 @@ struct StereoParams {
   int p1;              // register, 0 <= p1 < p2
   int p2;              // register
   bool lr_check;
-  int lr_tolerance;    // register
-  int median;          // 0 = off, 3, 5, 7
-  int uniqueness_pct;  // register, 0..100: uniqueness margin in percent (0 = off)
-  int census;          // CensusKind (cost = census only)
+  int lr_tolerance;       // register
+  int median;             // 0 = off, 3, 5, 7
+  int uniqueness_pct;     // register, 0..100: uniqueness margin in percent (0 = off)
+  int census;             // CensusKind (cost = census only)
+  int min_disparity = 0;  // m, 0 <= m <= kMaxMinDisparity: the codes d in [0, D) are disparities m + d
 };
 
 // The register fields of StereoParams on their own: the values a hardware register holds, which
@@ -168,7 +170,8 @@ inline int path_bits(const StereoParams& p) {
 inline int aggregate_bits(const StereoParams& p) {
   return bits_for(uint64_t(path_count(p)) * (uint64_t(cost_max(p)) + p2_register_max(p)));
 }
-// Disparity codes are [0, D]; the code D means invalid.
+// Disparity codes are [0, D]; the code D means invalid; a valid code d is the disparity
+// min_disparity + d (docs/algorithm.md §5).
 inline int disparity_bits(const StereoParams& p) {
   return bits_for(uint64_t(p.disparities));
 }

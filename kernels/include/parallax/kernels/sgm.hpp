@@ -34,7 +34,8 @@ inline unsigned stream_kinds(unsigned path_mask, bool backward) {
 // The capacities of an aggregation stage with the pixel kind alone (the 180-degree path on
 // reversed rows, row_reverse.hpp): no row memory, so one column of capacity.
 template <class C>
-using PixelPathCaps = Caps<1, C::max_disparities, C::lanes, C::window_rows, C::median_rows, 1u << kKindPixel, C::fixed>;
+using PixelPathCaps = Caps<1, C::max_disparities, C::lanes, C::window_rows, C::median_rows, 1u << kKindPixel, C::fixed,
+                           C::max_min_disparity>;
 
 struct AggPlan {
   bool read_cost;     // one cost token

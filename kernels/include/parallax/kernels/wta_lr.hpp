@@ -41,6 +41,7 @@ class WtaLr {
     reverse_ = reverse;
     d_ = Caps::disparities(p.disparities);
     lanes_ = Caps::parallel_units(p.parallel_units);
+    m_ = Caps::min_disparity(p.min_disparity);
     chunks_ = d_ / lanes_;
     delay_ = p.lr_check ? d_ - 1 : 0;
     start_frame();
@@ -284,13 +285,14 @@ class WtaLr {
     }
   }
 
-  // Lane d of this token is a candidate for the right pixel x_img - d (when it exists), held in
-  // open entry d. Candidates of one right pixel arrive in ascending d (forward) or descending d
-  // (reverse), so the smallest d wins ties with < or <= respectively.
+  // Lane d of this token is a candidate for the right pixel x_img - m - d (when it exists), held
+  // in open entry d. Candidates of one right pixel arrive in ascending d (forward) or descending d
+  // (reverse), so the smallest d wins ties with < or <= respectively. (The offset m moves every
+  // right pixel by the same columns, so the entries' ages are those of m = 0.)
   void right_candidates(const SumToken& t, int lo) {
     const int x_img = reverse_ ? p_.width_px - 1 - x_ : x_;
     const bool rev = reverse_;
-    const int n = min_int(lanes_, x_img - lo + 1);  // lanes with a right pixel x_img - d >= 0
+    const int n = min_int(lanes_, x_img - m_ - lo + 1);  // lanes with a right pixel x_img - m - d >= 0
   wta_right_lanes:
     for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
@@ -315,7 +317,7 @@ class WtaLr {
     const int d = left_d_.at(lag);
     const int x_img = reverse_ ? p_.width_px - 1 - xs : xs;
     const DispCode invalid = DispCode(d_);
-    if (d >= d_ || d > x_img) return invalid;  // not unique, or the match is outside the image
+    if (d >= d_ || m_ + d > x_img) return invalid;  // not unique, or the match is outside the image
     if (p_.lr_check) {
       int dr;
       if (!reverse_) {
@@ -357,7 +359,7 @@ class WtaLr {
 
   StereoParams p_;
   bool reverse_ = false;
-  int d_ = 1, lanes_ = 1, chunks_ = 1, delay_ = 0;
+  int d_ = 1, lanes_ = 1, chunks_ = 1, delay_ = 0, m_ = 0;
   int x_ = 0, y_ = 0, chunk_ = 0, next_emit_ = 0;
   int time_ = 0;  // stream column of the last column shift (flushing firings count on past W - 1)
   bool in_row_done_ = false, done_ = true;

@@ -18,11 +18,13 @@ struct GreyImage {
   std::vector<uint8_t> px;  // row-major
 };
 
-// Disparity codes, row-major; code == disparities means invalid (docs/algorithm.md §5).
+// Disparity codes, row-major; code == disparities means invalid, a valid code c is the disparity
+// min_disparity + c (docs/algorithm.md §5).
 struct DisparityCodes {
   int width_px = 0;
   int height_px = 0;
   int disparities = 0;
+  int min_disparity = 0;
   std::vector<uint16_t> code;
 };
 

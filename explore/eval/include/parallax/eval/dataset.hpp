@@ -179,11 +179,12 @@ struct Frame {
 // calibration file, and GT without a single valid pixel (nothing to score against).
 Frame load_frame(const FrameRef& frame);
 
-// Whether a design searching disparities 0 .. disparities-1 covers a frame: "" when it does,
-// else a warning naming the frame, how far its disparities reach (the scene's ndisp when known,
-// the largest GT disparity inside the ROI) and the share of its GT pixels inside the ROI at or
-// beyond `disparities` (which the design cannot match).
-std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disparities);
+// Whether a design searching disparities min_disparity .. min_disparity + disparities - 1 covers
+// a frame's far end: "" when it does, else a warning naming the frame, how far its disparities
+// reach (the scene's ndisp when known, the largest GT disparity inside the ROI) and the share of
+// its GT pixels inside the ROI at or beyond min_disparity + disparities (which the design cannot
+// match).
+std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disparities, int min_disparity = 0);
 
 // ---------------------------------------------------------------------------------------------
 // Cropping a dataset

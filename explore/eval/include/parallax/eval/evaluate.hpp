@@ -77,9 +77,10 @@ struct EvalOptions {
   std::function<void(int done, int total, const std::string& frame_id)> progress;
   // Applied to each full-size grey pair before the ROI crop (the design's rectification).
   std::function<void(cv::Mat& left, cv::Mat& right)> preprocess;
-  // D of the design (it searches 0 .. D-1); > 0 adds a warning to the notes when frames'
-  // disparities reach beyond it (disparity_range_warning). evaluate_design sets it.
+  // D and m of the design (it searches m .. m + D - 1); D > 0 adds a warning to the notes when
+  // frames' disparities reach beyond m + D (disparity_range_warning). evaluate_design sets them.
   int design_disparities = 0;
+  int design_min_disparity = 0;
 };
 
 struct EvalResult {

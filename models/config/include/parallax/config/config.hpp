@@ -28,6 +28,7 @@ struct Structure {
   int window_w = 5;
   int window_h = 5;
   int disparities = 64;
+  int min_disparity = 0;  // m: the disparities searched are [m, m + disparities)
   int parallel_units = 1;
   unsigned path_mask = kern::kForwardPaths;
   bool lr_check = true;
@@ -69,6 +70,9 @@ struct Structure {
   double host_copy_gbps = 0.0;
   double host_latency_ms = 0.0;
   double host_frame_ms = 0.0;
+
+  // One past the largest disparity the design can output, m + D, in pixels.
+  int disparity_end_px() const { return min_disparity + disparities; }
 };
 
 // The runtime registers of a design: the values a hardware register holds, which may change

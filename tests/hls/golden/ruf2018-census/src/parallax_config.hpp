@@ -37,7 +37,8 @@ constexpr int kCost = parallax::kern::kCostCensus;
 constexpr int kCensus = parallax::kern::kCensusFull;  // census taps (cost census only)
 constexpr int kWindowW = 5;
 constexpr int kWindowH = 5;
-constexpr int kDisparities = 60;  // D: disparities [0, D); code D = invalid
+constexpr int kDisparities = 60;  // D: codes [0, D); code D = invalid
+constexpr int kMinDisparity = 0;  // m: code d is the disparity m + d
 constexpr int kParallelUnits = 6;  // PU: disparities per firing
 constexpr int kChunks = kDisparities / kParallelUnits;
 constexpr unsigned kPathMask = 15u;  // paths 4
@@ -74,7 +75,8 @@ constexpr int kDepthDispOut = 2;
 
 // The kernels' capacities: this design's exact sizes, fixed (the kernels use these constants, not
 // the runtime values, so lane addresses and trip counts are compile-time).
-typedef parallax::kern::Caps<kWidthPx, kDisparities, kParallelUnits, kWindowH, kMedianRows, kKindMask, true>
+typedef parallax::kern::Caps<kWidthPx, kDisparities, kParallelUnits, kWindowH, kMedianRows, kKindMask, true,
+                             kMinDisparity>
     DesignCaps;
 // Aggregation word: the narrowest of 16 or 32 bits that holds kAggregateBits.
 typedef uint16_t AggWord;
@@ -99,6 +101,7 @@ inline parallax::kern::StereoParams structure_params() {
   p.window_w = kWindowW;
   p.window_h = kWindowH;
   p.disparities = kDisparities;
+  p.min_disparity = kMinDisparity;
   p.parallel_units = kParallelUnits;
   p.path_mask = kPathMask;
   p.lr_check = kLrCheck;
