@@ -53,6 +53,9 @@ class SgmAggregate {
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
   static constexpr int kRowMemories = 3;  // one per row kind (kKindRowLeft .. kKindRowRight)
+  // Whether rows may be as narrow as two pixels (then a row kind's next predecessor column can
+  // be the one being written; see aggregate_kind): software, or a fixed width of 1 or 2.
+  static constexpr bool kNarrowRows = !Caps::fixed || Caps::max_width_px <= 2;
   // Larger than any path cost (<= 2^path_bits - 1) and safe to add P1 to in 32 bits.
   static constexpr uint32_t kNone = sizeof(Word) == 2 ? 0xFFFFu : 0x7FFFFFFFu;
 
@@ -392,6 +395,14 @@ class SgmAggregate {
         if (last && chunks_ == 1) next[i] = lr[i];  // the next pixel's predecessor is this one
       } else {
         row_[m][x_][lo + i] = lr[i];
+        // Rows of one or two pixels with one chunk per pixel (software instantiations and
+        // exports that narrow): the next firing's predecessor column is the one this firing
+        // writes, fetched above before the write; it takes this firing's Lr instead.
+        if (kNarrowRows && last && chunks_ == 1) {
+          if (k == kKindRowUp && nx == x_) next[i] = lr[i];
+          if (k == kKindRowRight && nxr == x_) next[i] = lr[i];
+          if (k == kKindRowLeft && nx == x_) lag_[lo + i] = lr[i];
+        }
       }
     }
     if (last) {
