@@ -261,6 +261,8 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["DISPARITIES"] = std::to_string(p.disparities);
   v["DISPARITIES_MINUS_1"] = std::to_string(p.disparities - 1);
   v["MIN_DISPARITY"] = std::to_string(p.min_disparity);
+  v["P2_ADAPTIVE"] = std::to_string(p.p2_adaptive);
+  v["P2_ADAPTIVE_01"] = p.p2_adaptive > 0 ? "1" : "0";
   v["MIN_DISPARITY_TEXT"] = p.min_disparity == 0
                                 ? std::string()
                                 : " from m = " + std::to_string(p.min_disparity) + " (code d is the disparity m + d)";

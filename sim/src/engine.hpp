@@ -49,7 +49,7 @@ class Engine : private PipelineRun<kTimed> {
   using Run::p_, Run::setup_, Run::rep_, Run::timing_, Run::trace_, Run::graph_, Run::conditions_, Run::input_rate_;
 
  public:
-  using CostTok = kern::Lanes<uint16_t, Caps::lanes>;
+  using CostTok = kern::CostLanes<Caps::lanes>;
   using SumTok = kern::Lanes<Word, Caps::lanes>;
   using NodeT = Node<kTimed>;
 

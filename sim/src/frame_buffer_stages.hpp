@@ -52,7 +52,7 @@ inline FrameLayout frame_layout(const kern::StereoParams& p) {
 template <class Caps, class Word, bool kTimed, bool kData>
 class FrameBufferStages {
  public:
-  using CostTok = kern::Lanes<uint16_t, Caps::lanes>;
+  using CostTok = kern::CostLanes<Caps::lanes>;
   using SumTok = kern::Lanes<Word, Caps::lanes>;
   using NodeT = Node<kTimed>;
 

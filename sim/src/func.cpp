@@ -64,6 +64,8 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
        "median must be 0, 3, 5 or 7");
   need(p.lr_tolerance >= 0, "lr_tolerance must be >= 0");
   need(p.uniqueness_pct >= 0 && p.uniqueness_pct <= kern::kMaxUniquenessPct, "uniqueness_pct must be in [0, 100]");
+  need(p.p2_adaptive >= 0 && p.p2_adaptive <= kern::kMaxP2Adaptive, "p2_adaptive must be in [0, 255]");
+  need(p.p2_adaptive == 0 || !kern::two_pass_paths(p.path_mask), "p2_adaptive needs a one-pass design (paths <= 5)");
   need(p.min_disparity >= 0 && p.min_disparity <= kern::kMaxMinDisparity, "min_disparity must be in [0, 256]");
   need(kern::aggregate_bits(p) <= 31, "aggregate wider than 31 bits");
   return e;
@@ -71,7 +73,7 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
 
 struct CostRecording::Impl {
   std::string key;
-  std::vector<kern::Lanes<uint16_t, Narrow::lanes>> tokens;
+  std::vector<kern::CostLanes<Narrow::lanes>> tokens;
 };
 CostRecording::CostRecording() : impl(std::make_unique<Impl>()) {}
 CostRecording::~CostRecording() = default;

@@ -41,6 +41,8 @@ const Design kDesigns[] = {
     {"eight_paths", "configs/ruf2018-census.yaml", "--set paths=8 --set uniqueness_pct=25 --set census=symmetric"},
     {"five_paths", "configs/ruf2018-census.yaml",
      "--set paths=5 --set disparities=32 --set parallel_units=8 --set window=9x7 --set p2=64"},
+    {"adaptive_p2", "configs/ruf2018-census.yaml",
+     "--set paths=5 --set p2_adaptive=40 --set disparities=32 --set parallel_units=8 --set p2=64"},
     {"min_disparity_sad", "configs/ruf2018-sad.yaml",
      "--set min_disparity=10 --set disparities=32 --set parallel_units=8 --set paths=5"},
 };

@@ -39,7 +39,9 @@ const Design kDesigns[] = {
     // ap_uint ports.
     {"knobs", "configs/ruf2018-census.yaml",
      "--set uniqueness_pct=10 --set census=sparse --set window=9x7 --set min_disparity=6", false},
-    {"five_paths", "configs/ruf2018-census.yaml", "--set paths=5 --set disparities=32 --set parallel_units=8", false},
+    // The 180-degree path in one pass, with adaptive P2 (intensities through the row reversal).
+    {"five_paths", "configs/ruf2018-census.yaml",
+     "--set paths=5 --set disparities=32 --set parallel_units=8 --set p2_adaptive=40 --set p2=64", false},
 };
 
 // Exports d into dir / "hls" and returns that folder (empty on failure, with the reason in `why`).

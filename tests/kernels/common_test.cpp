@@ -88,13 +88,15 @@ void expect_same_sums(StereoParams p, unsigned kinds, uint32_t seed) {
   const int chunks = D / PU;
   std::mt19937 rng(seed);
   const uint32_t cmax = cost_max(p);
-  std::vector<Lanes<uint16_t, PU>> fixed_in(std::size_t(p.width_px) * p.height_px * chunks);
-  std::vector<Lanes<uint16_t, 64>> soft_in(fixed_in.size());
+  std::vector<CostLanes<PU>> fixed_in(std::size_t(p.width_px) * p.height_px * chunks);
+  std::vector<CostLanes<64>> soft_in(fixed_in.size());
   for (std::size_t t = 0; t < fixed_in.size(); ++t)
     for (int i = 0; i < PU; ++i) {
       // Mostly high costs, so path costs reach the top of their range.
       const uint32_t c = rng() % 4 == 0 ? uint32_t(rng() % (cmax + 1)) : cmax - uint32_t(rng() % 3);
       fixed_in[t].v[i] = soft_in[t].v[i] = uint16_t(c);
+      // The pixel's intensity (every token of a pixel carries the same; adaptive P2 reads it).
+      fixed_in[t].px = soft_in[t].px = uint8_t((t / std::size_t(chunks)) * 2654435761u >> 13);
     }
   auto fixed = std::make_unique<SgmAggregate<Fixed, Word>>();
   auto soft = std::make_unique<SgmAggregate<Soft, Word>>();
@@ -102,14 +104,14 @@ void expect_same_sums(StereoParams p, unsigned kinds, uint32_t seed) {
   soft->configure(p, kinds, false, false);
   std::vector<Lanes<Word, PU>> fixed_out;
   std::vector<Lanes<Word, 64>> soft_out;
-  VecIn<Lanes<uint16_t, PU>> fi{fixed_in.data()};
-  VecIn<Lanes<uint16_t, 64>> si{soft_in.data()};
+  VecIn<CostLanes<PU>> fi{fixed_in.data()};
+  VecIn<CostLanes<64>> si{soft_in.data()};
   VecOut<Lanes<Word, PU>> fo{&fixed_out};
   VecOut<Lanes<Word, 64>> so{&soft_out};
   NoStream<Lanes<Word, PU>> fnf;
-  NoStream<Lanes<uint16_t, PU>> fnt;
+  NoStream<CostLanes<PU>> fnt;
   NoStream<Lanes<Word, 64>> snf;
-  NoStream<Lanes<uint16_t, 64>> snt;
+  NoStream<CostLanes<64>> snt;
   while (!fixed->done()) fixed->fire(fixed->plan(), fi, fnf, fo, fnt);
   while (!soft->done()) soft->fire(soft->plan(), si, snf, so, snt);
   ASSERT_EQ(fixed_out.size(), fixed_in.size());
@@ -145,6 +147,10 @@ TEST(SgmAggregate, LaneMinimumOffTheRecurrenceEqualsTheDirectOne) {
   // 32-bit words: two paths of the same SAD.
   sad.path_mask = kPath0 | kPath45;
   expect_same_sums<32, 8, uint32_t>(sad, (1u << kKindPixel) | (1u << kKindRowLeft), 6);
+  // Adaptive P2 (a per-pixel, per-kind P2 in both lane-minimum forms), four kinds.
+  p.p2_adaptive = 40;
+  expect_same_sums<64, 8, uint16_t>(p, 0xFu, 7);
+  expect_same_sums<48, 48, uint16_t>(p, 0xFu, 8);
 }
 
 // The row reversal's memory carries no dependence between firings (its DEPENDENCE inter false,

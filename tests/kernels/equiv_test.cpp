@@ -183,6 +183,39 @@ TEST(Equiv, MinDisparityOffsets) {
         }
 }
 
+// Intensity-adaptive P2: every one-pass path set (each row kind's window of the previous row's
+// intensities, the pixel kind's previous pixel, the 180-degree path on reversed rows with the
+// intensities carried through the row reversal), both costs, gains from barely any to the floor
+// everywhere, one and many chunks, and widths of 1, 2 and 3 (the window's row-start registers).
+TEST(Equiv, AdaptiveP2AcrossPathSetsAndSizes) {
+  uint32_t seed = 9500;
+  const unsigned one_pass[] = {kern::kPath0,
+                               kern::kPath45,
+                               kern::kPath90,
+                               kern::kPath135,
+                               kern::kForwardPaths,
+                               kern::kForwardPaths | kern::kPath180,
+                               kern::kPath0 | kern::kPath180,
+                               kern::kPath180};
+  const int sizes[][2] = {{1, 5}, {2, 4}, {3, 3}, {29, 11}, {53, 9}};
+  for (unsigned paths : one_pass)
+    for (int a : {1, 16, 255})
+      for (const auto& sz : sizes) {
+        StereoParams p = base_params(sz[0], sz[1]);
+        p.path_mask = paths;
+        p.p2_adaptive = a;
+        p.cost = seed % 3 == 0 ? int(kern::kCostSad) : int(kern::kCostCensus);
+        if (p.cost == kern::kCostSad) {
+          p.p1 = 100;
+          p.p2 = 2000;
+        }
+        p.disparities = seed % 2 ? 16 : 24;
+        p.parallel_units = seed % 4 < 2 ? 4 : p.disparities;
+        const Pattern pattern = seed % 5 == 0 ? Pattern::kRandom : Pattern::kShiftedTexture;
+        expect_equivalent(p, pattern, ++seed);
+      }
+}
+
 // Odd widths, widths not a multiple of PU, images smaller than the window, single rows/columns.
 TEST(Equiv, AwkwardSizes) {
   uint32_t seed = 4000;
@@ -229,6 +262,7 @@ TEST(Equiv, SeededRandomConfigurations) {
     p.uniqueness_pct = rng() % 3 == 0 ? int(rng() % 101) : 0;
     p.census = int(rng() % 3);
     p.min_disparity = rng() % 4 == 0 ? int(rng() % 48) : 0;
+    p.p2_adaptive = rng() % 3 == 0 && !kern::two_pass_paths(p.path_mask) ? int(rng() % 256) : 0;
     SCOPED_TRACE("master seed " + std::to_string(master_seed) + " draw " + std::to_string(i));
     expect_equivalent(p, i % 2 ? Pattern::kRandom : Pattern::kShiftedTexture, master_seed + uint32_t(i));
   }

@@ -390,6 +390,9 @@ std::vector<FieldRow> make_table() {
       paths_row(),
       register_int("p1", &Registers::p1, at_least(0).with_value(), "SGM penalty of a disparity step of 1"),
       register_int("p2", &Registers::p2, at_most(65535), "SGM penalty of larger steps, greater than p1"),
+      integer("p2_adaptive", &P::p2_adaptive, in_range(0, kern::kMaxP2Adaptive),
+              "intensity-adaptive P2 gain a: along a path P2 drops by (a |I(p) - I(q)|) >> 4, never below p1 + 1; "
+              "0 = off (no hardware); one-pass designs (paths up to 5)"),
       flag("lr_check", &P::lr_check, "left-right consistency check"),
       register_int("lr_tolerance", &Registers::lr_tolerance, in_range(0, 255),
                    "largest left-right disagreement in pixels that the check accepts"),
@@ -450,6 +453,13 @@ std::vector<CrossRule> make_rules() {
                     ? ""
                     : "must be >= 1 and divide disparities (" + std::to_string(c.parallel_units) + " does not divide " +
                           std::to_string(c.disparities) + ")";
+       }},
+      {"p2_adaptive_one_pass", "p2_adaptive", "p2_adaptive", "p2_adaptive: a one-pass design (paths up to 5)",
+       [](const P& c) -> std::string {
+         return c.p2_adaptive == 0 || !kern::two_pass_paths(c.path_mask)
+                    ? ""
+                    : "needs a one-pass design (paths 0, 45, 90, 135 and 180): the two-pass frame buffer does not "
+                      "carry the left image's intensities";
        }},
       {"p1_below_p2", "p2", "p1", "p1 < p2",
        [](const P& c) -> std::string {

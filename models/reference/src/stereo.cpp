@@ -238,6 +238,9 @@ void validate_stereo_params(const kern::StereoParams& p) {
   if (p.min_disparity < 0 || p.min_disparity > kern::kMaxMinDisparity)
     fail("min_disparity must be in [0, " + std::to_string(kern::kMaxMinDisparity) + "], got " +
          std::to_string(p.min_disparity));
+  if (p.p2_adaptive < 0 || p.p2_adaptive > kern::kMaxP2Adaptive)
+    fail("p2_adaptive must be in [0, " + std::to_string(kern::kMaxP2Adaptive) + "], got " +
+         std::to_string(p.p2_adaptive));
   if (p.path_mask == 0) fail("path_mask must select at least one path");
   if ((p.path_mask & ~kern::kAllPaths) != 0) fail("path_mask has bits outside the eight kern::PathBit values");
   if (p.p1 < 0) fail("P1 must be >= 0, got " + std::to_string(p.p1));
@@ -353,9 +356,14 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right, const
 // §3 SGM aggregation
 // ---------------------------------------------------------------------------------------------
 
-std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::StereoParams& p, unsigned path_bit) {
+std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::StereoParams& p, unsigned path_bit,
+                                 const Image8* left) {
   validate_stereo_params(p);
   check_volume(cost, p, "path_costs cost");
+  if (p.p2_adaptive > 0) {
+    if (left == nullptr) fail("path_costs: p2_adaptive > 0 needs the left image");
+    check_image_matches(*left, p, "path_costs left");
+  }
   const PathDirection& dir = direction_for(path_bit);
 
   const int width = p.width_px;
@@ -392,6 +400,10 @@ std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::
       } else {
         PARALLAX_REF_CHECK(
             done[static_cast<std::size_t>(qy) * static_cast<std::size_t>(width) + static_cast<std::size_t>(qx)] != 0);
+        // P2 of this step: lowered by the left image's intensity step from q to p (docs §3).
+        const uint64_t p2_here =
+            p.p2_adaptive > 0 ? uint64_t(kern::adaptive_p2(p.p1, p.p2, p.p2_adaptive, left->at(x, y), left->at(qx, qy)))
+                              : p2;
         // M = min_k Lr(q, k).
         uint64_t min_q = lr[volume_index(qx, qy, 0, width, num_disp)];
         for (int k = 1; k < num_disp; ++k)
@@ -401,8 +413,8 @@ std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::
           uint64_t best = lr[volume_index(qx, qy, d, width, num_disp)];
           if (d - 1 >= 0) best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d - 1, width, num_disp)] + p1);
           if (d + 1 < num_disp) best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d + 1, width, num_disp)] + p1);
-          best = std::min<uint64_t>(best, min_q + p2);
-          PARALLAX_REF_CHECK(best >= min_q && best - min_q <= p2);
+          best = std::min<uint64_t>(best, min_q + p2_here);
+          PARALLAX_REF_CHECK(best >= min_q && best - min_q <= p2_here && p2_here <= p2);
 
           const std::size_t i = volume_index(x, y, d, width, num_disp);
           const uint64_t value = uint64_t(cost[i]) + best - min_q;
@@ -417,7 +429,7 @@ std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::
   return lr;
 }
 
-std::vector<uint32_t> aggregate(const std::vector<uint32_t>& cost, const kern::StereoParams& p) {
+std::vector<uint32_t> aggregate(const std::vector<uint32_t>& cost, const kern::StereoParams& p, const Image8* left) {
   validate_stereo_params(p);
   check_volume(cost, p, "aggregate cost");
   const uint64_t aggregate_limit = max_for_bits(kern::aggregate_bits(p));
@@ -425,7 +437,7 @@ std::vector<uint32_t> aggregate(const std::vector<uint32_t>& cost, const kern::S
   std::vector<uint64_t> sum(cost.size(), 0);
   for (const PathDirection& dir : kPathDirections) {
     if ((p.path_mask & dir.bit) == 0) continue;
-    const std::vector<uint32_t> lr = path_costs(cost, p, dir.bit);
+    const std::vector<uint32_t> lr = path_costs(cost, p, dir.bit, left);
     for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += lr[i];
   }
 
@@ -535,7 +547,7 @@ std::vector<uint16_t> median_filter(const std::vector<uint16_t>& codes, int widt
 std::vector<uint16_t> compute_disparity(const Image8& left, const Image8& right, const kern::StereoParams& p) {
   validate_stereo_params(p);
   const std::vector<uint32_t> cost = cost_volume(left, right, p);
-  const std::vector<uint32_t> s = aggregate(cost, p);
+  const std::vector<uint32_t> s = aggregate(cost, p, &left);
   const std::vector<uint16_t> codes = select_disparity(s, p);
   return median_filter(codes, p.width_px, p.height_px, p.median);
 }

@@ -108,6 +108,17 @@ TEST(Config, CensusVariantsTakeLargerWindows) {
   EXPECT_EQ(parse_config("cost: census\nwindow: 5x5", "case.yaml").stereo_params(8, 8).census, kern::kCensusFull);
 }
 
+// p2_adaptive is a structure constant: it reaches the kernels' parameters, not the registers,
+// and one-pass path sets (5 included) take it.
+TEST(Config, AdaptiveP2IsAStructureConstantOfOnePassDesigns) {
+  const PipelineConfig c = parse_config("p2_adaptive: 24\npaths: 5\n", "case.yaml");
+  EXPECT_EQ(c.stereo_params(64, 32).p2_adaptive, 24);
+  kern::StereoParams p = c.stereo_params(64, 32);
+  kern::set_registers(p, kern::StereoRegisters{1, 2, 0, 0});
+  EXPECT_EQ(p.p2_adaptive, 24);
+  EXPECT_EQ(parse_config(to_yaml(c), "round.yaml").p2_adaptive, 24);
+}
+
 // min_disparity reaches the kernels' parameters and moves the design's disparity range.
 TEST(Config, MinDisparityMovesTheRange) {
   const PipelineConfig c = parse_config("disparities: 64\nmin_disparity: 12\n", "case.yaml");
@@ -145,6 +156,8 @@ TEST(Config, EveryViolationNamesItsField) {
       {"uniqueness_pct: 101", "'uniqueness_pct'"},
       {"min_disparity: -1", "'min_disparity'"},
       {"min_disparity: 257", "'min_disparity'"},
+      {"p2_adaptive: 256", "'p2_adaptive'"},
+      {"p2_adaptive: 20\npaths: 8", "'p2_adaptive'"},  // the frame buffer carries no intensities
   };
   for (const auto& c : cases) {
     try {

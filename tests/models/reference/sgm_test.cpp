@@ -48,6 +48,28 @@ TEST(PathCosts, LeftToRightByHand) {
   expect_pixel(l, 2, 0, p, {0, 7, 9, 9});
 }
 
+// Adaptive P2 with a = 16: P2' = max(P1 + 1, P2 - |dI|) = max(2, 3 - |dI|) on the left row
+// [10 11 13]: 2 at x = 1 (step 1) and at x = 2 (step 2, the floor).
+TEST(PathCosts, AdaptiveP2ByHand) {
+  kern::StereoParams p = row_params(kern::kPath0);
+  p.p2_adaptive = 16;
+  const Image8 left = test::image_from_rows({{10, 11, 13}});
+  const std::vector<uint32_t> c = volume_from({kRowCosts});
+  const std::vector<uint32_t> l = path_costs(c, p, kern::kPath0, &left);
+  expect_pixel(l, 0, 0, p, {9, 0, 9, 9});
+  // x=1: q = [9 0 9 9], M = 0, M + P2' = 2: d3 takes the P2 term, 2 + 2 = 4 (5 with P2 3).
+  expect_pixel(l, 1, 0, p, {2, 8, 9, 4});
+  // x=2: q = [2 8 9 4], M = 2, M + P2' = 4: d2 min(9, 9, 5, 4) = 4 -> 8; d3 min(4, 10, 4) -> 8.
+  expect_pixel(l, 2, 0, p, {0, 7, 8, 8});
+  EXPECT_EQ(kern::adaptive_p2(1, 3, 16, 11, 10), 2);
+  EXPECT_EQ(kern::adaptive_p2(1, 3, 16, 10, 13), 2);  // the floor P1 + 1
+  EXPECT_EQ(kern::adaptive_p2(8, 64, 40, 0, 6), 64 - (40 * 6 >> 4));
+  EXPECT_EQ(kern::adaptive_p2(8, 64, 0, 0, 255), 64);                   // a = 0: P2
+  EXPECT_THROW(path_costs(c, p, kern::kPath0), std::invalid_argument);  // the image is required
+  p.p2_adaptive = 256;
+  EXPECT_THROW(path_costs(c, p, kern::kPath0, &left), std::invalid_argument);
+}
+
 TEST(PathCosts, RightToLeftByHand) {
   const kern::StereoParams p = row_params(kern::kPath180);
   const std::vector<uint32_t> c = volume_from({kRowCosts});

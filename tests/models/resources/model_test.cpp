@@ -122,6 +122,29 @@ TEST(ResourcesModel, UniquenessCheckCostsLogicInTheWtaStageOnly) {
             stage(on, "wta_lr").lut - stage(off, "wta_lr").lut);
 }
 
+// Adaptive P2 costs the aggregation an intensity row memory and per-kind logic (a BRAM_18K
+// or LUTRAM for W x 8 bits), and the row reversal a row of intensities; nothing else changes.
+TEST(ResourcesModel, AdaptiveP2CostsTheAggregationAndTheRowReversal) {
+  config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-census.yaml");
+  cfg.path_mask = kern::kForwardPaths | kern::kPath180;
+  auto stage = [](const res::Estimate& e, const std::string& name) {
+    for (const auto& s : e.stages)
+      if (s.stage == name) return s.usage;
+    return res::Usage{};
+  };
+  const res::Estimate off = res::estimate(res::design_inventory(cfg, 640, 360));
+  cfg.p2_adaptive = 40;
+  const res::Estimate on = res::estimate(res::design_inventory(cfg, 640, 360));
+  EXPECT_GT(stage(on, "aggregate").lut, stage(off, "aggregate").lut);
+  EXPECT_GE(stage(on, "aggregate").bram18k + stage(on, "row_reverse").bram18k,
+            stage(off, "aggregate").bram18k + stage(off, "row_reverse").bram18k);
+  EXPECT_GT(stage(on, "aggregate_row").lut, stage(off, "aggregate_row").lut);
+  for (const char* other : {"cost", "wta_lr", "median"}) {
+    EXPECT_EQ(stage(on, other).lut, stage(off, other).lut) << other;
+    EXPECT_EQ(stage(on, other).bram18k, stage(off, other).bram18k) << other;
+  }
+}
+
 // A minimum disparity m keeps m more right codes (census) or right columns (SAD) in the cost
 // stage's registers, as the kernel declares them; nothing else changes, no memory at all.
 TEST(ResourcesModel, MinDisparityCostsRegistersInTheCostStageOnly) {

@@ -315,6 +315,17 @@ TEST(ResourcesStorage, MinDisparity) {
   check_design<640, 60, 6, 5, 5, 7>(cfg);
 }
 
+// Adaptive P2: the aggregation's intensity row and registers, the row reversal's intensities.
+TEST(ResourcesStorage, AdaptiveP2) {
+  auto cfg = seed();
+  cfg.name = "adaptive P2";
+  cfg.p2_adaptive = 40;
+  check_design<640, 60, 6, 5, 5>(cfg);
+  cfg.name = "adaptive P2, 5 paths";
+  cfg.path_mask = kern::kForwardPaths | kern::kPath180;
+  check_design<640, 60, 6, 5, 5>(cfg);
+}
+
 TEST(ResourcesStorage, MedianThreeAndSeven) {
   auto cfg = seed();
   cfg.name = "median 3";

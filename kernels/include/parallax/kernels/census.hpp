@@ -71,6 +71,9 @@ class CensusMatcher {
     right_win_.step_to(right, x, y, w_, h_, w_ / 2);
   }
 
+  // The left pixel (x, y) of the last begin_pixel(): the window registers' centre.
+  uint8_t centre_px() const { return left_win_.at(w_ / 2, h_ / 2); }
+
   // Costs of lanes d0 .. d0 + n - 1: Hamming distance to the right code at x - m - d, or cost_max
   // where x - m - d < 0. Contract: d0 is a multiple of PU and n = PU.
   template <class LB>

@@ -51,6 +51,14 @@ struct Lanes {
   T v[N];
 };
 
+// The cost stage's token: PU costs of one pixel and the pixel's left intensity, which the SGM
+// aggregation's adaptive P2 reads (docs/algorithm.md §3). Every token of a pixel carries it; a
+// design without adaptive P2 never reads it (the export's cost streams then drop it).
+template <int N>
+struct CostLanes : Lanes<uint16_t, N> {
+  uint8_t px;
+};
+
 // The pixel-wise data between the WTA/LR stage, the median and the writer: a disparity code
 // (code == D means invalid, docs/algorithm.md §5).
 typedef uint16_t DispCode;

@@ -21,7 +21,7 @@ struct CostPlan {
 template <class Caps, class Matcher>
 class CostStage {
  public:
-  typedef Lanes<uint16_t, Caps::lanes> Token;
+  typedef CostLanes<Caps::lanes> Token;
   static constexpr int kRows = Caps::window_rows;  // line-buffer slots: the window's rows
 
   void configure(const StereoParams& p) {
@@ -76,6 +76,7 @@ class CostStage {
       Token t;
       const int d0 = chunk_ * lanes_;
       matcher_.costs(left_, right_, x_, y_, d0, lanes_, t.v);
+      t.px = matcher_.centre_px();
       out.write(t);
       advance();
     }

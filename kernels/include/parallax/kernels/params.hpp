@@ -69,6 +69,7 @@ struct StereoParams {
   int uniqueness_pct;     // register, 0..100: uniqueness margin in percent (0 = off)
   int census;             // CensusKind (cost = census only)
   int min_disparity = 0;  // m, 0 <= m <= kMaxMinDisparity: the codes d in [0, D) are disparities m + d
+  int p2_adaptive = 0;    // a, 0..kMaxP2Adaptive: P2 shrinks by (a |dI|) >> 4 (0 = off); a constant of the design
 };
 
 // The register fields of StereoParams on their own: the values a hardware register holds, which
@@ -93,6 +94,18 @@ inline void set_registers(StereoParams& p, const StereoRegisters& r) {
 // Largest uniqueness margin (percent) the register accepts: 7 bits.
 constexpr int kMaxUniquenessPct = 100;
 constexpr int kUniquenessBits = 7;
+
+// Intensity-adaptive P2 (docs/algorithm.md §3): along path r into p from q, with a = p2_adaptive
+// and the left image's step dI = |I(p) - I(q)|, P2' = max(P1 + 1, P2 - ((a * dI) >> 4)); a = 0
+// keeps P2. A structure constant (the export multiplies by it as a constant), 8 bits.
+constexpr int kMaxP2Adaptive = 255;
+constexpr int kP2AdaptiveBits = 8;
+constexpr int kP2AdaptiveShift = 4;
+inline int adaptive_p2(int p1, int p2, int a, int i_p, int i_q) {
+  const int step = i_p > i_q ? i_p - i_q : i_q - i_p;
+  const int lowered = p2 - ((a * step) >> kP2AdaptiveShift);
+  return lowered > p1 + 1 ? lowered : p1 + 1;
+}
 
 enum RectifyMode : int { kRectifyNone = 0, kRectifyNearest = 1, kRectifyBilinear = 2 };
 

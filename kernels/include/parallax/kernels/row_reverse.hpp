@@ -136,7 +136,7 @@ class RowReverseStage {
 template <class Caps, class Word>
 class RowReverse : public RowReverseStage {
  public:
-  typedef Lanes<uint16_t, Caps::lanes> CostToken;
+  typedef CostLanes<Caps::lanes> CostToken;
   typedef Lanes<Word, Caps::lanes> SumToken;
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
@@ -156,6 +156,8 @@ class RowReverse : public RowReverseStage {
 #endif
     PX_PRAGMA("HLS DEPENDENCE variable=cost_ type=inter dependent=false")
     PX_PRAGMA("HLS DEPENDENCE variable=sum_ type=inter dependent=false")
+    PX_PRAGMA("HLS BIND_STORAGE variable=px_ type=ram_s2p")
+    PX_PRAGMA("HLS DEPENDENCE variable=px_ type=inter dependent=false")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=last_cost_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=last_sum_ type=complete dim=1")
   }
@@ -178,6 +180,10 @@ class RowReverse : public RowReverseStage {
       const bool bypass = ctl_.out_first();
       CostToken ct;
       SumToken st;
+      // The pixel's intensity: read with its first token (before this firing's input may
+      // overwrite the slot at its last one), held for the others.
+      if (c == 0) out_px_ = bypass ? last_px_ : px_[xs];
+      ct.px = out_px_;
     row_reverse_out:
       for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
@@ -194,6 +200,12 @@ class RowReverse : public RowReverseStage {
       const int xs = ctl_.in_slot();
       const int c = ctl_.in_chunk();
       const bool bypass = ctl_.in_last();
+      if (c + 1 == d_ / lanes_) {  // the intensity, with the pixel's last token
+        if (bypass)
+          last_px_ = ct.px;
+        else
+          px_[xs] = ct.px;
+      }
     row_reverse_in:
       for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
@@ -216,6 +228,7 @@ class RowReverse : public RowReverseStage {
   void schedule(S& s) const {
     s.memory("row_reverse_cost", 1, 1, 2);
     s.memory("row_reverse_sum", 1, 1, 2);
+    if (p_.p2_adaptive > 0) s.memory("row_reverse_intensity", 1, 1, 2);
   }
   template <class R>
   void declare(R& r) const {
@@ -237,6 +250,15 @@ class RowReverse : public RowReverseStage {
     v.memory("row_reverse_sum", sum_, words, lanes_ * aggregate_bits(p_), 1, false, lanes_);
     v.registers_part("row_reverse_last_cost", last_cost_, d_, cost_bits(p_));
     v.registers_part("row_reverse_last_sum", last_sum_, d_, aggregate_bits(p_));
+    if (p_.p2_adaptive > 0) {  // the intensities the 180-degree path's adaptive P2 reads
+      v.memory("row_reverse_intensity", px_, p_.width_px, 8, 1, false, 1);
+      v.registers("row_reverse_last_intensity", last_px_, 1, 8);
+      v.registers("row_reverse_out_intensity", out_px_, 1, 8);
+    } else {
+      v.unused("row_reverse_intensity", px_);
+      v.unused("row_reverse_last_intensity", last_px_);
+      v.unused("row_reverse_out_intensity", out_px_);
+    }
   }
 
  private:
@@ -246,6 +268,8 @@ class RowReverse : public RowReverseStage {
   Word sum_[kMaxW][kWords][kPerWord];
   uint16_t last_cost_[kMaxD];
   Word last_sum_[kMaxD];
+  uint8_t px_[kMaxW];  // the buffered row's left intensities, one per pixel slot
+  uint8_t last_px_ = 0, out_px_ = 0;
 };
 
 // The disparity codes reversed row by row (raster order again after a row-reversed back end):

@@ -67,6 +67,10 @@ class SadMatcher {
     right_.step_to(right, x, y, right_span(), h_, rw);  // columns x + rw - (m + D + w - 1) .. x + rw
   }
 
+  // The left pixel (x, y) of the last begin_pixel(): the left window's column x (index 1 + w/2),
+  // centre row.
+  uint8_t centre_px() const { return left_.at(1 + w_ / 2, h_ / 2); }
+
   // Costs of lanes d0 .. d0 + n - 1. Away from the borders the window sum slides:
   // S(x, d) = S(x-1, d) + column(x + rw) - column(x - 1 - rw), columns of absolute differences
   // over the h rows; near a border (where a clamp would apply) it is summed over the whole

@@ -47,12 +47,14 @@ struct AggPlan {
 template <class Caps, class Word>
 class SgmAggregate {
  public:
-  typedef Lanes<uint16_t, Caps::lanes> CostToken;
+  typedef CostLanes<Caps::lanes> CostToken;
   typedef Lanes<Word, Caps::lanes> SumToken;
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
   static constexpr int kRowMemories = 3;  // one per row kind (kKindRowLeft .. kKindRowRight)
+  // Whether this instantiation has row kinds (else no row memory of any kind, intensities too).
+  static constexpr bool kRowKinds = (Caps::kind_mask & ~(1u << kKindPixel)) != 0;
   // Whether rows may be as narrow as two pixels (then a row kind's next predecessor column can
   // be the one being written; see aggregate_kind): software, or a fixed width of 1 or 2.
   static constexpr bool kNarrowRows = !Caps::fixed || Caps::max_width_px <= 2;
@@ -84,11 +86,17 @@ class SgmAggregate {
 #endif
     PX_PRAGMA("HLS DEPENDENCE variable=row_ type=inter dependent=false")
     PX_PRAGMA("HLS DEPENDENCE variable=row_min_ type=inter dependent=false")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=up_px_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=head_px_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=p2k_ type=complete dim=1")
+    PX_PRAGMA("HLS BIND_STORAGE variable=row_px_ type=ram_s2p")
+    PX_PRAGMA("HLS DEPENDENCE variable=row_px_ type=inter dependent=false")
     // Software instantiations read the don't-care lanes past PU (simd_trip): give them values
     // once. (Nothing to do in the export, where every lane is a design lane.)
     if (!Caps::fixed) {
     agg_clear_memories:
       for (int d = 0; d < kMaxD; ++d) pix_[d] = lag_[d] = 0;
+      for (int x = 0; x < kMaxW; ++x) row_px_[x] = 0;
       for (int m = 0; m < kRowMemories; ++m)
         for (int x = 0; x < kMaxW; ++x) {
           row_min_[m][x] = 0;
@@ -160,6 +168,7 @@ class SgmAggregate {
     (void)pl;
     const CostToken c = cost_in.read();
     const int trip = lane_trip();  // the lanes every loop of this firing runs
+    if (p_.p2_adaptive > 0 && chunk_ == 0) adapt_p2(c.px);
     SumToken s;
     if (add_forward_) {
       const SumToken f = fwd_in.read();
@@ -186,6 +195,7 @@ class SgmAggregate {
       aggregate_kind<kKindRowRight>(c, trip, s);
     sum_out.write(s);
     if (tee_cost_) tee_out.write(c);
+    if (p_.p2_adaptive > 0 && chunk_ + 1 == chunks_) keep_intensity();
     advance();
   }
 
@@ -243,6 +253,8 @@ class SgmAggregate {
     s.chain(kOpCompare, pb, 1);
     s.chain(kOpMux, pb, 1);
     s.chain(kOpRegister, pb, 1);
+    // Adaptive P2: the previous row's intensities, one read and one write per pixel.
+    if (p_.p2_adaptive > 0 && (kinds_ & ~(1u << kKindPixel)) != 0) s.memory("row_intensity", 1, 1, 2);
   }
 
   template <class R>
@@ -265,6 +277,18 @@ class SgmAggregate {
       r.op("path_cost_minus_min", kOpAdd, pb + 1, 2 * pu);
       r.op("path_running_min", kOpCompare, pb, pu);
       r.op("path_running_min_select", kOpMux, pb, pu);
+    }
+    if (p_.p2_adaptive > 0) {
+      // Per active kind: |I(p) - I(q)| (a subtraction and a negation's select), the product by
+      // the register (8 x 8 bits), P2 minus it with the floor P1 + 1 (a subtraction, a compare
+      // and a select), and the selects of the window's shift.
+      const int pen = penalty_bits(p_);
+      r.op("p2_adaptive_step", kOpAdd, 9, 2 * slots());
+      r.op("p2_adaptive_abs", kOpMux, 8, slots());
+      r.mul("p2_adaptive_product", 8, kP2AdaptiveBits, slots());
+      r.op("p2_adaptive_lower", kOpAdd, pen + 1, slots());
+      r.op("p2_adaptive_floor", kOpCompare, pen + 1, slots());
+      r.op("p2_adaptive_floor_select", kOpMux, pen, slots());
     }
     r.op("sum_over_paths", kOpAdd, ab, pu * slots());
     r.registers("cost_in", pu * cost_bits(p_), 1);
@@ -339,7 +363,7 @@ class SgmAggregate {
     const uint32_t m_prev = mq_[k];
     const Word wp1 = Word(p_.p1);
     const Word wm = Word(m_prev);
-    const uint32_t p2 = uint32_t(p_.p2);
+    const uint32_t p2 = p_.p2_adaptive > 0 ? uint32_t(p2k_[k]) : uint32_t(p_.p2);
     const Word wm_p2 = sat_add(wm, Word(p2 > kNone ? kNone : p2));
     // The lanes' minimum, kept off the recurrence through M: with t_d = min(Lr(q,d),
     // Lr(q,d±1) + P1), Lr(p,d) = C_d + min(t_d - M, P2), so min_d Lr(p,d) =
@@ -422,6 +446,39 @@ class SgmAggregate {
     if (chunk_ + 2 >= chunks_) pred[n + 1] = Word(kNone);
   }
 
+  // Adaptive P2 (docs/algorithm.md §3), at a pixel's first firing: each kind's P2 from the
+  // intensity step between this pixel and that kind's predecessor. The previous row's
+  // intensities of columns x - 1, x, x + 1 are a window of registers (up_px_): it shifts by one
+  // column per pixel, taking column x + 1 fetched by the previous pixel's last firing; a row
+  // starts from the previous row's first two columns (head_px_), so the row memory sees one read
+  // and one write per pixel (keep_intensity).
+  void adapt_p2(uint8_t px) {
+    cur_px_ = px;
+    if (x_ == 0) {
+      up_px_[1] = head_px_[0];
+      up_px_[2] = head_px_[1];
+    } else {
+      up_px_[0] = up_px_[1];
+      up_px_[1] = up_px_[2];
+      up_px_[2] = fetched_px_;
+    }
+    const int a = p_.p2_adaptive;
+    p2k_[kKindPixel] = Word(adaptive_p2(p_.p1, p_.p2, a, px, prev_px_));
+    p2k_[kKindRowLeft] = Word(adaptive_p2(p_.p1, p_.p2, a, px, up_px_[0]));
+    p2k_[kKindRowUp] = Word(adaptive_p2(p_.p1, p_.p2, a, px, up_px_[1]));
+    p2k_[kKindRowRight] = Word(adaptive_p2(p_.p1, p_.p2, a, px, up_px_[2]));
+  }
+  // At a pixel's last firing: its intensity becomes the next pixel's predecessor and the next
+  // row's (row memory at x, and the row's first two columns in head_px_); the row memory gives
+  // column x + 2 of the previous row, the next pixel's x + 1.
+  void keep_intensity() {
+    prev_px_ = cur_px_;
+    if (!kRowKinds) return;
+    fetched_px_ = row_px_[min_int(x_ + 2, p_.width_px - 1)];
+    row_px_[x_] = cur_px_;
+    if (x_ < 2) head_px_[x_] = cur_px_;
+  }
+
   // Lane loops run to PU: the compile-time LANES in the export, where PU = LANES. A software
   // instantiation whose pixel is one chunk (PU = D) runs whole SIMD vectors instead: the lanes
   // past PU are don't-care (written to the unused rest of a column, masked out of the minimum,
@@ -465,6 +522,13 @@ class SgmAggregate {
   Word row_[kRowMemories][kMaxW][kMaxD];  // row kinds: previous-row Lr per column
   Word row_min_[kRowMemories][kMaxW];     // row kinds: previous-row min_d Lr per column
   Word pad_[kLanes];                      // software only: all ones in the don't-care lanes past PU (lane_trip)
+  // Adaptive P2 (adapt_p2): this pixel's intensity, the previous pixel's, the previous row's
+  // (memory, its columns x - 1 .. x + 1 in registers, its first two columns), and each kind's P2.
+  uint8_t cur_px_ = 0, prev_px_ = 0, fetched_px_ = 0;
+  uint8_t row_px_[kMaxW];
+  uint8_t up_px_[3] = {0, 0, 0};
+  uint8_t head_px_[2] = {0, 0};
+  Word p2k_[kKindCount];
 
  public:
   // Storage descriptor (resources.hpp) of the members above, per active path kind, with the
@@ -512,6 +576,36 @@ class SgmAggregate {
       v.registers_part("path_predecessor_lanes", ahead_[k], lanes_ + 1, pb);
       v.registers("path_min_previous", mq_[k], 1, pb);
       v.registers("path_min_running", run_min_[k], 1, pb);
+    }
+    intensity_storage(v);
+  }
+
+ private:
+  // The adaptive P2's state (adapt_p2): no hardware without it; the row intensities only with a
+  // row kind active.
+  template <class V>
+  void intensity_storage(V& v) const {
+    const bool on = p_.p2_adaptive > 0;
+    const bool rows = on && (kinds_ & ~(1u << kKindPixel)) != 0;
+    if (on) {
+      v.registers("intensity_current", cur_px_, 1, 8);
+      v.registers("intensity_previous_pixel", prev_px_, 1, 8);
+      v.registers_part("p2_adaptive_per_kind", p2k_, slots(), penalty_bits(p_));
+    } else {
+      v.unused("intensity_current", cur_px_);
+      v.unused("intensity_previous_pixel", prev_px_);
+      v.unused("p2_adaptive_per_kind", p2k_);
+    }
+    if (rows) {
+      v.memory("row_intensity", row_px_, p_.width_px, 8, 1, false, 1);
+      v.registers("intensity_row_window", up_px_, 3, 8);
+      v.registers("intensity_row_head", head_px_, 2, 8);
+      v.registers("intensity_row_fetched", fetched_px_, 1, 8);
+    } else {
+      v.unused("row_intensity", row_px_);
+      v.unused("intensity_row_window", up_px_);
+      v.unused("intensity_row_head", head_px_);
+      v.unused("intensity_row_fetched", fetched_px_);
     }
   }
 };

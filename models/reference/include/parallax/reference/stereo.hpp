@@ -91,12 +91,16 @@ std::vector<uint32_t> cost_volume(const Image8& left, const Image8& right, const
 
 // Path cost volume Lr for ONE path (docs §3); path_bit is a single kern::PathBit (it need not be
 // in p.path_mask). cost must have W*H*D entries, each <= cost_max(p). Every result satisfies
-// Lr <= cost_max(p) + p.p2 < 2^path_bits(p) (checked; a violation aborts).
-std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::StereoParams& p, unsigned path_bit);
+// Lr <= cost_max(p) + p.p2 < 2^path_bits(p) (checked; a violation aborts). With
+// p.p2_adaptive > 0 the step's P2 follows the left image's intensities: left is required then
+// (std::invalid_argument without it) and ignored otherwise.
+std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::StereoParams& p, unsigned path_bit,
+                                 const Image8* left = nullptr);
 
 // Aggregate S = sum of Lr over the paths in p.path_mask, same layout. Every result is
-// < 2^aggregate_bits(p) (checked; a violation aborts).
-std::vector<uint32_t> aggregate(const std::vector<uint32_t>& cost, const kern::StereoParams& p);
+// < 2^aggregate_bits(p) (checked; a violation aborts). left as for path_costs.
+std::vector<uint32_t> aggregate(const std::vector<uint32_t>& cost, const kern::StereoParams& p,
+                                const Image8* left = nullptr);
 
 // Winner takes all and left-right check (docs §4) on an aggregate volume: one code per pixel,
 // row-major; code d in [0, D) is a disparity, code D (kern::invalid_code) is invalid. Ties go to

@@ -29,6 +29,9 @@
 namespace parallax_beats {
 struct CostBeat {
   ap_uint<parallax_design::kCostBits> v[parallax_design::kParallelUnits];
+#if PARALLAX_DESIGN_P2_ADAPTIVE
+  ap_uint<8> px;  // the pixel's left intensity, which the adaptive P2 reads
+#endif
 };
 struct SumBeat {
   ap_uint<parallax_design::kAggregateBits> v[parallax_design::kParallelUnits];
@@ -72,6 +75,7 @@ class LaneStream {
 #pragma HLS UNROLL
       t.v[i] = b.v[i].to_uint();
     }
+    intensity_in(b, t);
     return t;
   }
   void write(const Token& t) {
@@ -81,10 +85,24 @@ class LaneStream {
 #pragma HLS UNROLL
       b.v[i] = t.v[i];
     }
+    intensity_out(t, b);
     s_.write(b);
   }
 
  private:
+  // Cost tokens carry the pixel's intensity when the design has adaptive P2 (CostBeat::px);
+  // every other token has none to carry.
+  template <class B, class T>
+  static void intensity_in(const B&, T&) {}
+  template <class B, class T>
+  static void intensity_out(const T&, B&) {}
+#if PARALLAX_DESIGN_P2_ADAPTIVE
+  static void intensity_in(const CostBeat& b, kern::CostLanes<kParallelUnits>& t) { t.px = uint8_t(b.px.to_uint()); }
+  static void intensity_out(const kern::CostLanes<kParallelUnits>& t, CostBeat& b) { b.px = t.px; }
+#else
+  static void intensity_in(const CostBeat&, kern::CostLanes<kParallelUnits>& t) { t.px = 0; }
+#endif
+
   hls::stream<Beat>& s_;
 };
 
