@@ -274,7 +274,8 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["MEDIAN"] = std::to_string(p.median >= 3 ? p.median : 0);
   v["MEDIAN_ROWS"] = std::to_string(p.median >= 3 ? p.median : 1);
   // Stream path kinds of the forward and, for two passes, the backward pass (one kernel type serves both).
-  v["KIND_MASK"] = std::to_string(kern::stream_kinds(p.path_mask, false) | kern::stream_kinds(p.path_mask, true));
+  v["KIND_MASK"] = std::to_string(kern::datapath_kinds(kern::stream_kinds(p.path_mask, false), p.aggregation) |
+                                  kern::datapath_kinds(kern::stream_kinds(p.path_mask, true), p.aggregation));
   v["MEDIAN_TEXT"] = p.median >= 3 ? std::to_string(p.median) + "x" + std::to_string(p.median) : "off";
   v["COST_MAX"] = std::to_string(kern::cost_max(p));
   v["COST_BITS"] = std::to_string(kern::cost_bits(p));

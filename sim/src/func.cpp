@@ -67,6 +67,10 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
   need(p.p2_adaptive >= 0 && p.p2_adaptive <= kern::kMaxP2Adaptive, "p2_adaptive must be in [0, 255]");
   need(p.p2_adaptive == 0 || !kern::two_pass_paths(p.path_mask), "p2_adaptive needs a one-pass design (paths <= 5)");
   need(p.min_disparity >= 0 && p.min_disparity <= kern::kMaxMinDisparity, "min_disparity must be in [0, 256]");
+  need(p.aggregation == kern::kAggregationSgm || p.aggregation == kern::kAggregationMgm,
+       "aggregation must be sgm or mgm");
+  need(p.aggregation != kern::kAggregationMgm || kern::mgm_paths_supported(p.path_mask),
+       "mgm needs forward paths or all eight (the one-pass 180-degree path has no second predecessor)");
   need(kern::aggregate_bits(p) <= 31, "aggregate wider than 31 bits");
   return e;
 }

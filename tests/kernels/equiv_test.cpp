@@ -216,6 +216,42 @@ TEST(Equiv, AdaptiveP2AcrossPathSetsAndSizes) {
       }
 }
 
+// MGM (two predecessors per path step): every path set it supports (each forward path alone,
+// the pairs sharing a recursion, the four, eight in two passes), rows of 1 .. 53 pixels (1 and 2: a diagonal window's
+// columns x - 1 and x + 1 meet the one being written), one and many chunks, both costs, with and without adaptive P2
+// (one pass).
+TEST(Equiv, MgmAcrossPathSetsAndSizes) {
+  uint32_t seed = 9700;
+  const unsigned path_sets[] = {kern::kPath0,
+                                kern::kPath45,
+                                kern::kPath90,
+                                kern::kPath135,
+                                kern::kPath0 | kern::kPath90,    // one datapath, added twice
+                                kern::kPath45 | kern::kPath135,  // likewise
+                                kern::kPath0 | kern::kPath45,
+                                kern::kForwardPaths,
+                                kern::kAllPaths};
+  const int sizes[][2] = {{1, 5}, {2, 4}, {3, 3}, {4, 6}, {29, 11}, {53, 9}};
+  for (unsigned paths : path_sets)
+    for (int a : {0, 24})
+      for (const auto& sz : sizes) {
+        if (a > 0 && kern::two_pass_paths(paths)) continue;
+        StereoParams p = base_params(sz[0], sz[1]);
+        p.path_mask = paths;
+        p.aggregation = kern::kAggregationMgm;
+        p.p2_adaptive = a;
+        p.cost = seed % 3 == 0 ? int(kern::kCostSad) : int(kern::kCostCensus);
+        if (p.cost == kern::kCostSad) {
+          p.p1 = 100;
+          p.p2 = 2000;
+        }
+        p.disparities = seed % 2 ? 16 : 24;
+        p.parallel_units = seed % 4 < 2 ? 4 : p.disparities;
+        const Pattern pattern = seed % 5 == 0 ? Pattern::kRandom : Pattern::kShiftedTexture;
+        expect_equivalent(p, pattern, ++seed);
+      }
+}
+
 // Odd widths, widths not a multiple of PU, images smaller than the window, single rows/columns.
 TEST(Equiv, AwkwardSizes) {
   uint32_t seed = 4000;
@@ -263,6 +299,8 @@ TEST(Equiv, SeededRandomConfigurations) {
     p.census = int(rng() % 3);
     p.min_disparity = rng() % 4 == 0 ? int(rng() % 48) : 0;
     p.p2_adaptive = rng() % 3 == 0 && !kern::two_pass_paths(p.path_mask) ? int(rng() % 256) : 0;
+    p.aggregation = rng() % 4 == 0 && kern::mgm_paths_supported(p.path_mask) ? int(kern::kAggregationMgm)
+                                                                             : int(kern::kAggregationSgm);
     SCOPED_TRACE("master seed " + std::to_string(master_seed) + " draw " + std::to_string(i));
     expect_equivalent(p, i % 2 ? Pattern::kRandom : Pattern::kShiftedTexture, master_seed + uint32_t(i));
   }

@@ -161,6 +161,19 @@ TEST(CycleEquiv, MinDisparityAndAdaptiveP2KeepTheTiming) {
     }
 }
 
+// MGM runs in the same passes with the golden codes (its II is the schedule's: the cycle model
+// takes it from the kernel's declaration like every other stage's).
+TEST(CycleEquiv, MgmGivesTheGoldenCodes) {
+  uint32_t seed = 7700;
+  for (unsigned paths :
+       {unsigned(kern::kPath0 | kern::kPath45), unsigned(kern::kForwardPaths), unsigned(kern::kAllPaths)})
+    for (int pu : {4, 16}) {
+      StereoParams p = params(37, 9, 16, pu, paths);
+      p.aggregation = kern::kAggregationMgm;
+      expect_cycle_equivalent(p, one_pair_per_cycle(), ++seed);
+    }
+}
+
 TEST(CycleEquiv, AwkwardSizesFifoDepthsAndCameraInput) {
   uint32_t seed = 8000;
   const int sizes[][2] = {{1, 1}, {3, 2}, {17, 5}, {33, 3}};

@@ -393,6 +393,9 @@ std::vector<FieldRow> make_table() {
       integer("p2_adaptive", &P::p2_adaptive, in_range(0, kern::kMaxP2Adaptive),
               "intensity-adaptive P2 gain a: along a path P2 drops by (a |I(p) - I(q)|) >> 4, never below p1 + 1; "
               "0 = off (no hardware); one-pass designs (paths up to 5)"),
+      choice("aggregation", &P::aggregation, {"sgm", "mgm"},
+             "path recursion: SGM steps from the path's predecessor; MGM averages the steps from it and the "
+             "neighbour across the path (more memory; forward paths or eight)"),
       flag("lr_check", &P::lr_check, "left-right consistency check"),
       register_int("lr_tolerance", &Registers::lr_tolerance, in_range(0, 255),
                    "largest left-right disagreement in pixels that the check accepts"),
@@ -460,6 +463,13 @@ std::vector<CrossRule> make_rules() {
                     ? ""
                     : "needs a one-pass design (paths 0, 45, 90, 135 and 180): the two-pass frame buffer does not "
                       "carry the left image's intensities";
+       }},
+      {"mgm_paths", "aggregation", "aggregation", "aggregation: mgm with forward paths or eight paths",
+       [](const P& c) -> std::string {
+         return c.aggregation != "mgm" || kern::mgm_paths_supported(c.path_mask)
+                    ? ""
+                    : "mgm needs forward paths (0, 45, 90, 135) or all eight: the one-pass 180-degree path's second "
+                      "predecessor (x, y+1) is in the next row";
        }},
       {"p1_below_p2", "p2", "p1", "p1 < p2",
        [](const P& c) -> std::string {

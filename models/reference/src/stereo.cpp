@@ -70,12 +70,15 @@ struct PathDirection {
   int dx;
   int dy;
   bool forward;  // forward: raster order; backward: reverse raster order
+  int dx2;       // MGM's second predecessor (docs §3): p + (dx2, dy2), across the path
+  int dy2;
 };
 
 constexpr PathDirection kPathDirections[8] = {
-    {kern::kPath0, -1, 0, true},    {kern::kPath45, -1, -1, true},   {kern::kPath90, 0, -1, true},
-    {kern::kPath135, +1, -1, true}, {kern::kPath180, +1, 0, false},  {kern::kPath225, +1, +1, false},
-    {kern::kPath270, 0, +1, false}, {kern::kPath315, -1, +1, false},
+    {kern::kPath0, -1, 0, true, 0, -1},    {kern::kPath45, -1, -1, true, +1, -1},
+    {kern::kPath90, 0, -1, true, -1, 0},   {kern::kPath135, +1, -1, true, -1, -1},
+    {kern::kPath180, +1, 0, false, 0, +1}, {kern::kPath225, +1, +1, false, -1, +1},
+    {kern::kPath270, 0, +1, false, +1, 0}, {kern::kPath315, -1, +1, false, +1, +1},
 };
 
 const PathDirection& direction_for(unsigned path_bit) {
@@ -241,6 +244,8 @@ void validate_stereo_params(const kern::StereoParams& p) {
   if (p.p2_adaptive < 0 || p.p2_adaptive > kern::kMaxP2Adaptive)
     fail("p2_adaptive must be in [0, " + std::to_string(kern::kMaxP2Adaptive) + "], got " +
          std::to_string(p.p2_adaptive));
+  if (p.aggregation != kern::kAggregationSgm && p.aggregation != kern::kAggregationMgm)
+    fail("aggregation must be kAggregationSgm or kAggregationMgm, got " + std::to_string(p.aggregation));
   if (p.path_mask == 0) fail("path_mask must select at least one path");
   if ((p.path_mask & ~kern::kAllPaths) != 0) fail("path_mask has bits outside the eight kern::PathBit values");
   if (p.p1 < 0) fail("P1 must be >= 0, got " + std::to_string(p.p1));
@@ -383,45 +388,51 @@ std::vector<uint32_t> path_costs(const std::vector<uint32_t>& cost, const kern::
   // done[y*W + x] marks computed pixels: proves each predecessor is ready before it is used.
   std::vector<uint8_t> done(pixel_count(width, height), 0);
 
+  const bool mgm = p.aggregation == kern::kAggregationMgm;
+  auto inside = [&](int qx, int qy) { return qx >= 0 && qx < width && qy >= 0 && qy < height; };
+  // The step from predecessor q into p at disparity d (docs §3):
+  // min(Lr(q, d), Lr(q, d-1) + P1, Lr(q, d+1) + P1, M + P2') - M, with M = min_k Lr(q, k).
+  auto step_into = [&](int x, int y, int qx, int qy, std::vector<uint64_t>& out) {
+    PARALLAX_REF_CHECK(
+        done[static_cast<std::size_t>(qy) * static_cast<std::size_t>(width) + static_cast<std::size_t>(qx)] != 0);
+    // P2 of this step: lowered by the left image's intensity step from q to p (docs §3).
+    const uint64_t p2_here =
+        p.p2_adaptive > 0 ? uint64_t(kern::adaptive_p2(p.p1, p.p2, p.p2_adaptive, left->at(x, y), left->at(qx, qy)))
+                          : p2;
+    uint64_t min_q = lr[volume_index(qx, qy, 0, width, num_disp)];
+    for (int k = 1; k < num_disp; ++k) min_q = std::min<uint64_t>(min_q, lr[volume_index(qx, qy, k, width, num_disp)]);
+    for (int d = 0; d < num_disp; ++d) {
+      uint64_t best = lr[volume_index(qx, qy, d, width, num_disp)];
+      if (d - 1 >= 0) best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d - 1, width, num_disp)] + p1);
+      if (d + 1 < num_disp) best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d + 1, width, num_disp)] + p1);
+      best = std::min<uint64_t>(best, min_q + p2_here);
+      PARALLAX_REF_CHECK(best >= min_q && best - min_q <= p2_here && p2_here <= p2);
+      out[static_cast<std::size_t>(d)] = best - min_q;
+    }
+  };
+  std::vector<uint64_t> step_a(static_cast<std::size_t>(num_disp)), step_b(static_cast<std::size_t>(num_disp));
+
   for (int step_y = 0; step_y < height; ++step_y) {
     const int y = dir.forward ? step_y : height - 1 - step_y;
     for (int step_x = 0; step_x < width; ++step_x) {
       const int x = dir.forward ? step_x : width - 1 - step_x;
-      const int qx = x + dir.dx;
-      const int qy = y + dir.dy;
-      const bool q_inside = qx >= 0 && qx < width && qy >= 0 && qy < height;
-
-      if (!q_inside) {
-        // Path start: Lr(p, d) = C(p, d).
-        for (int d = 0; d < num_disp; ++d) {
-          const std::size_t i = volume_index(x, y, d, width, num_disp);
-          lr[i] = cost[i];
-        }
-      } else {
-        PARALLAX_REF_CHECK(
-            done[static_cast<std::size_t>(qy) * static_cast<std::size_t>(width) + static_cast<std::size_t>(qx)] != 0);
-        // P2 of this step: lowered by the left image's intensity step from q to p (docs §3).
-        const uint64_t p2_here =
-            p.p2_adaptive > 0 ? uint64_t(kern::adaptive_p2(p.p1, p.p2, p.p2_adaptive, left->at(x, y), left->at(qx, qy)))
-                              : p2;
-        // M = min_k Lr(q, k).
-        uint64_t min_q = lr[volume_index(qx, qy, 0, width, num_disp)];
-        for (int k = 1; k < num_disp; ++k)
-          min_q = std::min<uint64_t>(min_q, lr[volume_index(qx, qy, k, width, num_disp)]);
-
-        for (int d = 0; d < num_disp; ++d) {
-          uint64_t best = lr[volume_index(qx, qy, d, width, num_disp)];
-          if (d - 1 >= 0) best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d - 1, width, num_disp)] + p1);
-          if (d + 1 < num_disp) best = std::min<uint64_t>(best, lr[volume_index(qx, qy, d + 1, width, num_disp)] + p1);
-          best = std::min<uint64_t>(best, min_q + p2_here);
-          PARALLAX_REF_CHECK(best >= min_q && best - min_q <= p2_here && p2_here <= p2);
-
-          const std::size_t i = volume_index(x, y, d, width, num_disp);
-          const uint64_t value = uint64_t(cost[i]) + best - min_q;
-          PARALLAX_REF_CHECK(value <= path_limit);
-          PARALLAX_REF_CHECK(value <= path_bits_limit);
-          lr[i] = static_cast<uint32_t>(value);
-        }
+      // SGM: the path's predecessor q alone. MGM: also q2 across the path; the steps from the
+      // predecessors inside the image are averaged (floor), a path starts where neither is.
+      const bool a_inside = inside(x + dir.dx, y + dir.dy);
+      const bool b_inside = mgm && inside(x + dir.dx2, y + dir.dy2);
+      if (a_inside) step_into(x, y, x + dir.dx, y + dir.dy, step_a);
+      if (b_inside) step_into(x, y, x + dir.dx2, y + dir.dy2, step_b);
+      for (int d = 0; d < num_disp; ++d) {
+        const std::size_t i = volume_index(x, y, d, width, num_disp);
+        const std::size_t k = static_cast<std::size_t>(d);
+        const uint64_t step = a_inside && b_inside ? (step_a[k] + step_b[k]) / 2
+                              : a_inside           ? step_a[k]
+                              : b_inside           ? step_b[k]
+                                                   : 0;  // path start: Lr(p, d) = C(p, d)
+        const uint64_t value = uint64_t(cost[i]) + step;
+        PARALLAX_REF_CHECK(value <= path_limit);
+        PARALLAX_REF_CHECK(value <= path_bits_limit);
+        lr[i] = static_cast<uint32_t>(value);
       }
       done[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] = 1;
     }

@@ -119,6 +119,16 @@ TEST(Config, AdaptiveP2IsAStructureConstantOfOnePassDesigns) {
   EXPECT_EQ(parse_config(to_yaml(c), "round.yaml").p2_adaptive, 24);
 }
 
+// aggregation is a structure constant; mgm takes forward paths and eight, not five.
+TEST(Config, MgmAggregationReachesTheKernels) {
+  EXPECT_EQ(parse_config("paths: 4\n", "case.yaml").stereo_params(64, 32).aggregation, kern::kAggregationSgm);
+  for (const char* paths : {"1", "4", "8", "[0, 45]"}) {
+    const PipelineConfig c = parse_config(std::string("aggregation: mgm\npaths: ") + paths + "\n", "case.yaml");
+    EXPECT_EQ(c.stereo_params(64, 32).aggregation, kern::kAggregationMgm) << paths;
+    EXPECT_EQ(parse_config(to_yaml(c), "round.yaml").aggregation, "mgm") << paths;
+  }
+}
+
 // min_disparity reaches the kernels' parameters and moves the design's disparity range.
 TEST(Config, MinDisparityMovesTheRange) {
   const PipelineConfig c = parse_config("disparities: 64\nmin_disparity: 12\n", "case.yaml");
@@ -158,6 +168,8 @@ TEST(Config, EveryViolationNamesItsField) {
       {"min_disparity: 257", "'min_disparity'"},
       {"p2_adaptive: 256", "'p2_adaptive'"},
       {"p2_adaptive: 20\npaths: 8", "'p2_adaptive'"},  // the frame buffer carries no intensities
+      {"aggregation: sgmm", "'aggregation'"},
+      {"aggregation: mgm\npaths: 5", "'aggregation'"},  // 180 in one pass: no second predecessor yet
   };
   for (const auto& c : cases) {
     try {

@@ -70,6 +70,27 @@ TEST(PathCosts, AdaptiveP2ByHand) {
   EXPECT_THROW(path_costs(c, p, kern::kPath0, &left), std::invalid_argument);
 }
 
+// MGM, 2 x 2 pixels, D = 2, P1 = 1, P2 = 3; path 0 steps from (x-1, y) and (x, y-1).
+TEST(PathCosts, MgmByHand) {
+  kern::StereoParams p = make_params(2, 2, kern::kCostSad, 1, 2, kern::kPath0, 1, 3);
+  p.aggregation = kern::kAggregationMgm;
+  const std::vector<uint32_t> c = volume_from({{{4, 0}, {6, 0}}, {{0, 6}, {2, 2}}});
+  const std::vector<uint32_t> l = path_costs(c, p, kern::kPath0);
+  expect_pixel(l, 0, 0, p, {4, 0});  // neither predecessor: L = C
+  // (1, 0): only q = (0, 0) = [4 0], M = 0: d0 min(4, 1, 3) = 1 -> 7; d1 min(0, 5, 3) = 0 -> 0.
+  expect_pixel(l, 1, 0, p, {7, 0});
+  // (0, 1): only q2 = (0, 0), the same step: [0 + 1, 6 + 0].
+  expect_pixel(l, 0, 1, p, {1, 6});
+  // (1, 1): q = (0, 1) = [1 6], M 1: u = [min(1, 7, 4) - 1, min(6, 2, 4) - 1] = [0 1];
+  //         q2 = (1, 0) = [7 0], M 0: u = [min(7, 1, 3), min(0, 8, 3)] = [1 0];
+  //         L = C + floor((u + u2) / 2) = [2 + 0, 2 + 0] (SGM from q alone: [2 3]).
+  expect_pixel(l, 1, 1, p, {2, 2});
+  // Path 90 steps from the same two neighbours: the same recursion (docs §3).
+  EXPECT_EQ(path_costs(c, p, kern::kPath90), l);
+  p.aggregation = 2;
+  EXPECT_THROW(path_costs(c, p, kern::kPath0), std::invalid_argument);
+}
+
 TEST(PathCosts, RightToLeftByHand) {
   const kern::StereoParams p = row_params(kern::kPath180);
   const std::vector<uint32_t> c = volume_from({kRowCosts});

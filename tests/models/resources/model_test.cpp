@@ -174,6 +174,35 @@ TEST(ResourcesModel, MinDisparityCostsRegistersInTheCostStageOnly) {
   }
 }
 
+// MGM on the seed design's four paths: two datapaths (0 / 90 and 45 / 135 share one), so the
+// row-up and row-right memories go and the pixel datapath's row memory comes: the same row
+// memories' count minus one, each with the same BRAM; the window and second predecessors cost
+// registers; the aggregation's II stays 1 at 200 MHz or the model says so.
+TEST(ResourcesModel, MgmTradesTwoRowMemoriesForOne) {
+  config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-census.yaml");
+  const res::Inventory sgm = res::design_inventory(cfg, 640, 360);
+  cfg.aggregation = "mgm";
+  const res::Inventory mgm = res::design_inventory(cfg, 640, 360);
+  auto memories = [](const res::Inventory& inv, const std::string& name) {
+    int64_t n = 0;
+    for (const auto& m : inv.memories)
+      if (m.name == name) n += m.copies;
+    return n;
+  };
+  EXPECT_GT(memories(sgm, "row_path_up"), 0);
+  EXPECT_EQ(memories(mgm, "row_path_up"), 0);
+  EXPECT_EQ(memories(mgm, "row_path_right"), 0);
+  EXPECT_EQ(memories(mgm, "row_path_pixel"), memories(sgm, "row_path_up"));
+  EXPECT_EQ(memories(mgm, "row_path_left"), memories(sgm, "row_path_left"));
+  const res::Estimate a = res::estimate(sgm), b = res::estimate(mgm);
+  EXPECT_LT(b.total.bram18k, a.total.bram18k);
+  for (std::size_t k = 0; k < a.stages.size(); ++k)
+    if (a.stages[k].stage != "aggregate") {
+      EXPECT_EQ(a.stages[k].usage.lut, b.stages[k].usage.lut) << a.stages[k].stage;
+      EXPECT_EQ(a.stages[k].usage.bram18k, b.stages[k].usage.bram18k) << a.stages[k].stage;
+    }
+}
+
 TEST(ResourcesModel, UtilisationAndPower) {
   const res::Device* zu3 = res::find_device("XCZU3EG");
   ASSERT_NE(zu3, nullptr);

@@ -326,6 +326,26 @@ TEST(ResourcesStorage, AdaptiveP2) {
   check_design<640, 60, 6, 5, 5>(cfg);
 }
 
+// MGM: the pixel datapath's row memory, the second predecessors' lanes, the row-left window; the
+// pairs 0 / 90 and 45 / 135 share a datapath; eight paths in two passes; with adaptive P2.
+TEST(ResourcesStorage, MgmAggregation) {
+  auto cfg = seed();
+  cfg.aggregation = "mgm";
+  cfg.name = "MGM, 4 paths";
+  check_design<640, 60, 6, 5, 5>(cfg);
+  cfg.name = "MGM, paths 0 and 45, adaptive P2";
+  cfg.path_mask = kern::kPath0 | kern::kPath45;
+  cfg.p2_adaptive = 40;
+  check_design<640, 60, 6, 5, 5>(cfg);
+  cfg.name = "MGM, path 135";
+  cfg.p2_adaptive = 0;
+  cfg.path_mask = kern::kPath135;
+  check_design<640, 60, 6, 5, 5>(cfg);
+  cfg.name = "MGM, 8 paths";
+  cfg.path_mask = kern::kAllPaths;
+  check_design<640, 60, 6, 5, 5>(cfg);
+}
+
 TEST(ResourcesStorage, MedianThreeAndSeven) {
   auto cfg = seed();
   cfg.name = "median 3";

@@ -15,6 +15,11 @@ enum CostKind : int { kCostCensus = 0, kCostSad = 1 };
 // the centre (centre-symmetric).
 enum CensusKind : int { kCensusFull = 0, kCensusSparse = 1, kCensusSymmetric = 2 };
 
+// Aggregation along a path (docs/algorithm.md §3): SGM takes one predecessor per step; MGM
+// (Facciolo et al., BMVC 2015) averages the steps from two, the path's predecessor and the one
+// across it (mgm_second_predecessor).
+enum AggregationKind : int { kAggregationSgm = 0, kAggregationMgm = 1 };
+
 // One bit per SGM path direction. Angles are the direction of travel (docs/algorithm.md §3).
 enum PathBit : unsigned {
   kPath0 = 1u << 0,    // predecessor (x-1, y)
@@ -38,6 +43,11 @@ constexpr bool row_reverse_paths(unsigned path_mask) {
 }
 constexpr bool two_pass_paths(unsigned path_mask) {
   return (path_mask & kBackwardPaths) != 0 && (path_mask & kBackwardPaths) != kPath180;
+}
+// MGM needs every path's second predecessor computed before the pixel: in the forward raster
+// pass (and the reversed second pass) it is; the one-pass 180-degree path's, (x, y+1), is not.
+constexpr bool mgm_paths_supported(unsigned path_mask) {
+  return !row_reverse_paths(path_mask);
 }
 
 // Hard limits of the software instantiations (the HLS export replaces them by the exact values).
@@ -70,6 +80,7 @@ struct StereoParams {
   int census;             // CensusKind (cost = census only)
   int min_disparity = 0;  // m, 0 <= m <= kMaxMinDisparity: the codes d in [0, D) are disparities m + d
   int p2_adaptive = 0;    // a, 0..kMaxP2Adaptive: P2 shrinks by (a |dI|) >> 4 (0 = off); a constant of the design
+  int aggregation = 0;    // AggregationKind: SGM or MGM; a constant of the design
 };
 
 // The register fields of StereoParams on their own: the values a hardware register holds, which

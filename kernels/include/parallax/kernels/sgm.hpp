@@ -7,6 +7,15 @@
 // (kinds = paths 0/45/90/135) and, on a reversed stream, the backward pass of the eight-path
 // variant (kinds = paths 180/225/270/315). Adding a path kind means adding an enumerator, its
 // predecessor rule in predecessor(), and its memory (see docs/kernels.md).
+//
+// With MGM aggregation (docs/algorithm.md §3) every kind also steps from a second predecessor
+// across its path, and the kinds pair up: the pixel and row-up kinds both step from the previous
+// pixel and the previous row's same column, the row-left and row-right kinds both from the
+// previous row's columns x - 1 and x + 1, so each pair is one recursion (mgm_kinds), computed
+// once in the pixel or row-left kind's state and added once per path (aggregate_kind_mgm). The
+// pixel kind gains a row memory; the row-left kind a window of registers over its row memory
+// (read once per lane bank and firing, at x + 1; columns x and x - 1 are the two reads before it,
+// and a row's column 0 is kept in head registers when written).
 #pragma once
 
 #include "parallax/kernels/caps.hpp"
@@ -31,6 +40,17 @@ inline unsigned stream_kinds(unsigned path_mask, bool backward) {
   return m & 0xFu;
 }
 
+// The kinds whose datapaths an MGM stage computes for the stream kinds `kinds`: the pixel kind
+// for the pair pixel / row-up, the row-left kind for the pair row-left / row-right.
+inline unsigned mgm_kinds(unsigned kinds) {
+  return ((kinds & ((1u << kKindPixel) | (1u << kKindRowUp))) != 0 ? (1u << kKindPixel) : 0u) |
+         ((kinds & ((1u << kKindRowLeft) | (1u << kKindRowRight))) != 0 ? (1u << kKindRowLeft) : 0u);
+}
+// The kinds with hardware in an aggregation stage of the given stream kinds and aggregation.
+inline unsigned datapath_kinds(unsigned kinds, int aggregation) {
+  return aggregation == kAggregationMgm ? mgm_kinds(kinds) : kinds;
+}
+
 // The capacities of an aggregation stage with the pixel kind alone (the 180-degree path on
 // reversed rows, row_reverse.hpp): no row memory, so one column of capacity.
 template <class C>
@@ -52,7 +72,9 @@ class SgmAggregate {
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
-  static constexpr int kRowMemories = 3;  // one per row kind (kKindRowLeft .. kKindRowRight)
+  // One per row kind (kKindRowLeft .. kKindRowRight at kind - 1) and, for MGM, the pixel kind's
+  // (row_memory()).
+  static constexpr int kRowMemories = 4;
   // Whether this instantiation has row kinds (else no row memory of any kind, intensities too).
   static constexpr bool kRowKinds = (Caps::kind_mask & ~(1u << kKindPixel)) != 0;
   // Whether rows may be as narrow as two pixels (then a row kind's next predecessor column can
@@ -73,6 +95,11 @@ class SgmAggregate {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=lag_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=row_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=row_min_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=ahead2_ type=complete dim=0")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=mq2_ type=complete dim=1")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=win_ type=complete dim=0")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=win_head_ type=complete dim=0")
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=win_min_ type=complete dim=1")
 #ifdef PX_HLS_SGM_ROW_RESHAPE
     PX_PRAGMA(PX_HLS_SGM_ROW_RESHAPE)
 #endif
@@ -95,7 +122,10 @@ class SgmAggregate {
     // once. (Nothing to do in the export, where every lane is a design lane.)
     if (!Caps::fixed) {
     agg_clear_memories:
-      for (int d = 0; d < kMaxD; ++d) pix_[d] = lag_[d] = 0;
+      for (int d = 0; d < kMaxD; ++d) {
+        pix_[d] = lag_[d] = 0;
+        win_[0][d] = win_[1][d] = win_head_[d] = 0;
+      }
       for (int x = 0; x < kMaxW; ++x) row_px_[x] = 0;
       for (int m = 0; m < kRowMemories; ++m)
         for (int x = 0; x < kMaxW; ++x) {
@@ -105,10 +135,13 @@ class SgmAggregate {
     }
   }
 
-  // kinds: StreamPathKind bits (within Caps::kind_mask); add_forward: add F from a second input;
-  // tee_cost: copy the costs to a second output.
+  // kinds: StreamPathKind bits (their datapaths within Caps::kind_mask, datapath_kinds());
+  // add_forward: add F from a second input; tee_cost: copy the costs to a second output.
   void configure(const StereoParams& p, unsigned kinds, bool add_forward, bool tee_cost) {
     p_ = p;
+    // MGM: a pair's datapath adds its Lr twice when both kinds of the pair are active.
+    twice_straight_ = popcount_u32(kinds & ((1u << kKindPixel) | (1u << kKindRowUp))) == 2;
+    twice_diagonal_ = popcount_u32(kinds & ((1u << kKindRowLeft) | (1u << kKindRowRight))) == 2;
     kinds_ = kinds & Caps::kind_mask;
     add_forward_ = add_forward;
     tee_cost_ = tee_cost;
@@ -130,6 +163,7 @@ class SgmAggregate {
     done_ = false;
     pix_min_ = 0;
     mlag_ = 0;
+    win_min_[0] = win_min_[1] = win_head_min_ = 0;
   agg_reset_kinds:
     for (int k = 0; k < kKindCount; ++k) {
       PX_PRAGMA("HLS UNROLL")
@@ -139,14 +173,21 @@ class SgmAggregate {
       for (int i = 0; i < kLanes + 2; ++i) {
         PX_PRAGMA("HLS UNROLL")
         ahead_[k][i] = Word(kNone);
+        if (k < 2) ahead2_[k][i] = Word(kNone);
       }
+      if (k < 2) mq2_[k] = 0;
     }
   }
   bool done() const {
     return done_;
   }
+  // The datapaths this stage computes (one per path kind; with MGM one per pair of kinds).
   int slots() const {
-    return popcount_u32(kinds_);
+    return popcount_u32(datapaths());
+  }
+  // The path steps per pixel, each with its own adaptive P2 (MGM: two per datapath).
+  int steps() const {
+    return mgm() ? 2 * slots() : slots();
   }
 
   AggPlan plan() const {
@@ -184,15 +225,24 @@ class SgmAggregate {
         s.v[i] = 0;
       }
     }
-    // One datapath per path kind (kinds outside Caps::kind_mask have none).
-    if ((Caps::kind_mask & (1u << kKindPixel)) != 0 && (kinds_ & (1u << kKindPixel)) != 0)
-      aggregate_kind<kKindPixel>(c, trip, s);
-    if ((Caps::kind_mask & (1u << kKindRowLeft)) != 0 && (kinds_ & (1u << kKindRowLeft)) != 0)
-      aggregate_kind<kKindRowLeft>(c, trip, s);
-    if ((Caps::kind_mask & (1u << kKindRowUp)) != 0 && (kinds_ & (1u << kKindRowUp)) != 0)
-      aggregate_kind<kKindRowUp>(c, trip, s);
-    if ((Caps::kind_mask & (1u << kKindRowRight)) != 0 && (kinds_ & (1u << kKindRowRight)) != 0)
-      aggregate_kind<kKindRowRight>(c, trip, s);
+    // One datapath per path kind (kinds outside Caps::kind_mask have none); with MGM one per
+    // pair of kinds, its Lr added once per active kind of the pair.
+    const unsigned dk = datapaths();
+    if (mgm()) {
+      if ((Caps::kind_mask & (1u << kKindPixel)) != 0 && (dk & (1u << kKindPixel)) != 0)
+        aggregate_kind_mgm<kKindPixel>(c, trip, twice_straight_, s);
+      if ((Caps::kind_mask & (1u << kKindRowLeft)) != 0 && (dk & (1u << kKindRowLeft)) != 0)
+        aggregate_kind_mgm<kKindRowLeft>(c, trip, twice_diagonal_, s);
+    } else {
+      if ((Caps::kind_mask & (1u << kKindPixel)) != 0 && (dk & (1u << kKindPixel)) != 0)
+        aggregate_kind<kKindPixel>(c, trip, s);
+      if ((Caps::kind_mask & (1u << kKindRowLeft)) != 0 && (dk & (1u << kKindRowLeft)) != 0)
+        aggregate_kind<kKindRowLeft>(c, trip, s);
+      if ((Caps::kind_mask & (1u << kKindRowUp)) != 0 && (dk & (1u << kKindRowUp)) != 0)
+        aggregate_kind<kKindRowUp>(c, trip, s);
+      if ((Caps::kind_mask & (1u << kKindRowRight)) != 0 && (dk & (1u << kKindRowRight)) != 0)
+        aggregate_kind<kKindRowRight>(c, trip, s);
+    }
     sum_out.write(s);
     if (tee_cost_) tee_out.write(c);
     if (p_.p2_adaptive > 0 && chunk_ + 1 == chunks_) keep_intensity();
@@ -234,13 +284,41 @@ class SgmAggregate {
   template <class S>
   void schedule(S& s) const {
     const int pb = path_bits(p_);
+    const unsigned dk = datapaths();
   agg_schedule_kinds:
     for (int k = 1; k < kKindCount; ++k) {
-      if (((kinds_ >> k) & 1u) == 0) continue;
+      if (((dk >> k) & 1u) == 0) continue;
       s.memory(k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right", 1, 1, 2);
       s.memory(k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right", 1, 1, 2);
     }
-    if ((kinds_ & (1u << kKindPixel)) != 0) {
+    if (mgm()) {
+      // The pixel kind's row memory: one read (the next chunk's lanes) and one write per firing.
+      if ((dk & (1u << kKindPixel)) != 0) {
+        s.memory("row_path_pixel", 1, 1, 2);
+        s.memory("row_min_pixel", 1, 1, 2);
+      }
+      // The previous pixel's minimum M recurs into the next pixel's (the pixel datapath): no
+      // lane-minimum identity here, so the chain runs through the lanes: the step's P2 clamp
+      // and subtraction, the average, + C, the min tree over the PU lanes, the running minimum
+      // and its register.
+      if ((dk & (1u << kKindPixel)) != 0) {
+        s.recurrence("mgm_previous_pixel_minimum", 1);
+        s.chain(kOpCompare, pb + 1, 1);  // min with M + P2
+        s.chain(kOpMux, pb + 1, 1);
+        s.chain(kOpAdd, pb + 1, 1);  // - M
+        s.chain(kOpAdd, pb + 1, 1);  // u_a + u_b
+        s.chain(kOpAdd, pb, 1);      // + C
+        int levels = 0;              // of the min tree over the lanes
+        while ((1 << levels) < lanes_) ++levels;
+        if (levels > 0) {
+          s.chain(kOpCompare, pb, levels);
+          s.chain(kOpMux, pb, levels);
+        }
+        s.chain(kOpCompare, pb, 1);  // running minimum over the chunks
+        s.chain(kOpMux, pb, 1);
+        s.chain(kOpRegister, pb, 1);
+      }
+    } else if ((dk & (1u << kKindPixel)) != 0) {
       s.recurrence("pixel_path_minimum", 1);
       s.chain(kOpAdd, pb + 1, 1);      // min_d (C_d + t_d) - M
       s.chain(kOpCompare, pb + 1, 1);  // min with min_d C_d + P2
@@ -254,7 +332,7 @@ class SgmAggregate {
     s.chain(kOpMux, pb, 1);
     s.chain(kOpRegister, pb, 1);
     // Adaptive P2: the previous row's intensities, one read and one write per pixel.
-    if (p_.p2_adaptive > 0 && (kinds_ & ~(1u << kKindPixel)) != 0) s.memory("row_intensity", 1, 1, 2);
+    if (p_.p2_adaptive > 0 && row_intensities()) s.memory("row_intensity", 1, 1, 2);
   }
 
   template <class R>
@@ -266,9 +344,10 @@ class SgmAggregate {
     declare_raster_control(r, p_.width_px, p_.height_px, d / pu);
     DeclareStorage<R> st(r);
     storage(st, packing, banks);
+    const unsigned dk = datapaths();
   agg_declare_paths:
     for (int k = 0; k < kKindCount; ++k) {
-      if (((kinds_ >> k) & 1u) == 0) continue;
+      if (((dk >> k) & 1u) == 0) continue;
       if (d > pu) r.op("path_predecessor_select", kOpMux, pb, pu * (d / pu - 1));
       r.op("path_p1_adds", kOpAdd, pb + 1, 2 * pu);
       r.op("path_p2_add", kOpAdd, pb + 1, 1);
@@ -278,17 +357,38 @@ class SgmAggregate {
       r.op("path_running_min", kOpCompare, pb, pu);
       r.op("path_running_min_select", kOpMux, pb, pu);
     }
+    if (mgm()) {
+      // Per datapath, the second predecessor's step beside the first's (the SGM ops above): its
+      // chunk select, the +P1 adds, min of four, - M; then the average of the two steps, the
+      // selects of the sides inside the image, and the lanes' min tree (no identity with MGM).
+    agg_declare_mgm:
+      for (int k = 0; k < kKindCount; ++k) {
+        if (((dk >> k) & 1u) == 0) continue;
+        if (d > pu) r.op("mgm_second_select", kOpMux, pb, pu * (d / pu - 1));
+        r.op("mgm_second_p1_adds", kOpAdd, pb + 1, 2 * pu);
+        r.op("mgm_second_p2_add", kOpAdd, pb + 1, 1);
+        r.op("mgm_second_min_of_four", kOpCompare, pb + 1, 3 * pu);
+        r.op("mgm_second_min_select", kOpMux, pb + 1, 3 * pu);
+        r.op("mgm_second_minus_min", kOpAdd, pb + 1, pu);
+        r.op("mgm_average", kOpAdd, pb + 1, pu);
+        r.op("mgm_side_select", kOpMux, pb + 1, 2 * pu);
+        if (pu > 1) {
+          r.op("mgm_lane_min_tree", kOpCompare, pb, pu - 1);
+          r.op("mgm_lane_min_select", kOpMux, pb, pu - 1);
+        }
+      }
+    }
     if (p_.p2_adaptive > 0) {
       // Per active kind: |I(p) - I(q)| (a subtraction and a negation's select), the product by
       // the register (8 x 8 bits), P2 minus it with the floor P1 + 1 (a subtraction, a compare
       // and a select), and the selects of the window's shift.
       const int pen = penalty_bits(p_);
-      r.op("p2_adaptive_step", kOpAdd, 9, 2 * slots());
-      r.op("p2_adaptive_abs", kOpMux, 8, slots());
-      r.mul("p2_adaptive_product", 8, kP2AdaptiveBits, slots());
-      r.op("p2_adaptive_lower", kOpAdd, pen + 1, slots());
-      r.op("p2_adaptive_floor", kOpCompare, pen + 1, slots());
-      r.op("p2_adaptive_floor_select", kOpMux, pen, slots());
+      r.op("p2_adaptive_step", kOpAdd, 9, 2 * steps());
+      r.op("p2_adaptive_abs", kOpMux, 8, steps());
+      r.mul("p2_adaptive_product", 8, kP2AdaptiveBits, steps());
+      r.op("p2_adaptive_lower", kOpAdd, pen + 1, steps());
+      r.op("p2_adaptive_floor", kOpCompare, pen + 1, steps());
+      r.op("p2_adaptive_floor_select", kOpMux, pen, steps());
     }
     r.op("sum_over_paths", kOpAdd, ab, pu * slots());
     r.registers("cost_in", pu * cost_bits(p_), 1);
@@ -296,6 +396,161 @@ class SgmAggregate {
   }
 
  private:
+  // The row memory (row_, row_min_) of kind k: k - 1 for the row kinds, the last for the pixel
+  // kind (MGM only).
+  static int row_memory(int k) {
+    return k == kKindPixel ? kRowMemories - 1 : k - 1;
+  }
+  bool mgm() const {
+    return p_.aggregation == kAggregationMgm;
+  }
+  unsigned datapaths() const {
+    return datapath_kinds(kinds_, p_.aggregation);
+  }
+  // Whether a step reads the previous row's intensities (adaptive P2): a row kind, or MGM (whose
+  // pixel kind also steps from the row above).
+  bool row_intensities() const {
+    return (kinds_ & ~(1u << kKindPixel)) != 0 || mgm();
+  }
+
+  // MGM (docs/algorithm.md §3): Lr(p, d) = C(p, d) + floor((u_a(d) + u_b(d)) / 2) with
+  // u_q(d) = min(Lr(q, d), Lr(q, d±1) + P1, M_q + P2_q) - M_q for the two predecessors (one when
+  // the other is outside the image, none at a path's start), added into s once, or twice when
+  // both kinds of the pair are active (twice: a shift). K = kKindPixel: the pair pixel / row-up,
+  // sides a = the previous pixel (pix_) and b = the previous row's column x (row memory at x).
+  // K = kKindRowLeft: the pair row-left / row-right, sides a = the previous row's column x - 1
+  // (window) and b = column x + 1 (row memory at x + 1). The lanes' ahead registers follow SGM's
+  // protocol per side (ahead_ side a, ahead2_ side b): this firing fetches the next firing's
+  // chunk of both.
+  template <int K>
+  PX_INLINE void aggregate_kind_mgm(const CostToken& c, int trip, bool twice, SumToken& s) {
+    const int k = K;
+    const bool straight = k == kKindPixel;
+    const int n = lanes_;
+    const int lo = chunk_ * n;
+    const bool first = chunk_ == 0;
+    const bool last = chunk_ + 1 == chunks_;
+    const int nlo = last ? 0 : lo + n;
+    const int nx = last ? (x_ + 1 == p_.width_px ? 0 : x_ + 1) : x_;
+    const int m = row_memory(k);
+    const int xr = min_int(x_ + 1, p_.width_px - 1);
+    const int nxr = min_int(nx + 1, p_.width_px - 1);
+
+    const bool va = straight ? x_ > 0 : (y_ > 0 && x_ > 0);
+    const bool vb = straight ? y_ > 0 : (y_ > 0 && x_ + 1 < p_.width_px);
+    if (first) {  // both predecessors' minima, read once per pixel
+      if (straight) {
+        mq_[k] = pix_min_;
+        mq2_[k] = row_min_[m][x_];
+      } else {
+        const Word ahead_min = row_min_[m][xr];
+        mq_[k] = win_min_[1];
+        win_min_[1] = x_ == 0 ? win_head_min_ : win_min_[0];
+        win_min_[0] = ahead_min;
+        mq2_[k] = ahead_min;
+      }
+    }
+
+    Word next_a[kLanes], next_b[kLanes];
+    Word* pa = ahead_[k];   // pa[i] is side a's Lr(q, lo - 1 + i), kNone outside [0, D)
+    Word* pb = ahead2_[k];  // likewise side b
+  agg_mgm_fetch:
+    for (int i = 0; i < trip; ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      const int d = nlo + i;
+      if (straight) {
+        next_a[i] = pix_[d];
+        next_b[i] = row_[m][nx][d];
+      } else {
+        const Word ahead = row_[m][nxr][d];
+        next_a[i] = win_[1][d];
+        win_[1][d] = nx == 0 ? win_head_[d] : win_[0][d];
+        win_[0][d] = ahead;
+        next_b[i] = ahead;
+      }
+    }
+    if (!last) {
+      pa[n + 1] = next_a[0];
+      pb[n + 1] = next_b[0];
+    }
+
+    const Word wp1 = Word(p_.p1);
+    const Word wma = mq_[k];
+    const Word wmb = mq2_[k];
+    const int ka = straight ? kKindPixel : kKindRowLeft;  // the adaptive P2 of each side's step
+    const int kb = straight ? kKindRowUp : kKindRowRight;
+    const uint32_t p2a = p_.p2_adaptive > 0 ? uint32_t(p2k_[ka]) : uint32_t(p_.p2);
+    const uint32_t p2b = p_.p2_adaptive > 0 ? uint32_t(p2k_[kb]) : uint32_t(p_.p2);
+    const Word wma_p2 = sat_add(wma, Word(p2a > kNone ? kNone : p2a));
+    const Word wmb_p2 = sat_add(wmb, Word(p2b > kNone ? kNone : p2b));
+    Word lmin = Word(kNone);
+    Word lr[kLanes];
+  agg_mgm_lanes:
+    for (int i = 0; i < trip; ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      const uint32_t ua = step_from(pa, i, wp1, wma, wma_p2);
+      const uint32_t ub = step_from(pb, i, wp1, wmb, wmb_p2);
+      const uint32_t u = va && vb ? (ua + ub) >> 1 : va ? ua : vb ? ub : 0u;
+      const Word v = Word(c.v[i] + u);
+      lr[i] = v;
+      s.v[i] = Word(s.v[i] + (twice ? Word(v << 1) : v));
+      const Word vm = Caps::fixed ? v : Word(v | pad_[i]);  // don't-care lanes past PU: no candidate
+      lmin = vm < lmin ? vm : lmin;
+    }
+    const uint32_t prior = first ? kNone : run_min_[k];
+    const uint32_t run_min = uint32_t(lmin) < prior ? uint32_t(lmin) : prior;
+    run_min_[k] = run_min;
+
+    // Store this chunk's Lr: the row memory at x, and the previous pixel (pixel kind) or a row's
+    // column 0 (row-left kind's head). Rows of one or two pixels with one chunk per pixel: a
+    // column fetched above before this firing wrote it takes this firing's Lr.
+  agg_mgm_store:
+    for (int i = 0; i < trip; ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      row_[m][x_][lo + i] = lr[i];
+      if (straight) {
+        pix_[lo + i] = lr[i];
+        if (last && chunks_ == 1) next_a[i] = lr[i];  // the next pixel's predecessor is this one
+        if (kNarrowRows && last && chunks_ == 1 && nx == x_) next_b[i] = lr[i];
+      } else {
+        if (x_ == 0) win_head_[lo + i] = lr[i];
+        if (kNarrowRows && last && chunks_ == 1 && nxr == x_) {
+          next_b[i] = lr[i];
+          win_[0][lo + i] = lr[i];
+        }
+      }
+    }
+    if (last) {
+      row_min_[m][x_] = Word(run_min);
+      if (straight) pix_min_ = Word(run_min);
+      if (!straight && x_ == 0) win_head_min_ = Word(run_min);
+    }
+    pa[0] = last ? Word(kNone) : pa[n];
+    pb[0] = last ? Word(kNone) : pb[n];
+  agg_mgm_ahead:
+    for (int i = 0; i < trip; ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      pa[i + 1] = next_a[i];
+      pb[i + 1] = next_b[i];
+    }
+    if (chunk_ + 2 >= chunks_) {
+      pa[n + 1] = Word(kNone);
+      pb[n + 1] = Word(kNone);
+    }
+  }
+
+  // One predecessor's step into lane i (pred as ahead_): min(Lr(q, d), Lr(q, d±1) + P1, M + P2)
+  // - M, at most P2 (an unsigned wrap where the predecessor is outside the image, never used).
+  static uint32_t step_from(const Word* pred, int i, Word wp1, Word wm, Word wm_p2) {
+    const Word a = pred[i + 1];
+    const Word b = sat_add(pred[i], wp1);
+    const Word e = sat_add(pred[i + 2], wp1);
+    Word t = a < b ? a : b;
+    t = t < e ? t : e;
+    const Word mm = t < wm_p2 ? t : wm_p2;
+    return uint32_t(Word(mm - wm));
+  }
+
   // Lr(p, d) = C(p, d) + min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M over the lanes of this
   // firing for path kind k, added into s; at the start of a path (predecessor outside the
   // image) Lr(p, d) = C(p, d). Memory contract: row_[m][x] holds the previous row's Lr of column
@@ -473,7 +728,7 @@ class SgmAggregate {
   // column x + 2 of the previous row, the next pixel's x + 1.
   void keep_intensity() {
     prev_px_ = cur_px_;
-    if (!kRowKinds) return;
+    if (!kRowKinds && !mgm()) return;
     fetched_px_ = row_px_[min_int(x_ + 2, p_.width_px - 1)];
     row_px_[x_] = cur_px_;
     if (x_ < 2) head_px_[x_] = cur_px_;
@@ -506,6 +761,7 @@ class SgmAggregate {
 
   StereoParams p_;
   unsigned kinds_ = 0;
+  bool twice_straight_ = false, twice_diagonal_ = false;
   bool add_forward_ = false, tee_cost_ = false;
   int d_ = 1, lanes_ = 1, chunks_ = 1;
   int x_ = 0, y_ = 0, chunk_ = 0;
@@ -519,9 +775,19 @@ class SgmAggregate {
   Word pix_min_ = 0;  // pixel path: the previous pixel's minimum
   Word lag_[kMaxD];   // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
   Word mlag_ = 0;     // row-left path: the previous row's minimum of column x - 1
-  Word row_[kRowMemories][kMaxW][kMaxD];  // row kinds: previous-row Lr per column
-  Word row_min_[kRowMemories][kMaxW];     // row kinds: previous-row min_d Lr per column
-  Word pad_[kLanes];                      // software only: all ones in the don't-care lanes past PU (lane_trip)
+  Word row_[kRowMemories][kMaxW][kMaxD];  // row kinds (and MGM's pixel kind): previous-row Lr per column
+  Word row_min_[kRowMemories][kMaxW];     // the same kinds: previous-row min_d Lr per column
+  // MGM (aggregate_kind_mgm): each datapath's second predecessor lanes and minimum; the row-left
+  // datapath's window over its previous row ([0] column x, [1] column x - 1 of the next firing's
+  // pixel; lanes of chunks not yet fetched one pixel behind), the row's column 0, and the same
+  // for the minima (at the current pixel).
+  Word ahead2_[2][kLanes + 2];
+  Word mq2_[2];
+  Word win_[2][kMaxD];
+  Word win_head_[kMaxD];
+  Word win_min_[2];
+  Word win_head_min_ = 0;
+  Word pad_[kLanes];  // software only: all ones in the don't-care lanes past PU (lane_trip)
   // Adaptive P2 (adapt_p2): this pixel's intensity, the previous pixel's, the previous row's
   // (memory, its columns x - 1 .. x + 1 in registers, its first two columns), and each kind's P2.
   uint8_t cur_px_ = 0, prev_px_ = 0, fetched_px_ = 0;
@@ -545,9 +811,10 @@ class SgmAggregate {
     const int memories = banks <= 0 || banks > words ? words : banks;
     const int words_per_memory = (words + memories - 1) / memories;
     v.unused("software_lane_pad", pad_);  // read only where !Caps::fixed
+    const unsigned dk = datapaths();
   agg_storage_kinds:
     for (int k = 0; k < kKindCount; ++k) {
-      if (((kinds_ >> k) & 1u) == 0) {  // an inactive kind's state is never written: no hardware
+      if (((dk >> k) & 1u) == 0) {  // an inactive kind's state is never written: no hardware
         if (k == kKindPixel) v.unused("pixel_path_previous", pix_);
         if (k == kKindRowLeft) v.unused("row_left_delay", lag_);
         if (k != kKindPixel) v.unused("row_path", row_[k - 1]);
@@ -568,29 +835,72 @@ class SgmAggregate {
                  : k == kKindRowUp ? "row_min_up"
                                    : "row_min_right",
                  row_min_[m], p_.width_px, pb, 1, false, 1);
-        if (k == kKindRowLeft) {
+        if (k == kKindRowLeft && !mgm()) {  // MGM's row-left reads x - 1 from its window instead
           v.registers("row_left_delay", lag_, d_, pb);
           v.registers("row_left_delay_min", mlag_, 1, pb);
+        } else if (k == kKindRowLeft) {
+          v.unused("row_left_delay", lag_);
+          v.unused("row_left_delay_min", mlag_);
         }
       }
       v.registers_part("path_predecessor_lanes", ahead_[k], lanes_ + 1, pb);
       v.registers("path_min_previous", mq_[k], 1, pb);
       v.registers("path_min_running", run_min_[k], 1, pb);
     }
+    mgm_storage(v, q, memories, words_per_memory);
     intensity_storage(v);
   }
 
  private:
+  // MGM's state (aggregate_kind_mgm), no hardware with SGM: per datapath the second
+  // predecessor's lanes and minimum; the pixel datapath's row memory (mapped as the row kinds');
+  // the row-left datapath's window, head column and their minima.
+  template <class V>
+  void mgm_storage(V& v, int q, int memories, int words_per_memory) const {
+    const int pb = path_bits(p_);
+    const bool on = mgm();
+    const unsigned dk = datapaths();
+    const int pixel = row_memory(kKindPixel);
+    if (on && (dk & (1u << kKindPixel)) != 0) {
+      v.memory("row_path_pixel", row_[pixel], int64_t(p_.width_px) * words_per_memory, q * pb, memories, false, q);
+      v.memory("row_min_pixel", row_min_[pixel], p_.width_px, pb, 1, false, 1);
+    } else {
+      v.unused("row_path", row_[pixel]);
+      v.unused("row_min", row_min_[pixel]);
+    }
+  agg_mgm_storage_kinds:
+    for (int k = 0; k < 2; ++k) {  // the datapaths: kKindPixel, kKindRowLeft
+      if (on && ((dk >> k) & 1u) != 0) {
+        v.registers_part("mgm_second_lanes", ahead2_[k], lanes_ + 1, pb);
+        v.registers("mgm_second_min", mq2_[k], 1, pb);
+      } else {
+        v.unused("mgm_second_lanes", ahead2_[k]);
+        v.unused("mgm_second_min", mq2_[k]);
+      }
+    }
+    if (on && (dk & (1u << kKindRowLeft)) != 0) {
+      v.registers("mgm_row_window", win_, 2 * d_, pb);
+      v.registers("mgm_row_head", win_head_, d_, pb);
+      v.registers("mgm_row_window_min", win_min_, 2, pb);
+      v.registers("mgm_row_head_min", win_head_min_, 1, pb);
+    } else {
+      v.unused("mgm_row_window", win_);
+      v.unused("mgm_row_head", win_head_);
+      v.unused("mgm_row_window_min", win_min_);
+      v.unused("mgm_row_head_min", win_head_min_);
+    }
+  }
+
   // The adaptive P2's state (adapt_p2): no hardware without it; the row intensities only with a
   // row kind active.
   template <class V>
   void intensity_storage(V& v) const {
     const bool on = p_.p2_adaptive > 0;
-    const bool rows = on && (kinds_ & ~(1u << kKindPixel)) != 0;
+    const bool rows = on && row_intensities();
     if (on) {
       v.registers("intensity_current", cur_px_, 1, 8);
       v.registers("intensity_previous_pixel", prev_px_, 1, 8);
-      v.registers_part("p2_adaptive_per_kind", p2k_, slots(), penalty_bits(p_));
+      v.registers_part("p2_adaptive_per_kind", p2k_, steps(), penalty_bits(p_));
     } else {
       v.unused("intensity_current", cur_px_);
       v.unused("intensity_previous_pixel", prev_px_);
