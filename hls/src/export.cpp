@@ -263,6 +263,10 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["MIN_DISPARITY"] = std::to_string(p.min_disparity);
   v["P2_ADAPTIVE"] = std::to_string(p.p2_adaptive);
   v["P2_ADAPTIVE_01"] = p.p2_adaptive > 0 ? "1" : "0";
+  v["AGGREGATION_ENUM"] = p.aggregation == kern::kAggregationMgm ? "kAggregationMgm" : "kAggregationSgm";
+  v["STRUCTURE_KNOBS_TEXT"] =
+      std::string(p.aggregation == kern::kAggregationMgm ? ", MGM aggregation (two predecessors per path step)" : "") +
+      (p.p2_adaptive > 0 ? ", adaptive P2 (a = " + std::to_string(p.p2_adaptive) + ")" : std::string());
   v["MIN_DISPARITY_TEXT"] = p.min_disparity == 0
                                 ? std::string()
                                 : " from m = " + std::to_string(p.min_disparity) + " (code d is the disparity m + d)";

@@ -39,6 +39,8 @@ const Design kDesigns[] = {
     // ap_uint ports.
     {"knobs", "configs/ruf2018-census.yaml",
      "--set uniqueness_pct=10 --set census=sparse --set window=9x7 --set min_disparity=6", false},
+    // MGM on eight paths in two passes (the second pass's datapaths on the reversed stream).
+    {"mgm_two_pass", "configs/ruf2018-census.yaml", "--set paths=8 --set aggregation=mgm", false},
     // The 180-degree path in one pass, with adaptive P2 (intensities through the row reversal).
     {"five_paths", "configs/ruf2018-census.yaml",
      "--set paths=5 --set disparities=32 --set parallel_units=8 --set p2_adaptive=40 --set p2=64", false},

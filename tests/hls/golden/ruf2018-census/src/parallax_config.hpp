@@ -41,6 +41,7 @@ constexpr int kDisparities = 60;  // D: codes [0, D); code D = invalid
 constexpr int kMinDisparity = 0;  // m: code d is the disparity m + d
 constexpr int kP2Adaptive = 0;  // adaptive P2 gain a (0 = off): P2 - ((a |dI|) >> 4), floor P1 + 1
 #define PARALLAX_DESIGN_P2_ADAPTIVE 0  // the cost streams carry the left intensity
+constexpr int kAggregation = parallax::kern::kAggregationSgm;  // SGM, or MGM (two predecessors per path step)
 constexpr int kParallelUnits = 6;  // PU: disparities per firing
 constexpr int kChunks = kDisparities / kParallelUnits;
 constexpr unsigned kPathMask = 15u;  // paths 4
@@ -105,6 +106,7 @@ inline parallax::kern::StereoParams structure_params() {
   p.disparities = kDisparities;
   p.min_disparity = kMinDisparity;
   p.p2_adaptive = kP2Adaptive;
+  p.aggregation = kAggregation;
   p.parallel_units = kParallelUnits;
   p.path_mask = kPathMask;
   p.lr_check = kLrCheck;
