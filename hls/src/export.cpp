@@ -134,8 +134,9 @@ void check_request(const ExportRequest& r) {
   if (r.left.size() != n || r.right.size() != n || r.golden.size() != n)
     throw ExportError("export: the testbench pair and golden output must all be " + std::to_string(r.width_px) + "x" +
                       std::to_string(r.height_px));
+  const int invalid = r.config.disparities << r.config.subpixel_bits;  // D * 2^f
   for (uint16_t c : r.golden)
-    if (c > r.config.disparities) throw ExportError("export: a golden code exceeds the invalid code D");
+    if (c > invalid) throw ExportError("export: a golden code exceeds the invalid code D * 2^subpixel_bits");
   std::set<std::string> names;
   for (const auto& f : r.fifos) {
     if (f.depth < 1) throw ExportError("export: FIFO " + f.name + " needs a depth of at least 1");
@@ -154,8 +155,8 @@ void check_request(const ExportRequest& r) {
     throw ExportError("export: the reduced frame's golden output must be " + std::to_string(r.width_px) + "x" +
                       std::to_string(reduced_frame_rows(r.height_px)));
   for (uint16_t c : r.reduced_golden)
-    if (c > r.config.disparities)
-      throw ExportError("export: a golden code of the reduced frame exceeds the invalid code D");
+    if (c > invalid)
+      throw ExportError("export: a golden code of the reduced frame exceeds the invalid code D * 2^subpixel_bits");
 }
 
 // The stages whose loops in the top run until the stage is done (`while (!stage.done())`), by the
@@ -263,6 +264,8 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["MIN_DISPARITY"] = std::to_string(p.min_disparity);
   v["P2_ADAPTIVE"] = std::to_string(p.p2_adaptive);
   v["P2_ADAPTIVE_01"] = p.p2_adaptive > 0 ? "1" : "0";
+  v["SUBPIXEL_BITS"] = std::to_string(p.subpixel_bits);
+  v["MEDIAN_WIDE_KEYS"] = kern::disparity_bits(p) + 6 > 16 ? "1" : "0";  // 6: median.hpp kKeyIndexBits
   v["AGGREGATION_ENUM"] = p.aggregation == kern::kAggregationMgm ? "kAggregationMgm" : "kAggregationSgm";
   v["STRUCTURE_KNOBS_TEXT"] =
       std::string(p.aggregation == kern::kAggregationMgm ? ", MGM aggregation (two predecessors per path step)" : "") +
@@ -608,8 +611,8 @@ void readme_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
       two_pass
           ? "| `disparity` | AXI4 master (m_axi) | " + std::to_string(((kern::disparity_bits(p) + 15) / 16) * 16) +
                 " | the map, " + std::to_string(r.width_px) + "x" + std::to_string(r.height_px) +
-                " codes in raster order: 0.." + std::to_string(p.disparities - 1) + ", " +
-                std::to_string(p.disparities) +
+                " codes in raster order: 0.." + std::to_string(kern::invalid_code(p) - 1) + ", " +
+                std::to_string(kern::invalid_code(p)) +
                 " = invalid, of the previous call's frame (bundle `gmem_map`) |\n| `frame_write`, `frame_read` | AXI4 "
                 "master (m_axi) | " +
                 std::to_string(kern::frame_word_bits(p)) + " | two frame buffers of " +
@@ -617,7 +620,7 @@ void readme_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
                 " bytes) each, pass 1 writes one (bundle `gmem_wr`) while pass 2 reads the other (bundle `gmem_rd`); "
                 "the host swaps them between calls; layout in `src/parallax/kernels/frame_buffer.hpp` |\n"
           : "| `disparity_out` | AXI4-Stream | " + v["OUT_BITS"] + " | disparity codes 0.." +
-                std::to_string(p.disparities - 1) + ", " + std::to_string(p.disparities) +
+                std::to_string(kern::invalid_code(p) - 1) + ", " + std::to_string(kern::invalid_code(p)) +
                 " = invalid; same framing |\n";
 
   std::string headers;
@@ -725,10 +728,11 @@ std::vector<GeneratedFile> project_files(const ExportRequest& r, Values& v) {
   for (const auto& f : detail::copied_files()) files.push_back({f.name, *f.text, false});
   files.push_back({"tb/left.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.left.data()), true});
   files.push_back({"tb/right.pgm", pgm(r.width_px, r.height_px, 255, nullptr, r.right.data()), true});
+  files.push_back({"tb/golden_disparity.pgm",
+                   pgm(r.width_px, r.height_px, c.disparities << c.subpixel_bits, r.golden.data(), nullptr), true});
   files.push_back(
-      {"tb/golden_disparity.pgm", pgm(r.width_px, r.height_px, c.disparities, r.golden.data(), nullptr), true});
-  files.push_back({"tb/golden_disparity_reduced.pgm",
-                   pgm(r.width_px, r.reduced_height_px, c.disparities, r.reduced_golden.data(), nullptr), true});
+      {"tb/golden_disparity_reduced.pgm",
+       pgm(r.width_px, r.reduced_height_px, c.disparities << c.subpixel_bits, r.reduced_golden.data(), nullptr), true});
   if (rectify) {
     auto table = [](const std::vector<kern::MapEntry>& m) {
       std::string out;

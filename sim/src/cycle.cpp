@@ -119,6 +119,7 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
   rep.codes.height_px = p.height_px;
   rep.codes.disparities = p.disparities;
   rep.codes.min_disparity = p.min_disparity;
+  rep.codes.subpixel_bits = p.subpixel_bits;
   if (rep.deadlock) {  // no frame leaves a deadlocked pipeline
     rep.codes.code.assign(std::size_t(p.width_px) * std::size_t(p.height_px), 0);
     return rep;
@@ -141,7 +142,7 @@ CycleReport run_timing(const GreyImage& left, const GreyImage& right, const kern
   detail::RunSetup setup;
   setup.opt = &opt;
   run_control(left, right, p, setup, rep);
-  rep.codes = DisparityCodes{p.width_px, p.height_px, p.disparities, p.min_disparity, {}};
+  rep.codes = DisparityCodes{p.width_px, p.height_px, p.disparities, p.min_disparity, p.subpixel_bits, {}};
   return rep;
 }
 

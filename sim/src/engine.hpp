@@ -60,6 +60,7 @@ class Engine : private PipelineRun<kTimed> {
     out.height_px = p.height_px;
     out.disparities = p.disparities;
     out.min_disparity = p.min_disparity;
+    out.subpixel_bits = p.subpixel_bits;
     if (kData) out.code.assign(std::size_t(p.width_px) * p.height_px, 0);
     const bool two_pass = kern::two_pass_paths(p.path_mask);
     if (p.cost == kern::kCostCensus)
@@ -91,6 +92,7 @@ class Engine : private PipelineRun<kTimed> {
     out.height_px = p.height_px;
     out.disparities = p.disparities;
     out.min_disparity = p.min_disparity;
+    out.subpixel_bits = p.subpixel_bits;
     out.code.assign(std::size_t(frame_pixels()), 0);
     if (kern::two_pass_paths(p.path_mask) ||
         tokens.size() != std::size_t(frame_pixels()) * std::size_t(p.disparities / p.parallel_units))

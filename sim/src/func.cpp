@@ -69,6 +69,7 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
   need(p.min_disparity >= 0 && p.min_disparity <= kern::kMaxMinDisparity, "min_disparity must be in [0, 256]");
   need(p.aggregation == kern::kAggregationSgm || p.aggregation == kern::kAggregationMgm,
        "aggregation must be sgm or mgm");
+  need(p.subpixel_bits >= 0 && p.subpixel_bits <= kern::kMaxSubpixelBits, "subpixel_bits must be in [0, 4]");
   need(p.aggregation != kern::kAggregationMgm || kern::mgm_paths_supported(p.path_mask),
        "mgm needs forward paths or all eight (the one-pass 180-degree path has no second predecessor)");
   need(kern::aggregate_bits(p) <= 31, "aggregate wider than 31 bits");

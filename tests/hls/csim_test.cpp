@@ -45,6 +45,8 @@ const Design kDesigns[] = {
      "--set paths=5 --set p2_adaptive=40 --set disparities=32 --set parallel_units=8 --set p2=64"},
     {"mgm", "configs/ruf2018-census.yaml",
      "--set aggregation=mgm --set p2_adaptive=24 --set disparities=32 --set parallel_units=8 --set p2=64"},
+    {"subpixel", "configs/ruf2018-census.yaml",
+     "--set subpixel_bits=4 --set paths=5 --set disparities=32 --set parallel_units=8 --set uniqueness_pct=10"},
     {"min_disparity_sad", "configs/ruf2018-sad.yaml",
      "--set min_disparity=10 --set disparities=32 --set parallel_units=8 --set paths=5"},
 };

@@ -38,7 +38,7 @@ const Design kDesigns[] = {
     // The uniqueness register, a census variant and a minimum disparity, through the vendor's
     // ap_uint ports.
     {"knobs", "configs/ruf2018-census.yaml",
-     "--set uniqueness_pct=10 --set census=sparse --set window=9x7 --set min_disparity=6", false},
+     "--set uniqueness_pct=10 --set census=sparse --set window=9x7 --set min_disparity=6 --set subpixel_bits=3", false},
     // MGM on eight paths in two passes (the second pass's datapaths on the reversed stream).
     {"mgm_two_pass", "configs/ruf2018-census.yaml", "--set paths=8 --set aggregation=mgm", false},
     // The 180-degree path in one pass, with adaptive P2 (intensities through the row reversal).

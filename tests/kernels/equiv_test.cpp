@@ -252,6 +252,36 @@ TEST(Equiv, MgmAcrossPathSetsAndSizes) {
       }
 }
 
+// Sub-pixel codes (f = 1 .. 4) through the LR check, uniqueness, the median, the row reversal and
+// two passes: every path layout, one and many chunks (the best's neighbours across chunk edges),
+// PU = 1, awkward sizes, a minimum disparity.
+TEST(Equiv, SubpixelCodesThroughEveryStage) {
+  uint32_t seed = 9900;
+  const int sizes[][2] = {{1, 3}, {2, 2}, {5, 4}, {31, 9}, {47, 7}};
+  for (unsigned paths : {unsigned(kern::kForwardPaths), unsigned(kern::kForwardPaths | kern::kPath180),
+                         unsigned(kern::kAllPaths), unsigned(kern::kPath0)})
+    for (int f = 1; f <= kern::kMaxSubpixelBits; ++f)
+      for (const auto& sz : sizes) {
+        StereoParams p = base_params(sz[0], sz[1]);
+        p.path_mask = paths;
+        p.subpixel_bits = f;
+        p.cost = seed % 3 == 0 ? int(kern::kCostSad) : int(kern::kCostCensus);
+        if (p.cost == kern::kCostSad) {
+          p.p1 = 100;
+          p.p2 = 2000;
+        }
+        p.disparities = seed % 2 ? 16 : 24;
+        const int pus[] = {1, 4, p.disparities};
+        p.parallel_units = pus[seed % 3];
+        p.lr_check = seed % 4 != 0;
+        p.uniqueness_pct = seed % 5 == 0 ? 10 : 0;
+        p.median = seed % 3 == 1 ? 5 : 0;
+        p.min_disparity = seed % 7 == 0 ? 3 : 0;
+        const Pattern pattern = seed % 5 == 1 ? Pattern::kRandom : Pattern::kShiftedTexture;
+        expect_equivalent(p, pattern, ++seed);
+      }
+}
+
 // Odd widths, widths not a multiple of PU, images smaller than the window, single rows/columns.
 TEST(Equiv, AwkwardSizes) {
   uint32_t seed = 4000;
@@ -301,6 +331,7 @@ TEST(Equiv, SeededRandomConfigurations) {
     p.p2_adaptive = rng() % 3 == 0 && !kern::two_pass_paths(p.path_mask) ? int(rng() % 256) : 0;
     p.aggregation = rng() % 4 == 0 && kern::mgm_paths_supported(p.path_mask) ? int(kern::kAggregationMgm)
                                                                              : int(kern::kAggregationSgm);
+    p.subpixel_bits = rng() % 3 == 0 ? int(rng() % 5) : 0;
     SCOPED_TRACE("master seed " + std::to_string(master_seed) + " draw " + std::to_string(i));
     expect_equivalent(p, i % 2 ? Pattern::kRandom : Pattern::kShiftedTexture, master_seed + uint32_t(i));
   }

@@ -123,7 +123,8 @@ inline std::string describe(const kern::StereoParams& p) {
     << "x" << p.window_h << " D=" << p.disparities << " PU=" << p.parallel_units << " paths=0x" << std::hex
     << p.path_mask << std::dec << " P1/P2=" << p.p1 << "/" << p.p2 << " lr=" << p.lr_check << "/" << p.lr_tolerance
     << " median=" << p.median << " uniqueness=" << p.uniqueness_pct << " census=" << p.census
-    << " min_disparity=" << p.min_disparity;
+    << " min_disparity=" << p.min_disparity << " p2_adaptive=" << p.p2_adaptive
+    << (p.aggregation == kern::kAggregationMgm ? " mgm" : " sgm") << " subpixel_bits=" << p.subpixel_bits;
   return o.str();
 }
 

@@ -174,6 +174,18 @@ TEST(CycleEquiv, MgmGivesTheGoldenCodes) {
     }
 }
 
+// Sub-pixel codes: the cycle run gives the golden codes (f = 3, one and two passes, 5 paths).
+TEST(CycleEquiv, SubpixelGivesTheGoldenCodes) {
+  uint32_t seed = 7800;
+  for (unsigned paths :
+       {unsigned(kern::kForwardPaths), unsigned(kern::kForwardPaths | kern::kPath180), unsigned(kern::kAllPaths)}) {
+    StereoParams p = params(37, 9, 16, 4, paths);
+    p.subpixel_bits = 3;
+    p.median = 3;
+    expect_cycle_equivalent(p, one_pair_per_cycle(), ++seed);
+  }
+}
+
 TEST(CycleEquiv, AwkwardSizesFifoDepthsAndCameraInput) {
   uint32_t seed = 8000;
   const int sizes[][2] = {{1, 1}, {3, 2}, {17, 5}, {33, 3}};

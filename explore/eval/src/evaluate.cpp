@@ -29,14 +29,15 @@ DisparityMap to_disparity_map(const sim::DisparityCodes& codes) {
   DisparityMap out;
   out.disparity_px = cv::Mat(codes.height_px, codes.width_px, CV_32FC1);
   out.valid_mask = cv::Mat(codes.height_px, codes.width_px, CV_8UC1);
-  const uint16_t invalid = uint16_t(codes.disparities);  // docs/algorithm.md §5
+  const uint16_t invalid = uint16_t(codes.disparities << codes.subpixel_bits);  // docs/algorithm.md §5
+  const float step_px = 1.0f / float(1 << codes.subpixel_bits);
   for (int y = 0; y < codes.height_px; ++y) {
     float* d = out.disparity_px.ptr<float>(y);
     uint8_t* v = out.valid_mask.ptr<uint8_t>(y);
     const uint16_t* c = codes.code.data() + std::size_t(y) * std::size_t(codes.width_px);
     for (int x = 0; x < codes.width_px; ++x) {
       const bool ok = c[x] != invalid;
-      d[x] = ok ? float(codes.min_disparity + c[x]) : 0.0f;
+      d[x] = ok ? float(codes.min_disparity) + float(c[x]) * step_px : 0.0f;
       v[x] = ok ? 255 : 0;
     }
   }

@@ -105,6 +105,7 @@ kern::StereoParams PipelineConfig::stereo_params(int width_px, int height_px) co
   p.min_disparity = min_disparity;
   p.p2_adaptive = p2_adaptive;
   p.aggregation = aggregation == "mgm" ? kern::kAggregationMgm : kern::kAggregationSgm;
+  p.subpixel_bits = subpixel_bits;
   p.parallel_units = parallel_units;
   p.path_mask = path_mask;
   p.lr_check = lr_check;

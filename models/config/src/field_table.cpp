@@ -396,6 +396,9 @@ std::vector<FieldRow> make_table() {
       choice("aggregation", &P::aggregation, {"sgm", "mgm"},
              "path recursion: SGM steps from the path's predecessor; MGM averages the steps from it and the "
              "neighbour across the path (more memory; forward paths or eight)"),
+      integer("subpixel_bits", &P::subpixel_bits, in_range(0, kern::kMaxSubpixelBits),
+              "fraction bits of the disparity codes: a parabola through the aggregates at d-1, d, d+1 refines "
+              "the winner (0 = integer disparities, no hardware)"),
       flag("lr_check", &P::lr_check, "left-right consistency check"),
       register_int("lr_tolerance", &Registers::lr_tolerance, in_range(0, 255),
                    "largest left-right disagreement in pixels that the check accepts"),

@@ -244,6 +244,9 @@ void validate_stereo_params(const kern::StereoParams& p) {
   if (p.p2_adaptive < 0 || p.p2_adaptive > kern::kMaxP2Adaptive)
     fail("p2_adaptive must be in [0, " + std::to_string(kern::kMaxP2Adaptive) + "], got " +
          std::to_string(p.p2_adaptive));
+  if (p.subpixel_bits < 0 || p.subpixel_bits > kern::kMaxSubpixelBits)
+    fail("subpixel_bits must be in [0, " + std::to_string(kern::kMaxSubpixelBits) + "], got " +
+         std::to_string(p.subpixel_bits));
   if (p.aggregation != kern::kAggregationSgm && p.aggregation != kern::kAggregationMgm)
     fail("aggregation must be kAggregationSgm or kAggregationMgm, got " + std::to_string(p.aggregation));
   if (p.path_mask == 0) fail("path_mask must select at least one path");
@@ -483,6 +486,26 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
     return true;
   };
 
+  // Sub-pixel code of the winner d (docs §4): d * 2^f plus the parabola's vertex offset
+  // (a - b) / (2 (a + b)), a = S(d-1) - S(d), b = S(d+1) - S(d), in f fraction bits rounded half
+  // up in magnitude; no offset at d = 0, d = D - 1 or a + b = 0.
+  const int f = p.subpixel_bits;
+  auto refine = [&](int x, int y, int d) {
+    int64_t code = int64_t(d) << f;
+    if (f > 0 && d > 0 && d + 1 < num_disp) {
+      const int64_t a = int64_t(s(x, y, d - 1)) - int64_t(s(x, y, d));
+      const int64_t b = int64_t(s(x, y, d + 1)) - int64_t(s(x, y, d));
+      PARALLAX_REF_CHECK(a >= 0 && b >= 0);
+      if (a + b > 0) {
+        const int64_t half_steps = (std::abs(a - b) << f) / (a + b);  // 2^f |offset| * 2, floored
+        const int64_t r = (half_steps + 1) / 2;
+        PARALLAX_REF_CHECK(r <= (int64_t(1) << f) / 2);
+        code += a > b ? r : -r;
+      }
+    }
+    return static_cast<uint16_t>(code);
+  };
+
   std::vector<uint16_t> codes(pixel_count(width, height), invalid);
   std::vector<int> d_left(static_cast<std::size_t>(width), 0);
   std::vector<int> d_right(static_cast<std::size_t>(width), 0);
@@ -511,7 +534,7 @@ std::vector<uint16_t> select_disparity(const std::vector<uint32_t>& aggregate_vo
       }
       if (valid)
         codes[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] =
-            static_cast<uint16_t>(dl);
+            refine(x, y, dl);
     }
   }
   return codes;

@@ -169,6 +169,7 @@ TEST(Config, EveryViolationNamesItsField) {
       {"p2_adaptive: 256", "'p2_adaptive'"},
       {"p2_adaptive: 20\npaths: 8", "'p2_adaptive'"},  // the frame buffer carries no intensities
       {"aggregation: sgmm", "'aggregation'"},
+      {"subpixel_bits: 5", "'subpixel_bits'"},
       {"aggregation: mgm\npaths: 5", "'aggregation'"},  // 180 in one pass: no second predecessor yet
   };
   for (const auto& c : cases) {

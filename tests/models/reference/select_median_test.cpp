@@ -7,6 +7,8 @@
 
 #include "test_util.hpp"
 
+#include "parallax/kernels/wta_lr.hpp"
+
 namespace parallax::ref {
 namespace {
 
@@ -96,6 +98,34 @@ TEST(SelectDisparity, MinDisparityOffsetsValidityAndTheRightPixel) {
   EXPECT_EQ(select_disparity(kS, p), (std::vector<uint16_t>{3, 0, 3, 1}));
   p.min_disparity = 4;  // every match lies left of the right image
   EXPECT_EQ(select_disparity(kS, p), (std::vector<uint16_t>{3, 3, 3, 3}));
+}
+
+// Sub-pixel codes with f = 2 (quarter pixels), W = 8, H = 1, D = 5, no LR check; a = S(d-1) - S(d),
+// b = S(d+1) - S(d), t = floor(|a - b| 4 / (a + b)), r = (t + 1) >> 1:
+//   x3 [30 12 10 18 30]: d 2, a 2, b 8: t = floor(24 / 10) = 2, r 1, below -> 8 - 1 = 7 (2 - 0.3);
+//   x4 [20  4  6 30 30]: d 1, a 16, b 2: t = floor(56 / 18) = 3, r 2 -> 4 + 2 = 6 (1 + 0.39);
+//   x5 [30 30 10 10 30]: d 2 (the first minimum), a 20, b 0: t = 4, r 2 -> 10 (the tie's middle);
+//   x6 d 0 and x7 d 4 = D - 1: no neighbour on one side, no fraction; invalid is D * 4 = 20.
+TEST(SelectDisparity, SubpixelParabolaByHand) {
+  kern::StereoParams p = make_params(8, 1, kern::kCostSad, 1, 5, kern::kPath0, 1, 2);
+  std::vector<std::vector<uint32_t>> row(3, std::vector<uint32_t>{0, 50, 50, 50, 50});
+  row.push_back({30, 12, 10, 18, 30});
+  row.push_back({20, 4, 6, 30, 30});
+  row.push_back({30, 30, 10, 10, 30});
+  row.push_back({5, 30, 30, 30, 30});
+  row.push_back({30, 30, 30, 30, 5});
+  const std::vector<uint32_t> s = volume_from({row});
+  EXPECT_EQ(select_disparity(s, p), (std::vector<uint16_t>{0, 0, 0, 2, 1, 2, 0, 4}));
+  p.subpixel_bits = 2;
+  EXPECT_EQ(kern::invalid_code(p), 20);
+  EXPECT_EQ(select_disparity(s, p), (std::vector<uint16_t>{0, 0, 0, 7, 6, 10, 0, 16}));
+  // The kernels' restoring division gives the same codes.
+  EXPECT_EQ(kern::subpixel_code(2, 5, 2, 12, 10, 18), 7u);
+  EXPECT_EQ(kern::subpixel_code(1, 5, 2, 20, 4, 6), 6u);
+  EXPECT_EQ(kern::subpixel_code(2, 5, 2, 30, 10, 10), 10u);
+  EXPECT_EQ(kern::subpixel_code(4, 5, 2, 30, 5, 0), 16u);
+  p.subpixel_bits = 5;
+  EXPECT_THROW(select_disparity(s, p), std::invalid_argument);
 }
 
 std::vector<uint16_t> median3_centre_case(const std::vector<uint16_t>& window) {

@@ -346,6 +346,19 @@ TEST(ResourcesStorage, MgmAggregation) {
   check_design<640, 60, 6, 5, 5>(cfg);
 }
 
+// Sub-pixel codes: the WTA's neighbour registers, the wider delayed left codes, median and row
+// reversal of the wider codes.
+TEST(ResourcesStorage, SubpixelCodes) {
+  auto cfg = seed();
+  cfg.name = "subpixel 4 bits";
+  cfg.subpixel_bits = 4;
+  check_design<640, 60, 6, 5, 5>(cfg);
+  cfg.name = "subpixel 2 bits, 5 paths";
+  cfg.subpixel_bits = 2;
+  cfg.path_mask = kern::kForwardPaths | kern::kPath180;
+  check_design<640, 60, 6, 5, 5>(cfg);
+}
+
 TEST(ResourcesStorage, MedianThreeAndSeven) {
   auto cfg = seed();
   cfg.name = "median 3";

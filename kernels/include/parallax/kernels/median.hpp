@@ -17,6 +17,13 @@ struct MedianPlan {
   bool prime;  // a prologue step of the window registers (the start of a row), no output
 };
 
+// Keys wider than 16 bits (codes with sub-pixel fractions, disparity_bits + 6 > 16): the export
+// defines it for its design (a compile-time choice there); software instantiations decide at
+// run time.
+#ifndef PX_MEDIAN_WIDE_KEYS
+#define PX_MEDIAN_WIDE_KEYS 0
+#endif
+
 template <class Caps>
 class Median {
  public:
@@ -24,6 +31,7 @@ class Median {
 
   void configure(const StereoParams& p) {
     k_ = p.median >= 3 ? p.median : 1;
+    wide_ = disparity_bits(p) + kKeyIndexBits > 16;
     r_ = k_ / 2;
     width_px_ = p.width_px;
     height_px_ = p.height_px;
@@ -160,24 +168,29 @@ class Median {
   // and the exported C simulation the pair form, both against one golden model.
   template <int K>
   DispCode window_median() const {
+    const bool wide = Caps::fixed ? PX_MEDIAN_WIDE_KEYS != 0 : wide_;  // a constant in the export
+    return wide ? rank_median<K, uint32_t>() : rank_median<K, uint16_t>();
+  }
+  template <int K, class Key>
+  DispCode rank_median() const {
     static_assert(K <= kRows, "the window registers hold k x k codes");
     const int kN = K * K;
     const int kPad = (kN + 31) / 32 * 32;  // lanes padded with keys above every real key
-    uint16_t key[kPad];
+    Key key[kPad];
     uint16_t smaller[kPad];
   median_gather:
     for (int a = 0; a < kPad; ++a) {
       PX_PRAGMA("HLS UNROLL")
-      key[a] = a < kN ? uint16_t((win_.at(a % K, a / K) << kKeyIndexBits) | a) : uint16_t(0xFFFFu);
+      key[a] = a < kN ? Key((Key(win_.at(a % K, a / K)) << kKeyIndexBits) | Key(a)) : Key(~Key(0));
       smaller[a] = 0;
     }
     if (Caps::fixed) {
-      RankPair<kPad> pair(key, smaller);
+      RankPair<kPad, Key> pair(key, smaller);
       rank_pairs<kN>(pair);
     } else {
     median_count:
       for (int b = 0; b < kN; ++b) {
-        const uint16_t kb = key[b];
+        const Key kb = key[b];
       median_count_lanes:
         for (int a = 0; a < kPad; ++a) smaller[a] = uint16_t(smaller[a] + (kb < key[a] ? 1 : 0));
       }
@@ -208,11 +221,11 @@ class Median {
   }
   // A comparator of the network: each comparison counts for both keys (a < b is !(b < a) for
   // distinct keys).
-  template <int P>
+  template <int P, class Key>
   struct RankPair {
-    const uint16_t (&key)[P];
+    const Key (&key)[P];
     uint16_t (&smaller)[P];
-    RankPair(const uint16_t (&k)[P], uint16_t (&s)[P]) : key(k), smaller(s) {}
+    RankPair(const Key (&k)[P], uint16_t (&s)[P]) : key(k), smaller(s) {}
     PX_INLINE void operator()(int a, int b) {
       const int a_smaller = key[a] < key[b] ? 1 : 0;
       smaller[b] = uint16_t(smaller[b] + a_smaller);
@@ -242,6 +255,7 @@ class Median {
   }
 
   int k_ = 1, r_ = 0, width_px_ = 0, height_px_ = 0;
+  bool wide_ = false;  // rank keys of 32 bits (PX_MEDIAN_WIDE_KEYS)
   int x_ = 0, y_ = 0;
   int prime_ = 0;  // prologue steps of this row's window registers done (of r)
   bool done_ = true;

@@ -81,6 +81,7 @@ struct StereoParams {
   int min_disparity = 0;  // m, 0 <= m <= kMaxMinDisparity: the codes d in [0, D) are disparities m + d
   int p2_adaptive = 0;    // a, 0..kMaxP2Adaptive: P2 shrinks by (a |dI|) >> 4 (0 = off); a constant of the design
   int aggregation = 0;    // AggregationKind: SGM or MGM; a constant of the design
+  int subpixel_bits = 0;  // f, 0..kMaxSubpixelBits: fraction bits of the codes (parabola fit); a constant
 };
 
 // The register fields of StereoParams on their own: the values a hardware register holds, which
@@ -110,6 +111,8 @@ constexpr int kUniquenessBits = 7;
 // and the left image's step dI = |I(p) - I(q)|, P2' = max(P1 + 1, P2 - ((a * dI) >> 4)); a = 0
 // keeps P2. A structure constant (the export multiplies by it as a constant), 8 bits.
 constexpr int kMaxP2Adaptive = 255;
+// Sub-pixel refinement (docs/algorithm.md §4): at most 4 fraction bits in a code.
+constexpr int kMaxSubpixelBits = 4;
 constexpr int kP2AdaptiveBits = 8;
 constexpr int kP2AdaptiveShift = 4;
 inline int adaptive_p2(int p1, int p2, int a, int i_p, int i_q) {
@@ -194,13 +197,17 @@ inline int path_bits(const StereoParams& p) {
 inline int aggregate_bits(const StereoParams& p) {
   return bits_for(uint64_t(path_count(p)) * (uint64_t(cost_max(p)) + p2_register_max(p)));
 }
-// Disparity codes are [0, D]; the code D means invalid; a valid code d is the disparity
-// min_disparity + d (docs/algorithm.md §5).
+// Disparity codes are [0, D * 2^f]; the code D * 2^f means invalid; a valid code c is the
+// disparity min_disparity + c / 2^f, f = subpixel_bits (docs/algorithm.md §4, §5).
 inline int disparity_bits(const StereoParams& p) {
-  return bits_for(uint64_t(p.disparities));
+  return bits_for(uint64_t(p.disparities) << p.subpixel_bits);
 }
 inline int invalid_code(const StereoParams& p) {
-  return p.disparities;
+  return p.disparities << p.subpixel_bits;
+}
+// The integer disparities' width (the WTA's candidates and the LR check): bits(D).
+inline int disparity_int_bits(const StereoParams& p) {
+  return bits_for(uint64_t(p.disparities));
 }
 
 }  // namespace kern

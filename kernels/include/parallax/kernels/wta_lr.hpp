@@ -10,7 +10,12 @@
 // top. With a uniqueness margin (uniqueness_pct > 0) the stage also tracks, across the chunks of
 // a pixel, the smallest cost at least two disparities away from the running best (masked min
 // trees over the lanes, three registers), and invalidates the pixel when that cost is within the
-// margin of the best (docs/algorithm.md §4). C++14 synthesisable subset.
+// margin of the best (docs/algorithm.md §4). With sub-pixel refinement (subpixel_bits f > 0) it
+// keeps the aggregates beside the running best (the lane before it, or the previous chunk's last
+// lane; the lane after it, or the next chunk's first) and refines the winner by a parabola in f
+// fraction bits (subpixel_code below: f + 1 restoring division steps, no recurrence); the
+// delayed left results carry the fraction, the LR check compares integer disparities.
+// C++14 synthesisable subset.
 #pragma once
 
 #include "parallax/kernels/caps.hpp"
@@ -19,6 +24,38 @@
 
 namespace parallax {
 namespace kern {
+
+// Sub-pixel refinement of the winner d (docs/algorithm.md §4): with a = S(d-1) - S(d) and
+// b = S(d+1) - S(d) (both >= 0), the parabola's vertex lies (a - b) / (2 (a + b)) from d; the
+// code is d * 2^f plus that offset in f fraction bits, rounded half up in magnitude:
+// t = floor(|a - b| * 2^f / (a + b)) (0 when a + b = 0), r = (t + 1) >> 1 <= 2^(f-1), sign of
+// a - b. At d = 0, d = D - 1 or f = 0 the code is d * 2^f. The division is restoring, one
+// quotient bit per step (f + 1 steps; |a - b| <= a + b, so t <= 2^f).
+inline int subpixel_offset(int d, int num_disp, int f, uint64_t s_left, uint64_t s_best, uint64_t s_right) {
+  if (f <= 0 || d <= 0 || d + 1 >= num_disp) return 0;
+  const uint64_t a = s_left - s_best;
+  const uint64_t b = s_right - s_best;
+  const uint64_t den = a + b;
+  if (den == 0) return 0;
+  const uint64_t num = a > b ? a - b : b - a;
+  uint64_t rem = num;
+  uint32_t t = 0;
+subpixel_divide:
+  for (int k = 0; k <= kMaxSubpixelBits; ++k) {
+    if (k <= f) {
+      const bool bit = rem >= den;
+      rem = bit ? rem - den : rem;
+      t = (t << 1) | (bit ? 1u : 0u);
+      rem <<= 1;
+    }
+  }
+  const int r = int((t + 1) >> 1);
+  return a > b ? r : -r;
+}
+// The code of winner d: d * 2^f plus its offset.
+inline uint32_t subpixel_code(int d, int num_disp, int f, uint64_t s_left, uint64_t s_best, uint64_t s_right) {
+  return uint32_t(int(uint32_t(d) << f) + subpixel_offset(d, num_disp, f, s_left, s_best, s_right));
+}
 
 struct WtaPlan {
   bool read;   // one aggregate token
@@ -42,6 +79,7 @@ class WtaLr {
     d_ = Caps::disparities(p.disparities);
     lanes_ = Caps::parallel_units(p.parallel_units);
     m_ = Caps::min_disparity(p.min_disparity);
+    f_ = p.subpixel_bits;
     chunks_ = d_ / lanes_;
     delay_ = p.lr_check ? d_ - 1 : 0;
     start_frame();
@@ -81,7 +119,7 @@ class WtaLr {
     } else {  // a flushing firing: one more column passes with no candidates
       ++time_;
       shift_column();
-      shift_left(0);
+      shift_left(0, 0);
     }
     if (pl.write) out.write(emit());
     finish(pl);
@@ -141,10 +179,25 @@ class WtaLr {
   template <class R>
   void declare(R& r) const {
     const int ab = aggregate_bits(p_);
-    const int db = disparity_bits(p_);
+    const int db = disparity_int_bits(p_);
     const int d = p_.disparities;
     const int pu = p_.parallel_units;
     declare_raster_control(r, p_.width_px, p_.height_px, d / pu);
+    if (p_.subpixel_bits > 0) {
+      // The neighbours' selects over the lanes (before the best, after it, the last lane) and
+      // their registers' selects; a = S(d-1) - S(d), b = S(d+1) - S(d), a + b, |a - b|; the
+      // restoring division (f + 1 compare-subtract steps); the rounding and the signed offset.
+      const int f = p_.subpixel_bits;
+      if (pu > 1) r.op("subpixel_neighbour_select", kOpMux, ab, 3 * (pu - 1));
+      r.op("subpixel_neighbour_update", kOpMux, ab, 3);
+      r.op("subpixel_differences", kOpAdd, ab + 1, 4);
+      r.op("subpixel_magnitude", kOpMux, ab + 1, 1);
+      r.op("subpixel_divide_steps", kOpAdd, ab + 2, f + 1);
+      r.op("subpixel_divide_select", kOpMux, ab + 2, f + 1);
+      r.op("subpixel_round", kOpAdd, f + 1, 1);
+      r.op("subpixel_offset", kOpAdd, disparity_bits(p_), 1);
+      r.op("subpixel_edges", kOpCompare, db, 2);
+    }
     if (pu > 1) {
       r.op("wta_min_tree", kOpCompare, ab, pu - 1);
       r.op("wta_min_select", kOpMux, ab, pu - 1);
@@ -208,12 +261,42 @@ class WtaLr {
       first = hit < first ? hit : first;
     }
     if (p_.uniqueness_pct > 0) track_uniqueness(t, lo, n, chunk_min, first);
+    if (f_ > 0) track_neighbours(t, n, chunk_min, first);
     if (chunk_min < best_cost_) {  // strict: an earlier chunk (smaller d) wins ties
       best_cost_ = chunk_min;
       best_d_ = lo + first;
     }
     if (p_.lr_check) right_candidates(t, lo);
-    if (chunk_ + 1 == chunks_) shift_left(unique() ? DispCode(best_d_) : DispCode(d_));
+    if (chunk_ + 1 == chunks_) {
+      // The fraction travels beside the integer winner, biased by 2^(f-1) into [0, 2^f].
+      const int offset = f_ > 0 ? subpixel_offset(best_d_, d_, f_, sp_left_, best_cost_, sp_right_) : 0;
+      shift_left(unique() ? DispCode(best_d_) : DispCode(d_), DispCode(offset + ((1 << f_) >> 1)));
+    }
+  }
+
+  // Sub-pixel neighbours of the running best (called before the best is updated, chunks in
+  // ascending d): when this chunk takes the best at lane `first`, S at first - 1 (the previous
+  // chunk's last lane when first = 0) and at first + 1 (pending when first is the last lane: the
+  // next chunk's lane 0 fills it). Two PU-input selects and three registers.
+  void track_neighbours(const SumToken& t, int n, uint32_t chunk_min, int first) {
+    uint32_t before = kNoCost, after = kNoCost, last_lane = kNoCost;
+  wta_subpixel_lanes:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      const uint32_t c = uint32_t(t.v[i]);
+      before = i + 1 == first ? c : before;
+      after = i < n && i == first + 1 ? c : after;
+      last_lane = i + 1 == n ? c : last_lane;
+    }
+    if (chunk_min < best_cost_) {
+      sp_left_ = first == 0 ? sp_prev_last_ : before;
+      sp_right_ = after;
+      sp_pending_ = first + 1 >= n;
+    } else if (sp_pending_) {
+      sp_right_ = uint32_t(t.v[0]);
+      sp_pending_ = false;
+    }
+    sp_prev_last_ = last_lane;
   }
 
   // Uniqueness state of the pixel, the lanes of a chunk holding d = lo .. lo + n - 1 in
@@ -256,7 +339,10 @@ class WtaLr {
   }
 
   // The left results' delay line moves one column: entry k holds the result k columns back.
-  void shift_left(DispCode newest) { left_d_.shift_in(newest, delay_ + 1); }
+  void shift_left(DispCode newest, DispCode fraction) {
+    left_d_.shift_in(newest, delay_ + 1);
+    if (f_ > 0) left_frac_.shift_in(fraction, delay_ + 1);
+  }
 
   // One column passes (the first token of a pixel, or a flushing firing after the row's input):
   // the open right candidates move one entry along the stream, the one leaving the open window
@@ -316,7 +402,9 @@ class WtaLr {
     const int lag = in_row_done_ ? time_ - xs : delay_;
     const int d = left_d_.at(lag);
     const int x_img = reverse_ ? p_.width_px - 1 - xs : xs;
-    const DispCode invalid = DispCode(d_);
+    const DispCode invalid = DispCode(d_ << f_);
+    // The code with the fraction (biased by 2^(f-1) in left_frac_).
+    const DispCode code = f_ > 0 ? DispCode((d << f_) + int(left_frac_.at(lag)) - ((1 << f_) >> 1)) : DispCode(d);
     if (d >= d_ || m_ + d > x_img) return invalid;  // not unique, or the match is outside the image
     if (p_.lr_check) {
       int dr;
@@ -330,7 +418,7 @@ class WtaLr {
       const int diff = d > dr ? d - dr : dr - d;
       if (diff > p_.lr_tolerance) return invalid;
     }
-    return DispCode(d);
+    return code;
   }
 
   void finish(const WtaPlan& pl) {
@@ -359,17 +447,20 @@ class WtaLr {
 
   StereoParams p_;
   bool reverse_ = false;
-  int d_ = 1, lanes_ = 1, chunks_ = 1, delay_ = 0, m_ = 0;
+  int d_ = 1, lanes_ = 1, chunks_ = 1, delay_ = 0, m_ = 0, f_ = 0;
   int x_ = 0, y_ = 0, chunk_ = 0, next_emit_ = 0;
   int time_ = 0;  // stream column of the last column shift (flushing firings count on past W - 1)
   bool in_row_done_ = false, done_ = true;
   uint32_t best_cost_ = 0;
   int best_d_ = 0;
   uint64_t below_last_ = 0, left_min_ = 0, right_min_ = 0;  // uniqueness minima (track_uniqueness)
+  uint32_t sp_left_ = 0, sp_right_ = 0, sp_prev_last_ = 0;  // sub-pixel neighbours (track_neighbours)
+  bool sp_pending_ = false;
   // Shift registers (common.hpp): the left WTA results of the last D columns (entry k: k columns
   // back), the open right candidates' running minimum and its disparity, the finished right
   // disparities (D - 1 used).
   ShiftReg<DispCode, kMaxD, Caps::fixed> left_d_;
+  ShiftReg<DispCode, kMaxD, Caps::fixed> left_frac_;  // sub-pixel: each left result's biased offset
   ShiftReg<uint32_t, kMaxD, Caps::fixed> right_cost_;
   ShiftReg<DispCode, kMaxD, Caps::fixed> right_d_;
   ShiftReg<DispCode, kMaxD, Caps::fixed> finished_d_;
@@ -382,7 +473,7 @@ class WtaLr {
   template <class V>
   void storage(V& v) const {
     const int ab = aggregate_bits(p_);
-    const int db = disparity_bits(p_);
+    const int db = disparity_int_bits(p_);
     v.registers("wta_best_cost", best_cost_, 1, ab);
     v.registers("wta_best_disparity", best_d_, 1, db);
     if (p_.uniqueness_pct > 0) {
@@ -394,7 +485,19 @@ class WtaLr {
       v.unused("uniqueness_left_min", left_min_);
       v.unused("uniqueness_right_min", right_min_);
     }
+    if (p_.subpixel_bits > 0) {
+      v.registers("subpixel_before_best", sp_left_, 1, ab);
+      v.registers("subpixel_after_best", sp_right_, 1, ab);
+      v.registers("subpixel_previous_last_lane", sp_prev_last_, 1, ab);
+      v.registers("subpixel_pending", sp_pending_, 1, 1);
+    } else {
+      v.unused("subpixel_before_best", sp_left_);
+      v.unused("subpixel_after_best", sp_right_);
+      v.unused("subpixel_previous_last_lane", sp_prev_last_);
+      v.unused("subpixel_pending", sp_pending_);
+    }
     left_d_.storage(v, "left_disparities", delay_ + 1, db);
+    left_frac_.storage(v, "left_fractions", f_ > 0 ? delay_ + 1 : 0, f_ + 1);
     const int lr = p_.lr_check ? 1 : 0;  // without the check: never written (no hardware)
     right_cost_.storage(v, "right_candidate_costs", lr * d_, ab);
     right_d_.storage(v, "right_candidate_disparities", lr * d_, db);

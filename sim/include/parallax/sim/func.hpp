@@ -25,6 +25,7 @@ struct DisparityCodes {
   int height_px = 0;
   int disparities = 0;
   int min_disparity = 0;
+  int subpixel_bits = 0;  // f: code c is the disparity min_disparity + c / 2^f; D * 2^f is invalid
   std::vector<uint16_t> code;
 };
 

@@ -31,6 +31,7 @@ struct Structure {
   int min_disparity = 0;            // m: the disparities searched are [m, m + disparities)
   int p2_adaptive = 0;              // a: along a path P2 drops by (a |I(p) - I(q)|) >> 4, floor p1 + 1 (0 = off)
   std::string aggregation = "sgm";  // sgm | mgm (two predecessors per path step)
+  int subpixel_bits = 0;            // f: fraction bits of the disparity codes (parabola fit; 0 = integers)
   int parallel_units = 1;
   unsigned path_mask = kern::kForwardPaths;
   bool lr_check = true;

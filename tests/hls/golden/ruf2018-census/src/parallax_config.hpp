@@ -16,6 +16,7 @@
 #define PX_HLS_SGM_ROW_RESHAPE "HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=3 dim=3"
 #define PX_HLS_SGM_ROW_PARTITION "HLS ARRAY_PARTITION variable=row_ type=cyclic factor=20 dim=3"
 #define PX_HLS_SGM_ROW_STORAGE "HLS BIND_STORAGE variable=row_ type=ram_s2p impl=bram"
+#define PX_MEDIAN_WIDE_KEYS 0  // the median's rank keys need 32 bits (codes with fractions)
 
 namespace parallax_design {
 
@@ -42,6 +43,8 @@ constexpr int kMinDisparity = 0;  // m: code d is the disparity m + d
 constexpr int kP2Adaptive = 0;  // adaptive P2 gain a (0 = off): P2 - ((a |dI|) >> 4), floor P1 + 1
 #define PARALLAX_DESIGN_P2_ADAPTIVE 0  // the cost streams carry the left intensity
 constexpr int kAggregation = parallax::kern::kAggregationSgm;  // SGM, or MGM (two predecessors per path step)
+constexpr int kSubpixelBits = 0;  // f: fraction bits of a code (code c = disparity m + c / 2^f)
+constexpr int kInvalidCode = kDisparities << kSubpixelBits;  // D * 2^f
 constexpr int kParallelUnits = 6;  // PU: disparities per firing
 constexpr int kChunks = kDisparities / kParallelUnits;
 constexpr unsigned kPathMask = 15u;  // paths 4
@@ -87,7 +90,7 @@ typedef uint16_t AggWord;
 static_assert(kDisparities % kParallelUnits == 0, "PU must divide D");
 static_assert(parallax::kern::bits_for(24u) == kCostBits, "cost width");
 static_assert(parallax::kern::bits_for(kDefaultP2) == kPenaltyBits, "penalty register width");
-static_assert(parallax::kern::bits_for(uint64_t(kDisparities)) == kDisparityBits, "disparity code width");
+static_assert(parallax::kern::bits_for(uint64_t(kInvalidCode)) == kDisparityBits, "disparity code width");
 static_assert(kAggregateBits <= int(8 * sizeof(AggWord)), "aggregation word too narrow");
 static_assert(kOutBits % 8 == 0 && kOutBits >= kDisparityBits, "AXI4-Stream TDATA width");
 
@@ -107,6 +110,7 @@ inline parallax::kern::StereoParams structure_params() {
   p.min_disparity = kMinDisparity;
   p.p2_adaptive = kP2Adaptive;
   p.aggregation = kAggregation;
+  p.subpixel_bits = kSubpixelBits;
   p.parallel_units = kParallelUnits;
   p.path_mask = kPathMask;
   p.lr_check = kLrCheck;

@@ -10,7 +10,7 @@
 
 // One pixel of a camera: TDATA the grey level, TUSER start of frame, TLAST end of line.
 typedef ap_axiu<8, 1, 1, 1> pixel_beat_t;
-// One disparity code (code kDisparities = invalid), with the same framing.
+// One disparity code (code kInvalidCode = kDisparities << kSubpixelBits = invalid), with the same framing.
 typedef ap_axiu<parallax_design::kOutBits, 1, 1, 1> disparity_beat_t;
 
 // Computes the disparity of one rectified stereo pair. Contract: each input stream carries exactly

@@ -114,9 +114,9 @@ int main(int argc, char** argv) {
   left.height_px = right.height_px = kHeightPx;
   left.px.resize(size_t(kPixels));
   right.px.resize(size_t(kPixels));
-  if (golden.maxval != kDisparities) {
+  if (golden.maxval != kInvalidCode) {
     fprintf(stderr, "%s/%s: maxval %d is not the invalid code %d\n", dir.c_str(), kGoldenFile, golden.maxval,
-            kDisparities);
+            kInvalidCode);
     return 1;
   }
 
@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
   Image out;
   out.width_px = kWidthPx;
   out.height_px = kHeightPx;
-  out.maxval = kDisparities;
+  out.maxval = kInvalidCode;
   out.px.assign(size_t(kPixels), 0);
 #if PARALLAX_DESIGN_TWO_PASS
   // Two frame buffers, swapped between calls, and the disparity map in memory (m_axi ports). A
