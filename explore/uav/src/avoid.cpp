@@ -107,22 +107,23 @@ struct ObstacleTest {
   }
 };
 
-// Calls f(y, x, di) for each valid pixel of rows top and below and columns x0 to x1 - 1, di its
-// disparity rounded to the nearest integer.
+// Calls f(y, x, di, d) for each valid pixel of rows top and below and columns x0 to x1 - 1, d its
+// disparity (with the design's sub-pixel fraction, if any) and di that rounded to the nearest
+// integer.
 template <class F>
 void for_each_valid_px(const cv::Mat& disp, const cv::Mat& valid, int top, int x0, int x1, F f) {
   for (int y = top; y < disp.rows; ++y) {
     const float* d = disp.ptr<float>(y);
     const uint8_t* v = valid.ptr<uint8_t>(y);
     for (int x = x0; x < x1; ++x)
-      if (v[x]) f(y, x, int(std::lround(d[x])));
+      if (v[x]) f(y, x, int(std::lround(d[x])), d[x]);
   }
 }
 
 // V map over the region of interest (rows top and below): rows x disparities.
 cv::Mat v_map_of(const cv::Mat& disp, const cv::Mat& valid, int max_d, int top, const AvoidParams& p) {
   cv::Mat v_map = cv::Mat::zeros(disp.rows, max_d, CV_32S);
-  for_each_valid_px(disp, valid, top, 0, disp.cols, [&](int y, int, int di) {
+  for_each_valid_px(disp, valid, top, 0, disp.cols, [&](int y, int, int di, float) {
     if (di >= p.min_disparity_px && di < max_d) ++v_map.at<int>(y, di);
   });
   return v_map;
@@ -168,7 +169,7 @@ void fit_ground(AvoidResult& res, int max_d, int top, const AvoidParams& p) {
 // U map of the obstacle pixels: disparities x columns.
 cv::Mat u_map_of(const cv::Mat& disp, const cv::Mat& valid, int max_d, int top, const ObstacleTest& is_obstacle_px) {
   cv::Mat u_map = cv::Mat::zeros(max_d, disp.cols, CV_32S);
-  for_each_valid_px(disp, valid, top, 0, disp.cols, [&](int y, int x, int di) {
+  for_each_valid_px(disp, valid, top, 0, disp.cols, [&](int y, int x, int di, float) {
     if (is_obstacle_px(y, di)) ++u_map.at<int>(di, x);
   });
   return u_map;
@@ -200,16 +201,28 @@ bool obstacle_of(const std::vector<cv::Point>& c, const cv::Mat& disp, const cv:
   const cv::Moments m = cv::moments(c);
   o.centroid = m.m00 > 0 ? cv::Point2f(float(m.m10 / m.m00), float(m.m01 / m.m00)) : o.ellipse.center;
   int y0 = disp.rows, y1 = -1;
-  for_each_valid_px(disp, valid, top, o.u_box.x, o.u_box.x + o.u_box.width, [&](int y, int, int di) {
+  // The range: the nearest disparity bin the obstacle's pixels occupy (the U-map box is dilated
+  // beyond them), refined by those pixels' own disparities: with sub-pixel codes
+  // (subpixel_bits > 0) the mean of their fractions, with integer codes the bin itself.
+  std::vector<double> bin_sum(std::size_t(o.u_box.height), 0.0);
+  std::vector<int64_t> bin_count(std::size_t(o.u_box.height), 0);
+  for_each_valid_px(disp, valid, top, o.u_box.x, o.u_box.x + o.u_box.width, [&](int y, int, int di, float d) {
     if (di >= o.u_box.y && di < o.u_box.y + o.u_box.height && is_obstacle_px(y, di)) {
       y0 = std::min(y0, y);
       y1 = std::max(y1, y);
+      bin_sum[std::size_t(di - o.u_box.y)] += double(d);
+      ++bin_count[std::size_t(di - o.u_box.y)];
     }
   });
   if (y1 < y0) return false;
   o.v_box = cv::Rect(o.u_box.y, y0, o.u_box.height, y1 - y0 + 1);
   o.reaches_roi_top = y0 <= top + 1;
-  const double d_near = std::max(double(p.min_disparity_px), double(o.u_box.y + o.u_box.height - 1));
+  int near_bin = o.u_box.height - 1;
+  while (near_bin > 0 && bin_count[std::size_t(near_bin)] == 0) --near_bin;
+  const double d_bin = bin_count[std::size_t(near_bin)] > 0
+                           ? bin_sum[std::size_t(near_bin)] / double(bin_count[std::size_t(near_bin)])
+                           : double(o.u_box.y + near_bin);
+  const double d_near = std::max(double(p.min_disparity_px), d_bin);
   const double z = rig.focal_px * rig.baseline_m / d_near;
   const double xc = o.u_box.x + o.u_box.width / 2.0, yc = y0 + (y1 - y0 + 1) / 2.0;
   o.centre_m = Eigen::Vector3d((xc - rig.cx_px) * z / rig.focal_px, (yc - rig.cy_px) * z / rig.focal_px, z);

@@ -2,6 +2,7 @@
 // MAVLink 2 frames against an independent bitwise CRC and decoder, and rig files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -67,6 +68,26 @@ TEST(Avoid, BoxInThePathIsFoundWithItsGeometryAndAvoided) {
   EXPECT_LT(r.velocity_mps.y(), 0.0);
   EXPECT_GT(r.velocity_mps.x(), 0.0);
   EXPECT_GT(r.timings.total_ms(), 0.0);
+}
+
+// The obstacle's range uses the disparities' fractions (sub-pixel codes): a box at 8 m has
+// d = 43.75 px; integer codes give the bin's f B / 44 = 7.95 m, fractional ones the true range.
+TEST(Avoid, RangeUsesSubpixelDisparities) {
+  const Rig rig = test_rig();
+  const Scene s = make_scene(rig, 640, 360, true, 8.0, -0.3, 2.3, 1.6 - 2.5);
+  cv::Mat quarter, integer;
+  s.disp.convertTo(quarter, CV_32F, 4.0);
+  for (int y = 0; y < quarter.rows; ++y)
+    for (int x = 0; x < quarter.cols; ++x) quarter.at<float>(y, x) = std::round(quarter.at<float>(y, x)) / 4.0f;
+  s.disp.convertTo(integer, CV_32F);
+  for (int y = 0; y < integer.rows; ++y)
+    for (int x = 0; x < integer.cols; ++x) integer.at<float>(y, x) = std::round(integer.at<float>(y, x));
+  const AvoidResult fine = avoid(quarter, s.valid, 64, rig);
+  const AvoidResult coarse = avoid(integer, s.valid, 64, rig);
+  ASSERT_GE(fine.obstacles.size(), 1u);
+  ASSERT_GE(coarse.obstacles.size(), 1u);
+  EXPECT_NEAR(fine.obstacles.front().range_m, 8.0, 1e-6);  // 43.75 is exact in quarter pixels
+  EXPECT_NEAR(coarse.obstacles.front().range_m, 700 * 0.5 / 44.0, 1e-6);
 }
 
 TEST(Avoid, TheMirroredBoxIsPassedOnTheRight) {
