@@ -18,18 +18,19 @@ if [ "$MODE" = knobs ]; then
   python3 - "$T/knobs.csv" "$T/knobs.db" <<'PY'
 import csv, json, sqlite3, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-print("| design (over the seed) | paths | passes | density % | correct < 3 px % | D1 filled % | BRAM_18K | LUT | fps |")
-print("|---|---|---|---|---|---|---|---|---|")
+print("| design (over the seed) | paths | passes | density % | correct < 3 px % | D1 filled % | mean abs error px | BRAM_18K | LUT | fps |")
+print("|---|---|---|---|---|---|---|---|---|---|")
 for r in rows:
     name = r["name"]
     what = name[name.find("[") + 1:name.rfind("]")] if "[" in name else "seed (ruf2018-census)"
-    print("| %s | %s | %d | %.1f | %.2f | %.1f | %d | %s | %.1f |" % (what, r["paths"], 2 if r["paths"] == "8" else 1,
+    print("| %s | %s | %d | %.1f | %.2f | %.1f | %.3f | %d | %s | %.1f |" % (what, r["paths"], 2 if r["paths"] == "8" else 1,
           float(r["density_pct"]), float(r["correct_3px_pct"]), float(r["d1_all_filled_pct"]),
+          float(r.get("mean_abs_error_px", "nan") or "nan"),
           float(r["bram18k"]), format(int(float(r["lut"])), ","), float(r["fps"])))
 for config, metrics in sqlite3.connect(sys.argv[2]).execute("SELECT config, metrics FROM results WHERE status = 'peer'"):
     m = json.loads(metrics)
-    print("| %s (same frames) | 8 | full frame | %.1f | %.2f | %.1f | - | - | - |" % (config.split("\n")[0].split(": ")[1],
-          m["density_pct"], m["correct_3px_pct"], m["d1_all_filled_pct"]))
+    print("| %s (same frames) | 8 | full frame | %.1f | %.2f | %.1f | %.3f | - | - | - |" % (config.split("\n")[0].split(": ")[1],
+          m["density_pct"], m["correct_3px_pct"], m["d1_all_filled_pct"], m.get("mean_abs_error_px", float("nan"))))
 PY
   rm -rf "$T"
   exit 0
