@@ -203,6 +203,29 @@ TEST(ResourcesModel, MgmTradesTwoRowMemoriesForOne) {
     }
 }
 
+// Sub-pixel codes cost logic in the WTA stage (the neighbour selects, the restoring division, one
+// step per fraction bit) and wider codes after it, no BRAM on the seed design; more bits, more LUT.
+TEST(ResourcesModel, SubpixelCostsLogicInTheWta) {
+  config::PipelineConfig cfg = config::load_config(kRoot + "/configs/ruf2018-census.yaml");
+  const res::Estimate base = res::estimate(res::design_inventory(cfg, 640, 360));
+  cfg.subpixel_bits = 2;
+  const res::Estimate two = res::estimate(res::design_inventory(cfg, 640, 360));
+  cfg.subpixel_bits = 4;
+  const res::Estimate four = res::estimate(res::design_inventory(cfg, 640, 360));
+  EXPECT_EQ(two.total.bram18k, base.total.bram18k);
+  EXPECT_LT(base.total.lut, two.total.lut);
+  EXPECT_LT(two.total.lut, four.total.lut);
+  for (std::size_t k = 0; k < base.stages.size(); ++k) {
+    const std::string& stage = base.stages[k].stage;
+    if (stage == "cost" || stage == "aggregate") {
+      EXPECT_EQ(base.stages[k].usage.lut, four.stages[k].usage.lut) << stage;  // before the WTA: unchanged
+    }
+    if (stage == "wta_lr") {
+      EXPECT_LT(base.stages[k].usage.lut, two.stages[k].usage.lut);
+    }
+  }
+}
+
 TEST(ResourcesModel, UtilisationAndPower) {
   const res::Device* zu3 = res::find_device("XCZU3EG");
   ASSERT_NE(zu3, nullptr);
