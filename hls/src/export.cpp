@@ -134,9 +134,6 @@ void check_request(const ExportRequest& r) {
   if (r.left.size() != n || r.right.size() != n || r.golden.size() != n)
     throw ExportError("export: the testbench pair and golden output must all be " + std::to_string(r.width_px) + "x" +
                       std::to_string(r.height_px));
-  const int invalid = r.config.disparities << r.config.subpixel_bits;  // D * 2^f
-  for (uint16_t c : r.golden)
-    if (c > invalid) throw ExportError("export: a golden code exceeds the invalid code D * 2^subpixel_bits");
   std::set<std::string> names;
   for (const auto& f : r.fifos) {
     if (f.depth < 1) throw ExportError("export: FIFO " + f.name + " needs a depth of at least 1");
@@ -154,9 +151,10 @@ void check_request(const ExportRequest& r) {
       r.reduced_golden.size() != std::size_t(r.width_px) * std::size_t(r.reduced_height_px))
     throw ExportError("export: the reduced frame's golden output must be " + std::to_string(r.width_px) + "x" +
                       std::to_string(reduced_frame_rows(r.height_px)));
-  for (uint16_t c : r.reduced_golden)
-    if (c > invalid)
-      throw ExportError("export: a golden code of the reduced frame exceeds the invalid code D * 2^subpixel_bits");
+  const int invalid = r.config.disparities << r.config.subpixel_bits;  // D * 2^f
+  for (const std::vector<uint16_t>* g : {&r.golden, &r.reduced_golden})
+    if (std::any_of(g->begin(), g->end(), [&](uint16_t c) { return c > invalid; }))
+      throw ExportError("export: a golden code exceeds the invalid code D * 2^subpixel_bits");
 }
 
 // The stages whose loops in the top run until the stage is done (`while (!stage.done())`), by the
@@ -254,9 +252,8 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
                    : p.census == kern::kCensusSparse    ? "sparse Census"
                    : p.census == kern::kCensusSymmetric ? "centre-symmetric Census"
                                                         : "Census";
-  v["CENSUS_ENUM"] = p.census == kern::kCensusSparse      ? "kCensusSparse"
-                     : p.census == kern::kCensusSymmetric ? "kCensusSymmetric"
-                                                          : "kCensusFull";
+  const char* census_enums[] = {"kCensusFull", "kCensusSparse", "kCensusSymmetric"};
+  v["CENSUS_ENUM"] = census_enums[p.census == kern::kCensusSparse ? 1 : p.census == kern::kCensusSymmetric ? 2 : 0];
   v["WINDOW_W"] = std::to_string(p.window_w);
   v["WINDOW_H"] = std::to_string(p.window_h);
   v["DISPARITIES"] = std::to_string(p.disparities);
@@ -267,12 +264,10 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["SUBPIXEL_BITS"] = std::to_string(p.subpixel_bits);
   v["MEDIAN_WIDE_KEYS"] = kern::disparity_bits(p) + 6 > 16 ? "1" : "0";  // 6: median.hpp kKeyIndexBits
   v["AGGREGATION_ENUM"] = p.aggregation == kern::kAggregationMgm ? "kAggregationMgm" : "kAggregationSgm";
-  v["STRUCTURE_KNOBS_TEXT"] =
-      std::string(p.aggregation == kern::kAggregationMgm ? ", MGM aggregation (two predecessors per path step)" : "") +
-      (p.p2_adaptive > 0 ? ", adaptive P2 (a = " + std::to_string(p.p2_adaptive) + ")" : std::string());
-  v["MIN_DISPARITY_TEXT"] = p.min_disparity == 0
-                                ? std::string()
-                                : " from m = " + std::to_string(p.min_disparity) + " (code d is the disparity m + d)";
+  v["STRUCTURE_KNOBS_TEXT"] = std::string(p.aggregation == kern::kAggregationMgm ? ", MGM aggregation" : "") +
+                              (p.p2_adaptive > 0 ? ", adaptive P2 (a = " + std::to_string(p.p2_adaptive) + ")" : "");
+  v["MIN_DISPARITY_TEXT"] =
+      p.min_disparity == 0 ? "" : " from m = " + std::to_string(p.min_disparity) + " (code d is the disparity m + d)";
   v["PARALLEL_UNITS"] = std::to_string(p.parallel_units);
   v["PATH_MASK"] = std::to_string(p.path_mask);
   v["PATHS"] = config::paths_to_string(p.path_mask);

@@ -1,0 +1,144 @@
+// The resources and schedule an SGM aggregation stage declares (resources.hpp), from what the
+// stage's configuration instantiates (sgm.hpp: SgmAggregate::declare and ::schedule call these
+// with the stage). C++14; never synthesised.
+#pragma once
+
+#include "parallax/kernels/params.hpp"
+#include "parallax/kernels/resources.hpp"
+#include "parallax/kernels/sgm_kinds.hpp"
+
+namespace parallax {
+namespace kern {
+
+// Resources of this configuration (resources.hpp). Row paths keep the previous row's Lr in
+// memories: `packing` disparities per word, the words of a column spread over `banks`
+// memories (0: one memory per word, complete partitioning), and the previous row's minimum
+// per column; the pixel path keeps the previous pixel's Lr and minimum in registers; the
+// row-left path delays the previous row's column by one pixel in registers. Every path holds
+// the predecessor's lanes of the next chunk and lane lo - 1. Per lane and path: two +P1 adds,
+// the min of four, + C - M, and the running minimum; per lane the sum over paths.
+// Schedule of one firing (resources.hpp). Each row memory's bank sees one read (the next
+// chunk's lanes) and one write (this chunk's); each row-minimum memory one read (chunk 0) and
+// one write (the last chunk). The pixel path's minimum M is written by a pixel's last firing
+// and used by the next firing; the lanes' minimum is taken off that path (see
+// aggregate_kind), so the chain from M to M is the subtraction, the min with C + P2, the
+// running minimum and its register. The running minimum itself recurs every firing.
+template <class A, class S>
+void sgm_schedule(const A& a, S& s) {
+  const StereoParams& p = a.params();
+  const int lanes = a.lanes();
+  const int pb = path_bits(p);
+  const unsigned dk = a.datapaths();
+agg_schedule_kinds:
+  for (int k = 1; k < kKindCount; ++k) {
+    if (((dk >> k) & 1u) == 0) continue;
+    s.memory(k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right", 1, 1, 2);
+    s.memory(k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right", 1, 1, 2);
+  }
+  if (a.mgm()) {
+    // The pixel kind's row memory: one read (the next chunk's lanes) and one write per firing.
+    if ((dk & (1u << kKindPixel)) != 0) {
+      s.memory("row_path_pixel", 1, 1, 2);
+      s.memory("row_min_pixel", 1, 1, 2);
+    }
+    // The previous pixel's minimum M recurs into the next pixel's (the pixel datapath): no
+    // lane-minimum identity here, so the chain runs through the lanes: the step's P2 clamp
+    // and subtraction, the average, + C, the min tree over the PU lanes, the running minimum
+    // and its register.
+    if ((dk & (1u << kKindPixel)) != 0) {
+      s.recurrence("mgm_previous_pixel_minimum", 1);
+      s.chain(kOpCompare, pb + 1, 1);  // min with M + P2
+      s.chain(kOpMux, pb + 1, 1);
+      s.chain(kOpAdd, pb + 1, 1);  // - M
+      s.chain(kOpAdd, pb + 1, 1);  // u_a + u_b
+      s.chain(kOpAdd, pb, 1);      // + C
+      int levels = 0;              // of the min tree over the lanes
+      while ((1 << levels) < lanes) ++levels;
+      if (levels > 0) {
+        s.chain(kOpCompare, pb, levels);
+        s.chain(kOpMux, pb, levels);
+      }
+      s.chain(kOpCompare, pb, 1);  // running minimum over the chunks
+      s.chain(kOpMux, pb, 1);
+      s.chain(kOpRegister, pb, 1);
+    }
+  } else if ((dk & (1u << kKindPixel)) != 0) {
+    s.recurrence("pixel_path_minimum", 1);
+    s.chain(kOpAdd, pb + 1, 1);      // min_d (C_d + t_d) - M
+    s.chain(kOpCompare, pb + 1, 1);  // min with min_d C_d + P2
+    s.chain(kOpMux, pb + 1, 1);
+    s.chain(kOpCompare, pb, 1);  // running minimum over the chunks
+    s.chain(kOpMux, pb, 1);
+    s.chain(kOpRegister, pb, 1);
+  }
+  s.recurrence("running_minimum", 1);
+  s.chain(kOpCompare, pb, 1);
+  s.chain(kOpMux, pb, 1);
+  s.chain(kOpRegister, pb, 1);
+  // Adaptive P2: the previous row's intensities, one read and one write per pixel.
+  if (p.p2_adaptive > 0 && a.row_intensities()) s.memory("row_intensity", 1, 1, 2);
+}
+
+template <class A, class R>
+void sgm_declare(const A& a, R& r, int packing, int banks) {
+  const StereoParams& p = a.params();
+  const int pb = path_bits(p);
+  const int ab = aggregate_bits(p);
+  const int d = a.disparity_count();
+  const int pu = a.lanes();
+  declare_raster_control(r, p.width_px, p.height_px, d / pu);
+  DeclareStorage<R> st(r);
+  a.storage(st, packing, banks);
+  const unsigned dk = a.datapaths();
+agg_declare_paths:
+  for (int k = 0; k < kKindCount; ++k) {
+    if (((dk >> k) & 1u) == 0) continue;
+    if (d > pu) r.op("path_predecessor_select", kOpMux, pb, pu * (d / pu - 1));
+    r.op("path_p1_adds", kOpAdd, pb + 1, 2 * pu);
+    r.op("path_p2_add", kOpAdd, pb + 1, 1);
+    r.op("path_min_of_four", kOpCompare, pb + 1, 3 * pu);
+    r.op("path_min_select", kOpMux, pb + 1, 3 * pu);
+    r.op("path_cost_minus_min", kOpAdd, pb + 1, 2 * pu);
+    r.op("path_running_min", kOpCompare, pb, pu);
+    r.op("path_running_min_select", kOpMux, pb, pu);
+  }
+  if (a.mgm()) {
+    // Per datapath, the second predecessor's step beside the first's (the SGM ops above): its
+    // chunk select, the +P1 adds, min of four, - M; then the average of the two steps, the
+    // selects of the sides inside the image, and the lanes' min tree (no identity with MGM).
+  agg_declare_mgm:
+    for (int k = 0; k < kKindCount; ++k) {
+      if (((dk >> k) & 1u) == 0) continue;
+      if (d > pu) r.op("mgm_second_select", kOpMux, pb, pu * (d / pu - 1));
+      r.op("mgm_second_p1_adds", kOpAdd, pb + 1, 2 * pu);
+      r.op("mgm_second_p2_add", kOpAdd, pb + 1, 1);
+      r.op("mgm_second_min_of_four", kOpCompare, pb + 1, 3 * pu);
+      r.op("mgm_second_min_select", kOpMux, pb + 1, 3 * pu);
+      r.op("mgm_second_minus_min", kOpAdd, pb + 1, pu);
+      r.op("mgm_average", kOpAdd, pb + 1, pu);
+      r.op("mgm_side_select", kOpMux, pb + 1, 2 * pu);
+      if (pu > 1) {
+        r.op("mgm_lane_min_tree", kOpCompare, pb, pu - 1);
+        r.op("mgm_lane_min_select", kOpMux, pb, pu - 1);
+      }
+    }
+  }
+  if (p.p2_adaptive > 0) {
+    // Per active kind: |I(p) - I(q)| (a subtraction and a negation's select), the product by
+    // the register (8 x 8 bits), P2 minus it with the floor P1 + 1 (a subtraction, a compare
+    // and a select), and the selects of the window's shift.
+    const int pen = penalty_bits(p);
+    r.op("p2_adaptive_step", kOpAdd, 9, 2 * a.steps());
+    r.op("p2_adaptive_abs", kOpMux, 8, a.steps());
+    r.mul("p2_adaptive_product", 8, kP2AdaptiveBits, a.steps());
+    r.op("p2_adaptive_lower", kOpAdd, pen + 1, a.steps());
+    r.op("p2_adaptive_floor", kOpCompare, pen + 1, a.steps());
+    r.op("p2_adaptive_floor_select", kOpMux, pen, a.steps());
+  }
+  r.op("sum_over_paths", kOpAdd, ab, pu * a.slots());
+  r.registers("cost_in", pu * cost_bits(p), 1);
+  r.registers("sum_token", pu * ab, 1);
+}
+
+}  // namespace kern
+}  // namespace parallax
