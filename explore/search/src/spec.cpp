@@ -115,7 +115,9 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
         if (k != "scenario" && k != "seeds" && k != "speed_mps" && k != "size_px")
           throw InputError(source + ": flight: unknown field '" + k + "' (known: scenario, seeds, speed_mps, size_px)");
       }
-      if (!f["scenario"]) throw InputError(source + ": field 'flight' needs 'scenario' (a file in configs/scenarios)");
+      if (!f["scenario"])
+        throw InputError(source +
+                         ": field 'flight' needs 'scenario' (a shipped scenario's name such as forest, or a file)");
       s.flight_scenario = f["scenario"].as<std::string>();
       if (f["seeds"]) s.flight_seeds = f["seeds"].as<int>();
       if (f["speed_mps"]) s.flight_speed_mps = f["speed_mps"].as<double>();

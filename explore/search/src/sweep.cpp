@@ -69,7 +69,7 @@ std::string measurement_of(const SweepSpec& s, const std::string& dataset_dir,
   j["device"] = s.device;
   j["avoidance"] = s.avoidance;
   if (!s.flight_scenario.empty())
-    j["flight"] = {{"scenario", absolute_path(s.flight_scenario)},
+    j["flight"] = {{"scenario", scenario_reference(s.flight_scenario)},
                    {"seeds", s.flight_seeds},
                    {"speed_mps", s.flight_speed_mps},
                    {"size_px", s.flight_size_px}};

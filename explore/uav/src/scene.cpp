@@ -17,14 +17,21 @@
 #include "parallax/eval/dataset.hpp"
 #include "parallax/eval/disparity_io.hpp"
 
+namespace parallax::res::data {  // configs/scenarios/*.yaml, compiled in (cmake/embed.cmake)
+extern const char* const* const scenario_files;
+extern const char* const* const scenario_texts;
+extern const int scenario_count;
+}  // namespace parallax::res::data
+
 namespace parallax::explore {
 
-Scenario load_scenario(const std::string& path) {
+namespace {
+
+// A scenario from its YAML text; `path` names it in errors (and gives the default name).
+Scenario parse_scenario(const std::string& text, const std::string& path) {
   YAML::Node n;
   try {
-    n = YAML::Load(config::read_text_file(path, "scenario file"));
-  } catch (const config::ConfigError& e) {
-    throw InputError(e.what());
+    n = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError(path + ": not valid YAML: " + e.what());
   }
@@ -45,6 +52,52 @@ Scenario load_scenario(const std::string& path) {
     throw InputError(path + ": field 'kind': '" + s.kind + "' is not single-pole, forest, wall-gap or corridor");
   if (!(s.length_m > 5)) throw InputError(path + ": field 'length_m' must exceed 5");
   return s;
+}
+
+// The shipped scenario of that name (-1: none).
+int builtin_index(const std::string& name) {
+  for (int i = 0; i < res::data::scenario_count; ++i)
+    if (std::filesystem::path(res::data::scenario_files[i]).stem().string() == name) return i;
+  return -1;
+}
+
+// A name, not a path: no folder, no extension.
+bool plain_name(const std::string& s) {
+  return !s.empty() && s.find('/') == std::string::npos && s.find('.') == std::string::npos;
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_scenarios() {
+  std::vector<std::string> names;
+  for (int i = 0; i < res::data::scenario_count; ++i)
+    names.push_back(std::filesystem::path(res::data::scenario_files[i]).stem().string());
+  return names;
+}
+
+Scenario load_scenario(const std::string& name_or_path) {
+  const int builtin =
+      plain_name(name_or_path) && !std::filesystem::exists(name_or_path) ? builtin_index(name_or_path) : -1;
+  if (builtin >= 0) return parse_scenario(res::data::scenario_texts[builtin], res::data::scenario_files[builtin]);
+  if (plain_name(name_or_path) && !std::filesystem::exists(name_or_path)) {
+    std::string known;
+    for (const std::string& n : builtin_scenarios()) known += (known.empty() ? "" : ", ") + n;
+    throw InputError("scenario '" + name_or_path +
+                     "': no such file and no shipped scenario of that name (shipped: " + known + ")");
+  }
+  std::string text;
+  try {
+    text = config::read_text_file(name_or_path, "scenario file");
+  } catch (const config::ConfigError& e) {
+    throw InputError(e.what());
+  }
+  return parse_scenario(text, name_or_path);
+}
+
+std::string scenario_reference(const std::string& name_or_path) {
+  if (plain_name(name_or_path) && !std::filesystem::exists(name_or_path) && builtin_index(name_or_path) >= 0)
+    return name_or_path;
+  return std::filesystem::absolute(name_or_path).lexically_normal().string();
 }
 
 Scene generate_scene(const Scenario& s, uint32_t seed) {

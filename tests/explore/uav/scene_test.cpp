@@ -74,6 +74,38 @@ TEST(Scene, PoleRangeAndItsOcclusionShadow) {
   EXPECT_GT(shadow, 10);
 }
 
+// A shipped scenario by name (compiled in, any working directory) is the same as its file; an
+// unknown name is an error naming the shipped ones; a file of that name in the working
+// directory wins over the shipped scenario.
+TEST(Scene, ScenariosByName) {
+  for (const char* name : {"single-pole", "forest", "wall-gap", "corridor"}) {
+    const Scenario by_name = load_scenario(name);
+    const Scenario by_file = load_scenario(std::string(PARALLAX_CONFIG_DIR) + "/scenarios/" + name + ".yaml");
+    EXPECT_EQ(by_name.name, by_file.name);
+    EXPECT_EQ(by_name.kind, by_file.kind);
+    EXPECT_EQ(by_name.density_per_100m2, by_file.density_per_100m2);
+    EXPECT_EQ(by_name.length_m, by_file.length_m);
+    EXPECT_EQ(scenario_reference(name), name);
+  }
+  EXPECT_EQ(builtin_scenarios().size(), 4u);
+  try {
+    load_scenario("jungle");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("jungle"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("forest"), std::string::npos);
+  }
+  const auto dir = std::filesystem::temp_directory_path() / "parallax_scene_by_name";
+  std::filesystem::create_directories(dir);
+  const auto cwd = std::filesystem::current_path();
+  std::filesystem::current_path(dir);
+  std::ofstream("forest") << "name: mine\nkind: corridor\n";
+  EXPECT_EQ(load_scenario("forest").kind, "corridor");
+  EXPECT_NE(scenario_reference("forest"), "forest");  // the file's absolute path
+  std::filesystem::current_path(cwd);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Scene, SeedsAndScenarioFiles) {
   for (const char* name : {"single-pole", "forest", "wall-gap", "corridor"}) {
     const Scenario sc = load_scenario(std::string(PARALLAX_CONFIG_DIR) + "/scenarios/" + name + ".yaml");

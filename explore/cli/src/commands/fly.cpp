@@ -132,7 +132,10 @@ Command add_fly(CLI::App& app) {
   auto* flyc = app.add_subcommand(
       "fly", "Closed-loop flights through synthetic scenes with the design's disparity, latency and frame rate");
   add_config_options(flyc, o->cfg, true);
-  flyc->add_option("--scenario", o->scenario, "Scenario file, e.g. configs/scenarios/forest.yaml")->required();
+  flyc->add_option(
+          "--scenario", o->scenario,
+          "Scenario: a shipped one by name (forest, corridor, wall-gap, single-pole) or a file, e.g. my/scene.yaml")
+      ->required();
   flyc->add_option("--seeds", o->seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(InRange(1, 1000));
   flyc->add_option("--speed-mps", o->speed, "Cruise speed")->capture_default_str()->check(InRange(0.1, 50.0));
   flyc->add_option("--size", o->size, "Rendered width (height x 9/16); the design's ROI follows")

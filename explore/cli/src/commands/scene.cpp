@@ -57,7 +57,11 @@ Command add_scene(CLI::App& app) {
   auto o = std::make_shared<SceneOptions>();
   auto* scenec = app.add_subcommand(
       "scene", "Render a seeded synthetic scene along the flight axis as a KITTI-layout stereo dataset");
-  scenec->add_option("--scenario", o->scenario, "Scenario file, e.g. configs/scenarios/forest.yaml")->required();
+  scenec
+      ->add_option(
+          "--scenario", o->scenario,
+          "Scenario: a shipped one by name (forest, corridor, wall-gap, single-pole) or a file, e.g. my/scene.yaml")
+      ->required();
   scenec->add_option("--seed", o->seed, "Scene seed")->capture_default_str();
   scenec->add_option("--frames", o->frames, "Frames, one every --step-m along the flight axis")
       ->capture_default_str()

@@ -39,7 +39,12 @@ struct Scenario {
   double width_m = 6.0;            // corridor
   double length_m = 60.0;
 };
-Scenario load_scenario(const std::string& path);
+// A scenario by file path, or by the name of a shipped one (configs/scenarios/<name>.yaml,
+// compiled in: builtin_scenarios()) when no such file exists. InputError names both when neither.
+Scenario load_scenario(const std::string& name_or_path);
+std::vector<std::string> builtin_scenarios();
+// How a sweep records the scenario: a shipped scenario's name as given, a file's absolute path.
+std::string scenario_reference(const std::string& name_or_path);
 Scene generate_scene(const Scenario& s, uint32_t seed);
 
 struct StereoFrame {
