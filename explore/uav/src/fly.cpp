@@ -60,7 +60,8 @@ FlightResult fly(const config::PipelineConfig& cfg_in, const Scene& scene, const
       const AvoidResult a = avoid(d.disparity_px, d.valid_mask, cfg.disparity_end_px(), rig, ap);
       // Body (x forward, y right, z down) to world (x right, y down, z forward).
       const Eigen::Vector3d world(a.velocity_mps.y(), a.velocity_mps.z(), a.velocity_mps.x());
-      pending.emplace_back(t + latency_ms / 1000.0 + a.timings.total_ms() / 1000.0, world);
+      // The avoidance stage's time is the configuration's model, not this machine's clock.
+      pending.emplace_back(t + latency_ms / 1000.0 + cfg.avoid_ms / 1000.0, world);
       r.trajectory.push_back(p);
       ++r.frames;
     }

@@ -439,6 +439,8 @@ std::vector<FieldRow> make_table() {
              "the processor's copies of each pair in and map out, GB/s"),
       number("host_latency_ms", &P::host_latency_ms, at_least(0), "fixed host latency per frame, ms (calibration)"),
       number("host_frame_ms", &P::host_frame_ms, at_least(0), "lower bound of the frame interval, ms (calibration)"),
+      number("avoid_ms", &P::avoid_ms, at_least(0),
+             "the avoidance stage's time per frame on the processor, ms (a model: flights are repeatable)"),
   };
 }
 

@@ -32,6 +32,28 @@ TEST(Fly, PastASinglePoleToTheGoal) {
   EXPECT_LT(straight_clear, 0.0);
 }
 
+// A flight is a function of the configuration, the scene and the seed: the avoidance stage's
+// time is the configuration's model (avoid_ms), not the host's clock, so two runs agree exactly,
+// and a slower stage changes the flight.
+TEST(Fly, RepeatableWithTheModelledAvoidanceTime) {
+  config::PipelineConfig cfg = config::load_config(std::string(PARALLAX_CONFIG_DIR) + "/ruf2018-census.yaml");
+  EXPECT_EQ(cfg.avoid_ms, 4.2);
+  const Scenario sc = load_scenario("forest");
+  const Scene scene = generate_scene(sc, 2);
+  FlightParams fp;
+  fp.width_px = 160;
+  fp.time_limit_s = 4.0;
+  const FlightResult a = fly(cfg, scene, fp, 2), b = fly(cfg, scene, fp, 2);
+  ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
+  for (std::size_t i = 0; i < a.trajectory.size(); ++i) EXPECT_EQ(a.trajectory[i], b.trajectory[i]) << i;
+  EXPECT_EQ(a.path_length_m, b.path_length_m);
+  cfg.avoid_ms = 200.0;
+  const FlightResult slow = fly(cfg, scene, fp, 2);
+  bool differs = slow.trajectory.size() != a.trajectory.size();
+  for (std::size_t i = 0; !differs && i < a.trajectory.size(); ++i) differs = slow.trajectory[i] != a.trajectory[i];
+  EXPECT_TRUE(differs);
+}
+
 TEST(Fly, StoppingDistanceBoundAndDesignTiming) {
   EXPECT_NEAR(stopping_distance_speed_bound(4.0, 0.1, 12.0), 4.0 * (std::sqrt(0.01 + 6.0) - 0.1), 1e-12);
   EXPECT_NEAR(stopping_distance_speed_bound(4.0, 0.0, 12.0), std::sqrt(2.0 * 4.0 * 12.0), 1e-12);  // v^2 = 2 a d

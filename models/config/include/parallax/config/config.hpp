@@ -73,6 +73,10 @@ struct Structure {
   double host_copy_gbps = 0.0;
   double host_latency_ms = 0.0;
   double host_frame_ms = 0.0;
+  // The avoidance stage's time per frame on the processor (a model, so a flight's timing does not
+  // depend on the machine that simulates it): a command takes effect latency + avoid_ms after
+  // its frame. 0 = none.
+  double avoid_ms = 0.0;
 
   // One past the largest disparity the design can output, m + D, in pixels.
   int disparity_end_px() const { return min_disparity + disparities; }
