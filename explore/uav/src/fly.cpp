@@ -18,6 +18,14 @@ void design_timing(const config::PipelineConfig& cfg, int w, int h, double& inte
   latency_ms = sr.latency_ms;
 }
 
+std::pair<double, double> wilson_interval_pct(int hits, int trials, double z) {
+  if (trials <= 0) return {0.0, 100.0};
+  const double n = trials, p = hits / n, z2 = z * z;
+  const double centre = (p + z2 / (2 * n)) / (1 + z2 / n);
+  const double half = z * std::sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / (1 + z2 / n);
+  return {100.0 * std::max(0.0, centre - half), 100.0 * std::min(1.0, centre + half)};
+}
+
 double stopping_distance_speed_bound(double a, double tau, double d) {
   return a * (std::sqrt(tau * tau + 2.0 * d / a) - tau);
 }

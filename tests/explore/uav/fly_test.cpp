@@ -54,6 +54,23 @@ TEST(Fly, RepeatableWithTheModelledAvoidanceTime) {
   EXPECT_TRUE(differs);
 }
 
+// Wilson 95 % intervals against values computed by hand: 20 of 20 gives [83.9, 100], 0 of 20
+// [0, 16.1], 95 of 100 [88.8, 97.8]; they contain the rate and shrink with more trials.
+TEST(Fly, WilsonIntervals) {
+  auto near = [](std::pair<double, double> ci, double lo, double hi) {
+    EXPECT_NEAR(ci.first, lo, 0.05);
+    EXPECT_NEAR(ci.second, hi, 0.05);
+  };
+  near(wilson_interval_pct(20, 20), 83.89, 100.0);
+  near(wilson_interval_pct(0, 20), 0.0, 16.11);
+  near(wilson_interval_pct(95, 100), 88.82, 97.85);
+  const auto few = wilson_interval_pct(9, 10), many = wilson_interval_pct(90, 100);
+  EXPECT_LT(many.second - many.first, few.second - few.first);
+  EXPECT_LE(few.first, 90.0);
+  EXPECT_GE(few.second, 90.0);
+  near(wilson_interval_pct(0, 0), 0.0, 100.0);
+}
+
 TEST(Fly, StoppingDistanceBoundAndDesignTiming) {
   EXPECT_NEAR(stopping_distance_speed_bound(4.0, 0.1, 12.0), 4.0 * (std::sqrt(0.01 + 6.0) - 0.1), 1e-12);
   EXPECT_NEAR(stopping_distance_speed_bound(4.0, 0.0, 12.0), std::sqrt(2.0 * 4.0 * 12.0), 1e-12);  // v^2 = 2 a d

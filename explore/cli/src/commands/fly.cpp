@@ -106,20 +106,26 @@ int run_fly(const FlyOptions& o, const Invocation&) {
   } else {
     json per_seed = json::array();
     const FlightTally g = fly_seeds(cfg, sc, fp, o.seeds, o.speed, &per_seed);
+    const int timeouts = o.seeds - g.ok - g.collisions;
+    const auto ok_ci = wilson_interval_pct(g.ok, o.seeds), hit_ci = wilson_interval_pct(g.collisions, o.seeds);
     j["speed_mps"] = o.speed;
     j["success_rate"] = 100.0 * g.ok / o.seeds;
+    j["success_ci95_pct"] = {ok_ci.first, ok_ci.second};
     j["collisions"] = g.collisions;
+    j["collision_ci95_pct"] = {hit_ci.first, hit_ci.second};
+    j["timeouts"] = timeouts;
     j["min_clearance_m"] = g.min_clear;
     j["path_length_ratio"] = g.ok ? g.ratio / g.ok : 0.0;
     j["time_to_goal_s"] = g.ok ? g.time / g.ok : 0.0;
     j["per_seed"] = per_seed;
     if (!o.json)
       std::printf(
-          "%s in %s at %.1f m/s over %d seeds: success_rate %.0f%%  collisions %d  min_clearance %.2f m  "
-          "path_length_ratio %.3f  time_to_goal %.1f s  (frame %.1f ms, latency %.1f ms)\n",
-          cfg.name.c_str(), sc.name.c_str(), o.speed, o.seeds, j["success_rate"].get<double>(), g.collisions,
-          g.min_clear, j["path_length_ratio"].get<double>(), j["time_to_goal_s"].get<double>(), interval_ms,
-          latency_ms);
+          "%s in %s at %.1f m/s over %d seeds: success_rate %.0f%% [%.0f-%.0f%%]  collisions %d [%.0f-%.0f%%]  "
+          "timeouts %d  min_clearance %.2f m  path_length_ratio %.3f  time_to_goal %.1f s  (frame %.1f ms, latency "
+          "%.1f ms; [ ]: Wilson 95 %% intervals)\n",
+          cfg.name.c_str(), sc.name.c_str(), o.speed, o.seeds, j["success_rate"].get<double>(), ok_ci.first,
+          ok_ci.second, g.collisions, hit_ci.first, hit_ci.second, timeouts, g.min_clear,
+          j["path_length_ratio"].get<double>(), j["time_to_goal_s"].get<double>(), interval_ms, latency_ms);
   }
   if (o.json) std::cout << j.dump(2) << "\n";
   return 0;

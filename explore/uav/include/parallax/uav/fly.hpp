@@ -4,6 +4,7 @@
 // after the design's latency plus the stage's own time.
 #pragma once
 
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -43,5 +44,8 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scene& scene, const Fl
 // v_max = a (sqrt(tau^2 + 2 d / a) - tau): the speed from which a vehicle reacting after tau and
 // braking at a stops within the sensing range d (../shared/docs/published-numbers.md).
 double stopping_distance_speed_bound(double accel_mps2, double reaction_s, double range_m);
+// Wilson score interval of a rate, in percent: `hits` of `trials` at the normal quantile z (1.96:
+// 95 %); {0, 100} when there are no trials.
+std::pair<double, double> wilson_interval_pct(int hits, int trials, double z = 1.96);
 
 }  // namespace parallax::explore
