@@ -294,7 +294,7 @@ void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::
   FlightParams fp;
   fp.speed_mps = speed;
   fp.width_px = size;
-  const FlightResult r = fly(cfg, scene, fp, 1);
+  const FlightResult r = fly(cfg, sc, scene, fp, 1);
   // Top-down: x across, z up the page.
   const double W = 300, H = 420, x0 = -10, x1 = 10, z1 = scene.goal_z_m + 2;
   auto sx = [&](double x) { return (x - x0) / (x1 - x0) * W; };
@@ -313,23 +313,16 @@ void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::
   for (const auto& p : r.trajectory) o << sx(p.x()) << "," << sz(p.z()) << " ";
   o << "\"/><line x1=\"0\" x2=\"" << W << "\" y1=\"" << sz(scene.goal_z_m) << "\" y2=\"" << sz(scene.goal_z_m)
     << "\" stroke=\"#444\" stroke-dasharray=\"4 3\"/><text x=\"4\" y=\"" << H + 15 << "\" class=\"k\">"
-    << html_escape(sc.name) << " at " << number(speed) << " m/s: "
-    << (r.collided       ? "collision"
-        : r.reached_goal ? "goal"
-                         : "time out")
-    << ", min clearance " << number(std::round(r.min_clearance_m * 100) / 100) << " m</text></svg>";
+    << html_escape(sc.name) << " at " << number(speed) << " m/s: " << to_string(r.outcome) << ", min clearance "
+    << number(std::round(r.min_clearance_m * 100) / 100) << " m</text></svg>";
   s.flight_svg = o.str();
   // Three frames of the flight: start, middle, end, with the design's disparity.
-  const Rig rig = scene_rig(size, size * 9 / 16);
-  config::PipelineConfig c = cfg;
-  c.roi_full = false;
-  c.roi_width_px = size;
-  c.roi_height_px = size * 9 / 16;
+  const FlightSetup setup = flight_setup(cfg, sc, fp);
   sim::FuncPipeline pipe;
-  for (std::size_t k : {std::size_t(0), r.trajectory.size() / 2, r.trajectory.size() ? r.trajectory.size() - 1 : 0}) {
-    if (r.trajectory.empty()) break;
-    const StereoFrame f = render(scene, rig, size, size * 9 / 16, r.trajectory[k]);
-    const DisparityMap d = run_design(c, f.left, f.right, pipe);
+  for (std::size_t k : {std::size_t(0), r.poses.size() / 2, r.poses.empty() ? 0 : r.poses.size() - 1}) {
+    if (r.poses.empty()) break;
+    const StereoFrame f = render(scene, setup.rig, setup.width_px, setup.height_px, r.poses[k], sc.imaging.antialias);
+    const DisparityMap d = run_design(setup.cfg, f.left, f.right, pipe);
     s.flight_frames.push_back({f.left, "flight frame " + std::to_string(k)});
     s.flight_frames.push_back({colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparity_end_px())),
                                "its disparity, frame " + std::to_string(k)});

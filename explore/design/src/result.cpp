@@ -47,7 +47,7 @@ FlightFigures measure_flights(const config::PipelineConfig& cfg, const PointRequ
   f.min_clearance_m = 1e9;
   double time_s = 0.0;
   for (int s = 1; s <= req.flight_seeds; ++s) {
-    const FlightResult r = fly(cfg, generate_scene(sc, uint32_t(s)), fp, uint32_t(s));
+    const FlightResult r = fly(cfg, sc, generate_scene(sc, uint32_t(s)), fp, uint32_t(s));
     f.reached_goal += r.reached_goal ? 1 : 0;
     f.collisions += r.collided ? 1 : 0;
     f.min_clearance_m = std::min(f.min_clearance_m, r.min_clearance_m);

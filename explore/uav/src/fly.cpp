@@ -2,6 +2,7 @@
 #include "parallax/uav/fly.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <deque>
 #include <random>
@@ -30,73 +31,143 @@ double stopping_distance_speed_bound(double a, double tau, double d) {
   return a * (std::sqrt(tau * tau + 2.0 * d / a) - tau);
 }
 
-FlightResult fly(const config::PipelineConfig& cfg_in, const Scene& scene, const FlightParams& fp,
-                 uint32_t noise_seed) {
-  config::PipelineConfig cfg = cfg_in;
-  const int w = fp.width_px, h = fp.width_px * 9 / 16;
-  cfg.roi_full = false;
-  cfg.roi_width_px = w;
-  cfg.roi_height_px = h;
-  double interval_ms = 0, latency_ms = 0;
-  design_timing(cfg, w, h, interval_ms, latency_ms);
-  const Rig rig = scene_rig(w, h);
-  AvoidParams ap;
-  ap.cruise_mps = fp.speed_mps;
-  ap.sidestep_mps = std::max(1.5, 0.6 * fp.speed_mps);
-  ap.vehicle_radius_m = fp.vehicle_radius_m;
-  // Look far enough ahead to stop: the critical distance grows with the speed.
-  ap.critical_distance_m = std::max(12.0, 2.0 * fp.speed_mps * fp.speed_mps / (2.0 * fp.max_accel_mps2) + fp.speed_mps);
-  ap.u_threshold = std::max(6, 18 * w / 640);
-  ap.min_area_cells = std::max(4, 12 * w / 640);
-  std::mt19937 rng(noise_seed);
-  std::normal_distribution<double> noise(0.0, fp.disparity_noise_px);
+const char* to_string(Outcome o) {
+  switch (o) {
+    case Outcome::goal:
+      return "goal";
+    case Outcome::collision:
+      return "collision";
+    case Outcome::out_of_bounds:
+      return "out of bounds";
+    case Outcome::time_out:
+    default:
+      return "time out";
+  }
+}
+
+FlightSetup flight_setup(const config::PipelineConfig& cfg, const Scenario& sc, const FlightParams& fp) {
+  FlightSetup s;
+  s.cfg = cfg;
+  RigSpec spec = sc.rig;
+  if (fp.width_px > 0) {  // the whole rig scaled: the design processes the scaled sensor
+    spec.height_px = std::max(16, int(std::lround(double(spec.height_px) * fp.width_px / spec.width_px)));
+    spec.width_px = fp.width_px;
+    s.width_px = spec.width_px;
+    s.height_px = spec.height_px;
+  } else if (cfg.roi_full) {
+    s.width_px = spec.width_px;
+    s.height_px = spec.height_px;
+  } else {
+    s.width_px = cfg.roi_width_px;
+    s.height_px = cfg.roi_height_px;
+  }
+  s.cfg.roi_full = false;
+  s.cfg.roi_width_px = s.width_px;
+  s.cfg.roi_height_px = s.height_px;
+  s.rig = rig_of(spec, s.width_px, s.height_px);
+  design_timing(s.cfg, s.width_px, s.height_px, s.frame_interval_ms, s.latency_ms);
+  s.frame_s = std::max(s.frame_interval_ms / 1000.0, 1.0 / fp.camera_fps);
+  s.reaction_s = (s.latency_ms + cfg.avoid_ms) / 1000.0;
+  return s;
+}
+
+namespace {
+
+// A frame captured and on its way through the design and the avoidance stage.
+struct InFlight {
+  double ready_s;
+  cv::Mat disparity_px, valid_mask;
+  CameraPose pose;
+};
+
+}  // namespace
+
+FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Scene& scene, const FlightParams& fp,
+                 uint32_t seed) {
+  using clock = std::chrono::steady_clock;
+  const FlightSetup setup = flight_setup(cfg, sc, fp);
+  PlannerParams pp;
+  pp.cruise_mps = fp.speed_mps;
+  pp.brake_mps2 = 0.8 * fp.vehicle.max_accel_mps2;
+  // Capture to setpoint, a frame's age, and the jerk-limited onset of braking (a / 2j).
+  pp.reaction_s = setup.reaction_s + setup.frame_s + fp.vehicle.max_accel_mps2 / (2.0 * fp.vehicle.max_jerk_mps3);
+  pp.vehicle = fp.vehicle;
+  pp.safety_m = fp.vehicle.radius_m + 0.4;
+  pp.bound_half_width_m = scene.bound_half_width_m;
+  pp.goal_xz = Eigen::Vector2d(0.0, scene.goal_z_m);
+  Planner planner(pp);
+  LocalMap map;
+  map.clear_disk(0.0, 0.0, 2.0);  // the take-off area is known to be free
+  std::mt19937 rng(seed * 7919u + 17u);
   sim::FuncPipeline pipe;
   FlightResult r;
-  Eigen::Vector3d p(0, -1.6, 0), v(0, 0, fp.speed_mps), cmd(0, 0, fp.speed_mps);
-  std::deque<std::pair<double, Eigen::Vector3d>> pending;  // (time it takes effect, world velocity)
-  const double frame_s = std::max(interval_ms / 1000.0, 1.0 / fp.camera_fps);
+  VehicleState st;
+  st.position_m = Eigen::Vector3d(0, -sc.rig.altitude_m, 0);
+  Eigen::Vector3d v_sp = Eigen::Vector3d::Zero();  // hover until the first plan
+  double yaw_sp = 0;
+  std::deque<InFlight> pipeline;
   double next_frame = 0.0;
-  for (double t = 0; t < fp.time_limit_s; t += fp.dt_s) {
+  const int steps = int(std::ceil(fp.time_limit_s / fp.dt_s));
+  for (int k = 0; k <= steps; ++k) {
+    const double t = k * fp.dt_s;
     if (t >= next_frame) {
-      next_frame += frame_s;
-      StereoFrame f = render(scene, rig, w, h, p);
-      if (fp.disparity_noise_px > 0)
-        for (cv::Mat* m : {&f.left, &f.right})
-          for (int i = 0; i < int(m->total()); ++i)
-            m->data[i] = uint8_t(std::clamp(double(m->data[i]) + noise(rng), 0.0, 255.0));
-      const DisparityMap d = run_design(cfg, f.left, f.right, pipe);
-      const AvoidResult a = avoid(d.disparity_px, d.valid_mask, cfg.disparity_end_px(), rig, ap);
-      // Body (x forward, y right, z down) to world (x right, y down, z forward).
-      const Eigen::Vector3d world(a.velocity_mps.y(), a.velocity_mps.z(), a.velocity_mps.x());
-      // The avoidance stage's time is the configuration's model, not this machine's clock.
-      pending.emplace_back(t + latency_ms / 1000.0 + cfg.avoid_ms / 1000.0, world);
-      r.trajectory.push_back(p);
+      next_frame += setup.frame_s;
+      CameraPose pose;
+      pose.position_m = st.position_m;
+      pose.yaw_rad = st.yaw_rad;
+      pose.pitch_rad = st.pitch_rad + sc.rig.mount_pitch_deg * M_PI / 180.0;
+      const auto t0 = clock::now();
+      StereoFrame f = render(scene, setup.rig, setup.width_px, setup.height_px, pose, sc.imaging.antialias);
+      apply_sensor(f, sc.imaging, rng);
+      const auto t1 = clock::now();
+      InFlight in{t + setup.reaction_s, {}, {}, pose};
+      if (fp.oracle) {
+        in.disparity_px = f.disparity_px;
+        in.valid_mask = f.valid_mask;
+      } else {
+        DisparityMap d = run_design(setup.cfg, f.left, f.right, pipe);
+        in.disparity_px = d.disparity_px;
+        in.valid_mask = d.valid_mask;
+      }
+      r.render_wall_s += std::chrono::duration<double>(t1 - t0).count();
+      r.perception_wall_s += std::chrono::duration<double>(clock::now() - t1).count();
+      pipeline.push_back(std::move(in));
+      r.trajectory.push_back(st.position_m);
+      r.poses.push_back(pose);
       ++r.frames;
     }
-    while (!pending.empty() && pending.front().first <= t) {
-      cmd = pending.front().second;
-      pending.pop_front();
+    // A disparity map through the stage: into the map, then a plan from the current state.
+    while (!pipeline.empty() && pipeline.front().ready_s <= t) {
+      const InFlight& in = pipeline.front();
+      map.integrate(in.disparity_px, in.valid_mask, setup.rig, in.pose);
+      const Plan plan = planner.plan(map, st);
+      v_sp = plan.velocity_mps;
+      yaw_sp = plan.yaw_rad;
+      r.setpoints.push_back({t, v_sp, yaw_sp, st.position_m, st.velocity_mps, st.yaw_rad, plan.free_m, plan.braking});
+      pipeline.pop_front();
     }
-    // First-order response under an acceleration limit.
-    Eigen::Vector3d acc = (cmd - v) / fp.response_s;
-    if (acc.norm() > fp.max_accel_mps2) acc *= fp.max_accel_mps2 / acc.norm();
-    v += acc * fp.dt_s;
-    const Eigen::Vector3d step = v * fp.dt_s;
-    p += step;
-    p.y() = std::min(p.y(), -0.3);  // the vehicle keeps off the ground
-    r.path_length_m += step.norm();
-    const double c = clearance_m(scene, p) - fp.vehicle_radius_m;
+    const Eigen::Vector3d before = st.position_m;
+    step_vehicle(st, v_sp, yaw_sp, fp.vehicle, fp.dt_s);
+    r.path_length_m += (st.position_m - before).norm();
+    const double c = clearance_m(scene, st.position_m) - fp.vehicle.radius_m;
     r.min_clearance_m = std::min(r.min_clearance_m, c);
     r.time_s = t;
     if (c < 0) {
-      r.collided = true;
+      r.outcome = Outcome::collision;
       break;
     }
-    if (p.z() >= scene.goal_z_m) {
-      r.reached_goal = true;
+    if (std::fabs(st.position_m.x()) > scene.bound_half_width_m) {
+      r.outcome = Outcome::out_of_bounds;
+      break;
+    }
+    if (st.position_m.z() >= scene.goal_z_m) {
+      r.outcome = Outcome::goal;
       break;
     }
   }
+  r.reached_goal = r.outcome == Outcome::goal;
+  r.collided = r.outcome == Outcome::collision;
+  r.flips = planner.flips();
   return r;
 }
 

@@ -27,6 +27,70 @@ namespace parallax::explore {
 
 namespace {
 
+// Reads the fields of a mapping into doubles/ints/bools; an unknown key is an error naming it.
+struct FieldReader {
+  const YAML::Node& node;
+  std::string where;
+  std::vector<std::string> known;
+  template <typename T>
+  void get(const char* key, T& out) {
+    known.emplace_back(key);
+    if (!node[key]) return;
+    try {
+      out = node[key].as<T>();
+    } catch (const YAML::Exception&) {
+      throw InputError(where + "field '" + key + "' has the wrong type");
+    }
+  }
+  void reject_unknown() const {
+    for (const auto& kv : node) {
+      const std::string k = kv.first.as<std::string>();
+      if (std::find(known.begin(), known.end(), k) == known.end()) {
+        std::string list;
+        for (const auto& n : known) list += (list.empty() ? "" : ", ") + n;
+        throw InputError(where + "unknown field '" + k + "' (known: " + list + ")");
+      }
+    }
+  }
+};
+
+void check_range(const std::string& path, const char* field, double v, double lo, double hi) {
+  if (!(v >= lo && v <= hi))
+    throw InputError(path + ": field '" + field + "' = " + std::to_string(v) + " is outside [" + std::to_string(lo) +
+                     ", " + std::to_string(hi) + "]");
+}
+
+void parse_rig(const YAML::Node& n, const std::string& path, RigSpec& r) {
+  if (!n.IsMap()) throw InputError(path + ": field 'rig' must be a mapping (baseline_m, hfov_deg, ...)");
+  FieldReader f{n, path + ": rig: ", {}};
+  f.get("baseline_m", r.baseline_m);
+  f.get("hfov_deg", r.hfov_deg);
+  f.get("width_px", r.width_px);
+  f.get("height_px", r.height_px);
+  f.get("mount_pitch_deg", r.mount_pitch_deg);
+  f.get("altitude_m", r.altitude_m);
+  f.reject_unknown();
+  check_range(path, "rig.baseline_m", r.baseline_m, 0.01, 5.0);
+  check_range(path, "rig.hfov_deg", r.hfov_deg, 10.0, 150.0);
+  check_range(path, "rig.width_px", r.width_px, 32, 4096);
+  check_range(path, "rig.height_px", r.height_px, 16, 4096);
+  check_range(path, "rig.mount_pitch_deg", r.mount_pitch_deg, -45.0, 45.0);
+  check_range(path, "rig.altitude_m", r.altitude_m, 0.5, 50.0);
+}
+
+void parse_imaging(const YAML::Node& n, const std::string& path, Imaging& im) {
+  if (!n.IsMap()) throw InputError(path + ": field 'imaging' must be a mapping (right_gain, noise_grey, ...)");
+  FieldReader f{n, path + ": imaging: ", {}};
+  f.get("right_gain", im.right_gain);
+  f.get("right_offset_grey", im.right_offset_grey);
+  f.get("noise_grey", im.noise_grey);
+  f.get("antialias", im.antialias);
+  f.reject_unknown();
+  check_range(path, "imaging.right_gain", im.right_gain, 0.25, 4.0);
+  check_range(path, "imaging.right_offset_grey", im.right_offset_grey, -128.0, 128.0);
+  check_range(path, "imaging.noise_grey", im.noise_grey, 0.0, 50.0);
+}
+
 // A scenario from its YAML text; `path` names it in errors (and gives the default name).
 Scenario parse_scenario(const std::string& text, const std::string& path) {
   YAML::Node n;
@@ -37,20 +101,31 @@ Scenario parse_scenario(const std::string& text, const std::string& path) {
   }
   if (!n.IsMap()) throw InputError(path + ": expected a mapping of scenario fields (kind, ...)");
   Scenario s;
-  try {
-    s.name = n["name"] ? n["name"].as<std::string>() : std::filesystem::path(path).stem().string();
-    if (!n["kind"]) throw InputError(path + ": missing field 'kind'");
-    s.kind = n["kind"].as<std::string>();
-    if (n["density_per_100m2"]) s.density_per_100m2 = n["density_per_100m2"].as<double>();
-    if (n["gap_m"]) s.gap_m = n["gap_m"].as<double>();
-    if (n["width_m"]) s.width_m = n["width_m"].as<double>();
-    if (n["length_m"]) s.length_m = n["length_m"].as<double>();
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": a field has the wrong type: " + e.what());
-  }
+  s.name = std::filesystem::path(path).stem().string();
+  FieldReader f{n, path + ": ", {}};
+  f.get("name", s.name);
+  f.get("kind", s.kind);
+  f.get("density_per_100m2", s.density_per_100m2);
+  f.get("branches_per_tree", s.branches_per_tree);
+  f.get("gap_m", s.gap_m);
+  f.get("width_m", s.width_m);
+  f.get("length_m", s.length_m);
+  f.get("bound_half_width_m", s.bound_half_width_m);
+  f.get("walls", s.walls);
+  f.known.emplace_back("rig");
+  f.known.emplace_back("imaging");
+  f.reject_unknown();
+  if (n["rig"]) parse_rig(n["rig"], path, s.rig);
+  if (n["imaging"]) parse_imaging(n["imaging"], path, s.imaging);
+  if (!n["kind"]) throw InputError(path + ": missing field 'kind'");
   if (s.kind != "single-pole" && s.kind != "forest" && s.kind != "wall-gap" && s.kind != "corridor")
     throw InputError(path + ": field 'kind': '" + s.kind + "' is not single-pole, forest, wall-gap or corridor");
+  if (s.walls != "textured" && s.walls != "plain" && s.walls != "stripes")
+    throw InputError(path + ": field 'walls': '" + s.walls + "' is not textured, plain or stripes");
   if (!(s.length_m > 5)) throw InputError(path + ": field 'length_m' must exceed 5");
+  check_range(path, "density_per_100m2", s.density_per_100m2, 0.0, 50.0);
+  check_range(path, "branches_per_tree", s.branches_per_tree, 0.0, 20.0);
+  check_range(path, "bound_half_width_m", s.bound_half_width_m, 0.0, 1000.0);
   return s;
 }
 
@@ -106,6 +181,10 @@ Scene generate_scene(const Scenario& s, uint32_t seed) {
   Scene sc;
   sc.texture_seed = seed * 2654435761u + 1;
   sc.goal_z_m = s.length_m;
+  if (s.bound_half_width_m > 0) sc.bound_half_width_m = s.bound_half_width_m;
+  const Surface walls = s.walls == "plain"     ? Surface::plain
+                        : s.walls == "stripes" ? Surface::stripes
+                                               : Surface::textured;
   if (s.kind == "single-pole") {
     sc.cylinders.push_back({uni(-0.5, 0.5), uni(15, 25), uni(0.15, 0.3), uni(4, 8)});
   } else if (s.kind == "forest") {
@@ -114,102 +193,32 @@ Scene generate_scene(const Scenario& s, uint32_t seed) {
     std::poisson_distribution<int> count(s.density_per_100m2 * area / 100.0);
     const int n = count(rng);
     for (int i = 0; i < n; ++i) sc.cylinders.push_back({uni(-10, 10), uni(8, s.length_m), uni(0.15, 0.5), uni(5, 12)});
+    // Thin branches from the trunks across the flight band (their own stream: the trees of a
+    // seed do not depend on them).
+    std::mt19937 brng(seed ^ 0x5bd1e995u);
+    auto buni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(brng); };
+    std::poisson_distribution<int> per_tree(std::max(s.branches_per_tree, 1e-9));
+    for (const Cylinder& c : sc.cylinders) {
+      const int k = s.branches_per_tree > 0 ? per_tree(brng) : 0;
+      for (int j = 0; j < k; ++j) {
+        const double heading = buni(-M_PI, M_PI);
+        sc.branches.push_back({c.x_m + c.radius_m * std::sin(heading), c.z_m + c.radius_m * std::cos(heading),
+                               buni(s.rig.altitude_m - 1.0, s.rig.altitude_m + 1.2), heading, buni(0.8, 2.5),
+                               buni(0.02, 0.05)});
+      }
+    }
   } else if (s.kind == "wall-gap") {
     const double z = uni(18, 25), gap_x = uni(-2, 2), h = uni(3, 6);
-    sc.boxes.push_back({-20, gap_x - s.gap_m / 2, z, z + 0.4, h});
-    sc.boxes.push_back({gap_x + s.gap_m / 2, 20, z, z + 0.4, h});
+    sc.boxes.push_back({-20, gap_x - s.gap_m / 2, z, z + 0.4, h, walls});
+    sc.boxes.push_back({gap_x + s.gap_m / 2, 20, z, z + 0.4, h, walls});
   } else {  // corridor: two walls along the flight, with pillars in the way
-    sc.boxes.push_back({-s.width_m / 2 - 0.5, -s.width_m / 2, 2, s.length_m, uni(4, 8)});
-    sc.boxes.push_back({s.width_m / 2, s.width_m / 2 + 0.5, 2, s.length_m, uni(4, 8)});
+    sc.boxes.push_back({-s.width_m / 2 - 0.5, -s.width_m / 2, 2, s.length_m, uni(4, 8), walls});
+    sc.boxes.push_back({s.width_m / 2, s.width_m / 2 + 0.5, 2, s.length_m, uni(4, 8), walls});
     for (double z = 15; z < s.length_m - 5; z += uni(12, 18))
       sc.cylinders.push_back({uni(-s.width_m / 4, s.width_m / 4), z, 0.3, 6});
   }
   return sc;
 }
-
-namespace {
-
-// Seeded value noise on a 2D surface parameter, several octaves: grey levels 25..230.
-double hash01(uint32_t seed, int64_t i, int64_t j) {
-  uint64_t h = seed ^ (uint64_t(i) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(j) * 0xC2B2AE3D27D4EB4Full);
-  h ^= h >> 33;
-  h *= 0xff51afd7ed558ccdull;
-  h ^= h >> 33;
-  return double(h & 0xFFFFFF) / double(0xFFFFFF);
-}
-double noise(uint32_t seed, double u, double v) {
-  double sum = 0, amp = 0.5, freq = 8.0;
-  for (int o = 0; o < 3; ++o) {
-    const double x = u * freq, y = v * freq;
-    const int64_t i = int64_t(std::floor(x)), j = int64_t(std::floor(y));
-    const double fx = x - double(i), fy = y - double(j);
-    const double a = hash01(seed + uint32_t(o), i, j), b = hash01(seed + uint32_t(o), i + 1, j);
-    const double c = hash01(seed + uint32_t(o), i, j + 1), d = hash01(seed + uint32_t(o), i + 1, j + 1);
-    sum += amp * ((a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy);
-    amp *= 0.5;
-    freq *= 2.0;
-  }
-  return 25.0 + 205.0 * std::clamp(sum / 0.875, 0.0, 1.0);
-}
-
-struct Hit {
-  double t = std::numeric_limits<double>::infinity();
-  double shade = 0;
-};
-
-// The nearest surface along origin + t dir (t > 0) and its grey level.
-Hit cast(const Scene& sc, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
-  Hit h;
-  if (d.y() > 1e-9) {  // ground y = 0 below the camera (o.y < 0)
-    const double t = -o.y() / d.y();
-    if (t > 0) {
-      const Eigen::Vector3d p = o + t * d;
-      h = {t, noise(sc.texture_seed, p.x() * 0.5, p.z() * 0.5) * 0.85};
-    }
-  }
-  for (std::size_t k = 0; k < sc.cylinders.size(); ++k) {
-    const Cylinder& c = sc.cylinders[k];
-    const double ox = o.x() - c.x_m, oz = o.z() - c.z_m;
-    const double a = d.x() * d.x() + d.z() * d.z(), b = 2 * (ox * d.x() + oz * d.z()),
-                 cc = ox * ox + oz * oz - c.radius_m * c.radius_m;
-    const double disc = b * b - 4 * a * cc;
-    if (a < 1e-12 || disc < 0) continue;
-    const double t = (-b - std::sqrt(disc)) / (2 * a);
-    if (t <= 0 || t >= h.t) continue;
-    const Eigen::Vector3d p = o + t * d;
-    if (p.y() < -c.height_m || p.y() > 0) continue;
-    const double ang = std::atan2(p.z() - c.z_m, p.x() - c.x_m);
-    h = {t, noise(sc.texture_seed + 101 + uint32_t(k), ang * c.radius_m, p.y())};
-  }
-  for (std::size_t k = 0; k < sc.boxes.size(); ++k) {
-    const Box& b = sc.boxes[k];
-    const double lo[3] = {b.x0_m, -b.height_m, b.z0_m}, hi[3] = {b.x1_m, 0.0, b.z1_m};
-    double t0 = 0, t1 = std::numeric_limits<double>::infinity();
-    int axis = -1;
-    bool miss = false;
-    for (int i = 0; i < 3 && !miss; ++i) {
-      if (std::fabs(d[i]) < 1e-12) {
-        if (o[i] < lo[i] || o[i] > hi[i]) miss = true;
-        continue;
-      }
-      double ta = (lo[i] - o[i]) / d[i], tb = (hi[i] - o[i]) / d[i];
-      if (ta > tb) std::swap(ta, tb);
-      if (ta > t0) {
-        t0 = ta;
-        axis = i;
-      }
-      t1 = std::min(t1, tb);
-      if (t0 > t1) miss = true;
-    }
-    if (miss || axis < 0 || t0 <= 0 || t0 >= h.t) continue;
-    const Eigen::Vector3d p = o + t0 * d;
-    const double u = axis == 0 ? p.z() : p.x(), v = axis == 1 ? p.z() : p.y();
-    h = {t0, noise(sc.texture_seed + 977 + uint32_t(k), u * 0.7, v * 0.7)};
-  }
-  return h;
-}
-
-}  // namespace
 
 Rig scene_rig(int w, int h) {
   Rig r;
@@ -217,6 +226,21 @@ Rig scene_rig(int w, int h) {
   r.baseline_m = 0.5327;
   r.cx_px = (w - 1) / 2.0;
   r.cy_px = (h - 1) / 2.0;
+  return r;
+}
+
+Rig rig_of(const RigSpec& spec, int roi_w, int roi_h) {
+  if (roi_w > spec.width_px || roi_h > spec.height_px)
+    throw InputError("the design's region of interest " + std::to_string(roi_w) + "x" + std::to_string(roi_h) +
+                     " exceeds the scenario's sensor " + std::to_string(spec.width_px) + "x" +
+                     std::to_string(spec.height_px));
+  Rig r;
+  r.focal_px = 0.5 * spec.width_px / std::tan(0.5 * spec.hfov_deg * M_PI / 180.0);
+  r.baseline_m = spec.baseline_m;
+  // The sensor's centre in the centred window's coordinates (the window starts at a whole pixel).
+  const int x0 = (spec.width_px - roi_w) / 2, y0 = (spec.height_px - roi_h) / 2;
+  r.cx_px = (spec.width_px - 1) / 2.0 - x0;
+  r.cy_px = (spec.height_px - 1) / 2.0 - y0;
   return r;
 }
 
@@ -232,64 +256,6 @@ void write_rectification_maps(const Rig& rig, int w, int h, double k1, const std
   } catch (const cv::Exception& e) {
     throw InputError(path + ": cannot write the remap tables: " + e.what());
   }
-}
-
-StereoFrame render(const Scene& sc, const Rig& rig, int w, int hgt, const Eigen::Vector3d& cam, double k1) {
-  if (k1 != 0.0) {
-    // The truth of the rectified pair, then the images through distorting lenses.
-    StereoFrame f = render(sc, rig, w, hgt, cam, 0.0);
-    const Eigen::Vector3d right_cam = cam + Eigen::Vector3d(rig.baseline_m, 0, 0);
-    for (int v = 0; v < hgt; ++v)
-      for (int u = 0; u < w; ++u) {
-        const double xd = (u - rig.cx_px) / rig.focal_px, yd = (v - rig.cy_px) / rig.focal_px;
-        double x = xd, y = yd;
-        for (int it = 0; it < 8; ++it) {  // invert x_d = x (1 + k1 r^2)
-          const double s = 1.0 + k1 * (x * x + y * y);
-          x = xd / s;
-          y = yd / s;
-        }
-        const Eigen::Vector3d dir(x, y, 1.0);
-        const Hit hl = cast(sc, cam, dir), hr = cast(sc, right_cam, dir);
-        f.left.at<uint8_t>(v, u) = std::isfinite(hl.t) ? uint8_t(std::lround(hl.shade)) : 200;
-        f.right.at<uint8_t>(v, u) = std::isfinite(hr.t) ? uint8_t(std::lround(hr.shade)) : 200;
-      }
-    return f;
-  }
-  StereoFrame f;
-  f.left = cv::Mat(hgt, w, CV_8U, cv::Scalar(200));
-  f.right = cv::Mat(hgt, w, CV_8U, cv::Scalar(200));
-  f.disparity_px = cv::Mat::zeros(hgt, w, CV_32F);
-  f.valid_mask = cv::Mat::zeros(hgt, w, CV_8U);
-  f.noc_mask = cv::Mat::zeros(hgt, w, CV_8U);
-  cv::Mat right_disp = cv::Mat::zeros(hgt, w, CV_32F);
-  const Eigen::Vector3d right_cam = cam + Eigen::Vector3d(rig.baseline_m, 0, 0);
-  for (int v = 0; v < hgt; ++v)
-    for (int u = 0; u < w; ++u) {
-      const Eigen::Vector3d dir((u - rig.cx_px) / rig.focal_px, (v - rig.cy_px) / rig.focal_px, 1.0);
-      const Hit hl = cast(sc, cam, dir), hr = cast(sc, right_cam, dir);
-      if (std::isfinite(hl.t)) {
-        f.left.at<uint8_t>(v, u) = uint8_t(std::lround(hl.shade));
-        const double disp = rig.focal_px * rig.baseline_m / hl.t;  // t = depth: dir.z = 1
-        if (disp < 255.0) {
-          f.disparity_px.at<float>(v, u) = float(disp);
-          f.valid_mask.at<uint8_t>(v, u) = 255;
-        }
-      }
-      if (std::isfinite(hr.t)) {
-        f.right.at<uint8_t>(v, u) = uint8_t(std::lround(hr.shade));
-        right_disp.at<float>(v, u) = float(rig.focal_px * rig.baseline_m / hr.t);
-      }
-    }
-  // Visible from the right camera: the right image at u - d sees (about) the same depth.
-  for (int v = 0; v < hgt; ++v)
-    for (int u = 0; u < w; ++u) {
-      if (!f.valid_mask.at<uint8_t>(v, u)) continue;
-      const float d = f.disparity_px.at<float>(v, u);
-      const int ur = int(std::lround(float(u) - d));
-      if (ur < 0 || ur >= w) continue;
-      if (std::fabs(right_disp.at<float>(v, ur) - d) <= 1.0f) f.noc_mask.at<uint8_t>(v, u) = 255;
-    }
-  return f;
 }
 
 void export_kitti(const std::vector<StereoFrame>& frames, const std::string& dir) {
@@ -316,6 +282,11 @@ double clearance_m(const Scene& sc, const Eigen::Vector3d& p) {
   for (const auto& c : sc.cylinders) {
     if (p.y() < -c.height_m) continue;
     best = std::min(best, std::hypot(p.x() - c.x_m, p.z() - c.z_m) - c.radius_m);
+  }
+  for (const auto& br : sc.branches) {
+    const Eigen::Vector3d a(br.x_m, -br.height_m, br.z_m), ax(std::sin(br.heading_rad), 0, std::cos(br.heading_rad));
+    const double s = std::clamp((p - a).dot(ax), 0.0, br.length_m);
+    best = std::min(best, (p - (a + s * ax)).norm() - br.radius_m);
   }
   for (const auto& b : sc.boxes) {
     if (p.y() < -b.height_m) continue;

@@ -18,7 +18,7 @@ TEST(Fly, PastASinglePoleToTheGoal) {
   FlightParams fp;
   fp.width_px = 160;
   fp.speed_mps = 4.0;
-  const FlightResult r = fly(cfg, scene, fp);
+  const FlightResult r = fly(cfg, sc, scene, fp);
   EXPECT_TRUE(r.reached_goal);
   EXPECT_FALSE(r.collided);
   EXPECT_GT(r.min_clearance_m, 0.0);
@@ -28,7 +28,7 @@ TEST(Fly, PastASinglePoleToTheGoal) {
   // Straight through, the same pole is hit: the scene and the clearance check can fail a flight.
   double straight_clear = 1e9;
   for (double z = 0; z < scene.goal_z_m; z += 0.05)
-    straight_clear = std::min(straight_clear, clearance_m(scene, Eigen::Vector3d(0, -1.6, z)) - fp.vehicle_radius_m);
+    straight_clear = std::min(straight_clear, clearance_m(scene, Eigen::Vector3d(0, -1.6, z)) - fp.vehicle.radius_m);
   EXPECT_LT(straight_clear, 0.0);
 }
 
@@ -43,12 +43,12 @@ TEST(Fly, RepeatableWithTheModelledAvoidanceTime) {
   FlightParams fp;
   fp.width_px = 160;
   fp.time_limit_s = 4.0;
-  const FlightResult a = fly(cfg, scene, fp, 2), b = fly(cfg, scene, fp, 2);
+  const FlightResult a = fly(cfg, sc, scene, fp, 2), b = fly(cfg, sc, scene, fp, 2);
   ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
   for (std::size_t i = 0; i < a.trajectory.size(); ++i) EXPECT_EQ(a.trajectory[i], b.trajectory[i]) << i;
   EXPECT_EQ(a.path_length_m, b.path_length_m);
   cfg.avoid_ms = 200.0;
-  const FlightResult slow = fly(cfg, scene, fp, 2);
+  const FlightResult slow = fly(cfg, sc, scene, fp, 2);
   bool differs = slow.trajectory.size() != a.trajectory.size();
   for (std::size_t i = 0; !differs && i < a.trajectory.size(); ++i) differs = slow.trajectory[i] != a.trajectory[i];
   EXPECT_TRUE(differs);

@@ -1,13 +1,19 @@
 // parallax fly: closed-loop flights through synthetic scenes with a design's disparity, latency
-// and frame rate; at one speed, or searching the highest speed without a collision.
+// and frame rate, each set of seeds also flown with oracle perception (the exact disparity), so
+// that the design's share of the outcome and the planner's are told apart; at one speed, or
+// searching the highest speed without a collision.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "commands.hpp"
 #include "parallax/uav/fly.hpp"
@@ -22,110 +28,174 @@ using namespace parallax::explore;
 
 struct FlyOptions {
   ConfigArgs cfg;
-  std::string scenario;
-  int seeds = 3, size = 320;
-  double speed = 5.0, noise = 0.0, limit = 40.0;
-  bool json = false, find = false;
+  std::string scenario, trace_csv;
+  int seeds = 3, size = 0, jobs = 0;
+  double speed = 5.0, noise = -1.0, limit = 60.0;
+  bool json = false, find = false, no_oracle = false;
 };
 
 // The flights of seeds 1..N at one speed, summed.
 struct FlightTally {
-  int ok = 0, collisions = 0;
-  double min_clear = 1e9, ratio = 0, time = 0;
+  int seeds = 0, goal = 0, collisions = 0, out_of_bounds = 0, timeouts = 0, frames = 0, flips = 0;
+  double min_clear = 1e9, ratio = 0, time = 0, simulated_s = 0, render_s = 0, perception_s = 0;
+  json per_seed = json::array();
+
+  double mean_goal(double sum) const { return goal ? sum / goal : 0.0; }
+  json to_json(double goal_z_m) const {
+    const auto ok = wilson_interval_pct(goal, seeds), hit = wilson_interval_pct(collisions, seeds);
+    return {{"seeds", seeds},
+            {"success_rate", 100.0 * goal / std::max(1, seeds)},
+            {"success_ci95_pct", {ok.first, ok.second}},
+            {"collisions", collisions},
+            {"collision_ci95_pct", {hit.first, hit.second}},
+            {"out_of_bounds", out_of_bounds},
+            {"timeouts", timeouts},
+            {"min_clearance_m", min_clear},
+            {"path_length_ratio", mean_goal(ratio)},
+            {"time_to_goal_s", mean_goal(time)},
+            {"goal_speed_mps", goal ? goal_z_m / mean_goal(time) : 0.0},
+            {"flips_per_flight", double(flips) / std::max(1, seeds)},
+            {"render_ms_per_frame", frames ? 1000.0 * render_s / frames : 0.0},
+            {"render_vs_real_time", simulated_s > 0 ? render_s / simulated_s : 0.0},
+            {"per_seed", per_seed}};
+  }
 };
 
-// Flies the design through the scenes of seeds 1..`seeds` at `speed`; one progress line per
-// flight on stderr, and one row per flight in `per_seed` when not null.
+// Flies seeds 1..`seeds` at `speed` on `jobs` threads; one progress line per flight on stderr.
 FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, FlightParams fp, int seeds, double speed,
-                      json* per_seed) {
+                      int jobs, const char* label, std::FILE* trace) {
   fp.speed_mps = speed;
+  std::vector<FlightResult> results(static_cast<std::size_t>(seeds));
+  std::vector<double> goal_z(std::size_t(seeds), 0.0);
+  std::atomic<int> next{1};
+  std::mutex out;
+  auto worker = [&] {
+    for (int s = next++; s <= seeds; s = next++) {
+      const Scene scene = generate_scene(sc, uint32_t(s));
+      FlightResult r = fly(cfg, sc, scene, fp, uint32_t(s));
+      const std::lock_guard<std::mutex> lock(out);
+      std::fprintf(stderr, "parallax: %s %s seed %d at %.1f m/s: %s after %.1f s (min clearance %.2f m, %d frames)\n",
+                   label, sc.name.c_str(), s, speed, to_string(r.outcome), r.time_s, r.min_clearance_m, r.frames);
+      goal_z[std::size_t(s - 1)] = scene.goal_z_m;
+      if (trace != nullptr)
+        for (const SentSetpoint& p : r.setpoints)
+          std::fprintf(trace, "%s,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%.3f,%.3f,%.1f,%.2f,%d\n", label, s, p.time_s,
+                       p.position_m.x(), p.position_m.z(), p.vehicle_velocity_mps.x(), p.vehicle_velocity_mps.z(),
+                       p.vehicle_yaw_rad * 180.0 / M_PI, p.velocity_mps.x(), p.velocity_mps.z(),
+                       p.yaw_rad * 180.0 / M_PI, p.free_m, p.braking ? 1 : 0);
+      results[std::size_t(s - 1)] = std::move(r);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, std::min(jobs, seeds)); ++j) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
   FlightTally g;
+  g.seeds = seeds;
   for (int s = 1; s <= seeds; ++s) {
-    const Scene scene = generate_scene(sc, uint32_t(s));
-    const FlightResult r = fly(cfg, scene, fp, uint32_t(s));
-    g.ok += r.reached_goal ? 1 : 0;
-    g.collisions += r.collided ? 1 : 0;
+    const FlightResult& r = results[std::size_t(s - 1)];
+    g.goal += r.outcome == Outcome::goal ? 1 : 0;
+    g.collisions += r.outcome == Outcome::collision ? 1 : 0;
+    g.out_of_bounds += r.outcome == Outcome::out_of_bounds ? 1 : 0;
+    g.timeouts += r.outcome == Outcome::time_out ? 1 : 0;
     g.min_clear = std::min(g.min_clear, r.min_clearance_m);
+    g.frames += r.frames;
+    g.flips += r.flips;
+    g.simulated_s += r.time_s;
+    g.render_s += r.render_wall_s;
+    g.perception_s += r.perception_wall_s;
     if (r.reached_goal) {
-      g.ratio += r.path_length_m / scene.goal_z_m;
+      g.ratio += r.path_length_m / goal_z[std::size_t(s - 1)];
       g.time += r.time_s;
     }
-    if (per_seed)
-      per_seed->push_back({{"seed", s},
-                           {"reached_goal", r.reached_goal},
-                           {"collided", r.collided},
-                           {"min_clearance_m", r.min_clearance_m},
-                           {"time_s", r.time_s},
-                           {"frames", r.frames}});
-    std::fprintf(stderr, "parallax: %s seed %d at %.1f m/s: %s (min clearance %.2f m, %d frames)\n", sc.name.c_str(), s,
-                 speed,
-                 r.collided       ? "collision"
-                 : r.reached_goal ? "goal"
-                                  : "time out",
-                 r.min_clearance_m, r.frames);
+    g.per_seed.push_back({{"seed", s},
+                          {"outcome", to_string(r.outcome)},
+                          {"min_clearance_m", r.min_clearance_m},
+                          {"time_s", r.time_s},
+                          {"path_length_m", r.path_length_m},
+                          {"flips", r.flips},
+                          {"frames", r.frames}});
   }
   return g;
 }
 
+void print_tally(const char* label, const FlightTally& g, double goal_z_m) {
+  const auto ok = wilson_interval_pct(g.goal, g.seeds), hit = wilson_interval_pct(g.collisions, g.seeds);
+  std::printf(
+      "  %-8s success %3.0f%% [%.0f-%.0f%%]  collisions %d [%.0f-%.0f%%]  out of bounds %d  timeouts %d  "
+      "goal speed %.2f m/s  path ratio %.3f  min clearance %.2f m  flips %.1f/flight\n",
+      label, 100.0 * g.goal / std::max(1, g.seeds), ok.first, ok.second, g.collisions, hit.first, hit.second,
+      g.out_of_bounds, g.timeouts, g.goal ? goal_z_m / g.mean_goal(g.time) : 0.0, g.mean_goal(g.ratio), g.min_clear,
+      double(g.flips) / std::max(1, g.seeds));
+}
+
 int run_fly(const FlyOptions& o, const Invocation&) {
   const config::PipelineConfig cfg = load_config_args(o.cfg);
-  const Scenario sc = load_scenario(o.scenario);
+  Scenario sc = load_scenario(o.scenario);
+  if (o.noise >= 0) sc.imaging.noise_grey = o.noise;
   FlightParams fp;
   fp.width_px = o.size;
-  fp.disparity_noise_px = o.noise;
   fp.time_limit_s = o.limit;
-  double interval_ms = 0, latency_ms = 0;
-  {
-    config::PipelineConfig c = cfg;
-    c.roi_full = false;
-    c.roi_width_px = o.size;
-    c.roi_height_px = o.size * 9 / 16;
-    design_timing(c, o.size, o.size * 9 / 16, interval_ms, latency_ms);
+  const FlightSetup setup = flight_setup(cfg, sc, fp);
+  const int jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
+  const double goal_z = generate_scene(sc, 1).goal_z_m;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> trace(nullptr, std::fclose);
+  if (!o.trace_csv.empty()) {
+    trace.reset(std::fopen(o.trace_csv.c_str(), "w"));
+    if (!trace) throw InputError(o.trace_csv + ": cannot write the trace");
+    std::fprintf(trace.get(),
+                 "perception,seed,time_s,x_m,z_m,vx_mps,vz_mps,yaw_deg,sp_vx_mps,sp_vz_mps,sp_yaw_deg,"
+                 "free_m,braking\n");
   }
   json j;
   j["config"] = cfg.name;
   j["scenario"] = sc.name;
   j["seeds"] = o.seeds;
-  j["frame_interval_ms"] = interval_ms;
-  j["latency_ms"] = latency_ms;
+  j["image_px"] = {setup.width_px, setup.height_px};
+  j["focal_px"] = setup.rig.focal_px;
+  j["baseline_m"] = setup.rig.baseline_m;
+  j["frame_interval_ms"] = setup.frame_interval_ms;
+  j["latency_ms"] = setup.latency_ms;
+  j["avoid_ms"] = cfg.avoid_ms;
+  j["frame_ms"] = setup.frame_s * 1000.0;
   if (o.find) {
     double lo = 0.0, hi = 16.0;
     for (int it = 0; it < 5; ++it) {
       const double mid = (lo + hi) / 2;
-      (fly_seeds(cfg, sc, fp, o.seeds, mid, nullptr).collisions == 0 ? lo : hi) = mid;
+      (fly_seeds(cfg, sc, fp, o.seeds, mid, jobs, "design", nullptr).collisions == 0 ? lo : hi) = mid;
     }
-    const double frame_ms = std::max(interval_ms, 1000.0 / fp.camera_fps);
-    const double bound = stopping_distance_speed_bound(fp.max_accel_mps2, (latency_ms + frame_ms) / 1000.0, 12.0);
+    const double reaction_s = setup.reaction_s + setup.frame_s;
+    const double bound = stopping_distance_speed_bound(fp.vehicle.max_accel_mps2, reaction_s, 12.0);
     j["max_safe_speed_mps"] = lo;
     j["stopping_distance_bound_mps"] = bound;
     if (!o.json)
       std::printf(
           "%s in %s over %d seeds: highest speed without a collision %.2f m/s (searched to 0.5 m/s); "
-          "stopping-distance bound %.2f m/s (a %.1f m/s2, reaction %.1f ms = latency + frame, range 12 m)\n",
-          cfg.name.c_str(), sc.name.c_str(), o.seeds, lo, bound, fp.max_accel_mps2, latency_ms + frame_ms);
+          "stopping-distance bound %.2f m/s (a %.1f m/s2, reaction %.1f ms = latency + stage + frame, range 12 m)\n",
+          cfg.name.c_str(), sc.name.c_str(), o.seeds, lo, bound, fp.vehicle.max_accel_mps2, 1000.0 * reaction_s);
   } else {
-    json per_seed = json::array();
-    const FlightTally g = fly_seeds(cfg, sc, fp, o.seeds, o.speed, &per_seed);
-    const int timeouts = o.seeds - g.ok - g.collisions;
-    const auto ok_ci = wilson_interval_pct(g.ok, o.seeds), hit_ci = wilson_interval_pct(g.collisions, o.seeds);
+    const FlightTally design = fly_seeds(cfg, sc, fp, o.seeds, o.speed, jobs, "design", trace.get());
     j["speed_mps"] = o.speed;
-    j["success_rate"] = 100.0 * g.ok / o.seeds;
-    j["success_ci95_pct"] = {ok_ci.first, ok_ci.second};
-    j["collisions"] = g.collisions;
-    j["collision_ci95_pct"] = {hit_ci.first, hit_ci.second};
-    j["timeouts"] = timeouts;
-    j["min_clearance_m"] = g.min_clear;
-    j["path_length_ratio"] = g.ok ? g.ratio / g.ok : 0.0;
-    j["time_to_goal_s"] = g.ok ? g.time / g.ok : 0.0;
-    j["per_seed"] = per_seed;
-    if (!o.json)
+    j["design"] = design.to_json(goal_z);
+    FlightTally oracle;
+    if (!o.no_oracle) {
+      FlightParams ofp = fp;
+      ofp.oracle = true;
+      oracle = fly_seeds(cfg, sc, ofp, o.seeds, o.speed, jobs, "oracle", trace.get());
+      j["oracle"] = oracle.to_json(goal_z);
+    }
+    if (!o.json) {
       std::printf(
-          "%s in %s at %.1f m/s over %d seeds: success_rate %.0f%% [%.0f-%.0f%%]  collisions %d [%.0f-%.0f%%]  "
-          "timeouts %d  min_clearance %.2f m  path_length_ratio %.3f  time_to_goal %.1f s  (frame %.1f ms, latency "
-          "%.1f ms; [ ]: Wilson 95 %% intervals)\n",
-          cfg.name.c_str(), sc.name.c_str(), o.speed, o.seeds, j["success_rate"].get<double>(), ok_ci.first,
-          ok_ci.second, g.collisions, hit_ci.first, hit_ci.second, timeouts, g.min_clear,
-          j["path_length_ratio"].get<double>(), j["time_to_goal_s"].get<double>(), interval_ms, latency_ms);
+          "%s in %s at %.1f m/s over %d seeds (%dx%d, f %.0f px, B %.2f m; frame %.1f ms, latency %.1f ms + stage "
+          "%.1f ms):\n",
+          cfg.name.c_str(), sc.name.c_str(), o.speed, o.seeds, setup.width_px, setup.height_px, setup.rig.focal_px,
+          setup.rig.baseline_m, setup.frame_s * 1000.0, setup.latency_ms, cfg.avoid_ms);
+      print_tally("design", design, goal_z);
+      if (!o.no_oracle) print_tally("oracle", oracle, goal_z);
+      std::printf("  ([ ]: Wilson 95 %% intervals; oracle: the same flights with the exact disparity)\n");
+      std::printf("  rendering: %.1f ms per stereo pair, %.2fx real time on one core\n",
+                  design.frames ? 1000.0 * design.render_s / design.frames : 0.0,
+                  design.simulated_s > 0 ? design.render_s / design.simulated_s : 0.0);
+    }
   }
   if (o.json) std::cout << j.dump(2) << "\n";
   return 0;
@@ -142,16 +212,22 @@ Command add_fly(CLI::App& app) {
           "--scenario", o->scenario,
           "Scenario: a shipped one by name (forest, corridor, wall-gap, single-pole) or a file, e.g. my/scene.yaml")
       ->required();
-  flyc->add_option("--seeds", o->seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(InRange(1, 1000));
+  flyc->add_option("--seeds", o->seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(InRange(1, 10000));
   flyc->add_option("--speed-mps", o->speed, "Cruise speed")->capture_default_str()->check(InRange(0.1, 50.0));
-  flyc->add_option("--size", o->size, "Rendered width (height x 9/16); the design's ROI follows")
+  flyc->add_option("--size", o->size,
+                   "Scale the rig to this image width (0: the design's own region of interest on the scenario's "
+                   "sensor; smaller is faster, with the design's timing and range at that size)")
       ->capture_default_str()
-      ->check(InRange(64, 1280));
+      ->check(CLI::Range(0, 0) | InRange(64, 4096));
+  flyc->add_option("--jobs", o->jobs, "Seeds in parallel (default: all cores)")->check(InRange(0, 256));
   flyc->add_flag("--find-max-speed", o->find, "Search the highest speed without a collision over the seeds");
-  flyc->add_option("--noise-grey", o->noise, "Sensor noise: Gaussian sigma added to the grey levels")
-      ->capture_default_str()
+  flyc->add_flag("--no-oracle", o->no_oracle, "Skip the oracle flights (the exact disparity through the same loop)");
+  flyc->add_option("--noise-grey", o->noise,
+                   "Sensor read noise, Gaussian sigma in grey levels (default: the scenario's imaging.noise_grey)")
       ->check(InRange(0.0, 50.0));
   flyc->add_option("--time-limit-s", o->limit, "Flight time limit")->capture_default_str()->check(InRange(1.0, 3600.0));
+  flyc->add_option("--trace-csv", o->trace_csv,
+                   "Write every setpoint of every flight (vehicle state, setpoint, free distance) to this CSV");
   flyc->add_flag("--json", o->json, "Print JSON");
   return bind_command(flyc, o, run_fly);
 }

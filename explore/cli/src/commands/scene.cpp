@@ -2,6 +2,7 @@
 // dataset, optionally with radial lens distortion and the maps that rectify it.
 #include <Eigen/Core>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -22,22 +23,31 @@ using namespace parallax::explore;
 struct SceneOptions {
   std::string scenario, out;
   uint32_t seed = 1;
-  int frames = 10, width = 640;
+  int frames = 10, width = 0;
   double step = 2.0, k1 = 0.0;
 };
 
 int run_scene(const SceneOptions& o, const Invocation&) {
   const Scenario s = load_scenario(o.scenario);
   const Scene scene = generate_scene(s, o.seed);
-  const int height = o.width * 9 / 16;
-  const Rig rig = scene_rig(o.width, height);
+  RigSpec spec = s.rig;
+  if (o.width > 0) {
+    spec.height_px = std::max(16, int(std::lround(double(spec.height_px) * o.width / spec.width_px)));
+    spec.width_px = o.width;
+  }
+  const int width = spec.width_px, height = spec.height_px;
+  const Rig rig = rig_of(spec, width, height);
   std::vector<StereoFrame> frames;
+  const auto start = std::chrono::steady_clock::now();
   for (int i = 0; i < o.frames; ++i)
-    frames.push_back(render(scene, rig, o.width, height, Eigen::Vector3d(0, -1.6, i * o.step), o.k1));
+    frames.push_back(render(scene, rig, width, height, Eigen::Vector3d(0, -s.rig.altitude_m, i * o.step), o.k1));
+  const double render_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / o.frames;
+  std::fprintf(stderr, "parallax: rendered %d stereo pairs, %.1f ms per pair\n", o.frames, render_ms);
   export_kitti(frames, o.out);
   if (o.k1 != 0.0) {
     for (const char* side : {"maps_left.yml", "maps_right.yml"})
-      write_rectification_maps(rig, o.width, height, o.k1, (fs::path(o.out) / side).string());
+      write_rectification_maps(rig, width, height, o.k1, (fs::path(o.out) / side).string());
     std::printf(
         "distortion k1 = %g: rectify with --set rectify=bilinear --set rectify_maps_left=%s/maps_left.yml "
         "--set rectify_maps_right=%s/maps_right.yml\n",
@@ -45,9 +55,9 @@ int run_scene(const SceneOptions& o, const Invocation&) {
   }
   std::printf(
       "%s (seed %u): %zu poles/trees, %zu boxes; %d frames of %dx%d written to %s/training "
-      "(f = %.1f px, B = %.4f m, camera 1.6 m above the ground)\n",
-      s.name.c_str(), o.seed, scene.cylinders.size(), scene.boxes.size(), o.frames, o.width, height, o.out.c_str(),
-      rig.focal_px, rig.baseline_m);
+      "(f = %.1f px, B = %.4f m, camera %.1f m above the ground)\n",
+      s.name.c_str(), o.seed, scene.cylinders.size(), scene.boxes.size(), o.frames, width, height, o.out.c_str(),
+      rig.focal_px, rig.baseline_m, s.rig.altitude_m);
   return 0;
 }
 
@@ -69,9 +79,9 @@ Command add_scene(CLI::App& app) {
   scenec->add_option("--step-m", o->step, "Distance between frames")
       ->capture_default_str()
       ->check(InRange(0.01, 100.0));
-  scenec->add_option("--size", o->width, "Image width (height = width x 9/16)")
+  scenec->add_option("--size", o->width, "Scale the scenario's rig to this image width (0: its sensor as given)")
       ->capture_default_str()
-      ->check(InRange(32, 4096));
+      ->check(CLI::Range(0, 0) | InRange(32, 4096));
   scenec->add_option("--out", o->out, "Output folder (KITTI layout: training/image_2, image_3, disp_noc_0, disp_occ_0)")
       ->required()
       ->check(OutputFolder());

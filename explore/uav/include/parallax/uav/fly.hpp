@@ -1,45 +1,79 @@
-// Closed-loop flights (issue 8, docs/flight.md): a point-mass UAV flies through a synthetic scene;
-// every frame interval of the design (cycle model at its clock) the stereo rig is rendered, the
-// design's kernels compute the disparity, the avoidance stage plans, and the command takes effect
-// after the design's latency plus the stage's own time.
+// Closed-loop flights (docs/flight.md): a multicopter (vehicle.hpp) flies through a synthetic
+// scene; every frame interval of the design (cycle model at its clock, plus the configuration's
+// system figures) its rig is rendered at the vehicle's pose, the design's kernels (or, for the
+// oracle, the exact disparity) give the disparity, which after the design's latency and the
+// avoidance stage's modelled time enters the planner's map (planner.hpp); the planner's velocity
+// and yaw setpoints then drive the vehicle.
 #pragma once
 
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "parallax/config/config.hpp"
 #include "parallax/uav/avoid.hpp"
+#include "parallax/uav/planner.hpp"
 #include "parallax/uav/scene.hpp"
+#include "parallax/uav/vehicle.hpp"
 
 namespace parallax::explore {
 
 struct FlightParams {
-  double speed_mps = 5.0;       // cruise speed commanded
-  double max_accel_mps2 = 4.0;  // |a| limit
-  double response_s = 0.3;      // first-order velocity response time constant
-  double vehicle_radius_m = 0.5;
-  double time_limit_s = 40.0;
-  double dt_s = 0.005;              // integration step
-  double disparity_noise_px = 0.0;  // sensor noise added to the pixels (grey levels, sigma)
-  int width_px = 320;               // rendered size; the design's ROI is set to it
-  double camera_fps = 30.0;         // the cameras' rate: frames come no faster than this nor the design
+  double speed_mps = 5.0;  // cruise speed the planner commands when free
+  VehicleParams vehicle;
+  double time_limit_s = 60.0;
+  double dt_s = 0.005;  // integration step
+  // 0: the design's own region of interest on the scenario's sensor (the default: the design's
+  // timing and range). > 0: the rig scaled to this width (a quick look; the design runs and is
+  // timed at that size).
+  int width_px = 0;
+  double camera_fps = 30.0;  // the cameras' rate: frames come no faster than this nor the design
+  bool oracle = false;       // exact disparity instead of the design's: the planner's own limits
+};
+
+// What a flight is flown with: the design at its window, the rig, the timing.
+struct FlightSetup {
+  config::PipelineConfig cfg;  // with the processed window as its ROI
+  int width_px = 0, height_px = 0;
+  Rig rig;
+  double frame_interval_ms = 0, latency_ms = 0;  // the design's, from the cycle model
+  double frame_s = 0;                            // max(design interval, camera frame)
+  double reaction_s = 0;                         // latency + avoid_ms: capture to setpoint
+};
+FlightSetup flight_setup(const config::PipelineConfig& cfg, const Scenario& sc, const FlightParams& fp);
+
+enum class Outcome { goal, collision, out_of_bounds, time_out };
+const char* to_string(Outcome o);
+
+// One setpoint the loop sent: when (flight time), the world-frame velocity and yaw.
+struct SentSetpoint {
+  double time_s;
+  Eigen::Vector3d velocity_mps;
+  double yaw_rad;
+  // The vehicle then, and why: the planner's free distance along its heading, braking.
+  Eigen::Vector3d position_m, vehicle_velocity_mps;
+  double vehicle_yaw_rad, free_m;
+  bool braking;
 };
 
 struct FlightResult {
+  Outcome outcome = Outcome::time_out;
   bool reached_goal = false, collided = false;
   double min_clearance_m = 1e9, path_length_m = 0, time_s = 0;
-  int frames = 0;
+  int frames = 0, flips = 0;
   std::vector<Eigen::Vector3d> trajectory;  // sampled every frame
+  std::vector<CameraPose> poses;            // the left camera's at every frame
+  std::vector<SentSetpoint> setpoints;
+  double render_wall_s = 0, perception_wall_s = 0;  // this machine's time spent rendering, in the design
 };
+
+FlightResult fly(const config::PipelineConfig& cfg, const Scenario& scenario, const Scene& scene,
+                 const FlightParams& fp, uint32_t seed = 1);
 
 // The design's frame interval and latency (ms) at its clock, from the cycle model, for images of
 // the given size.
 void design_timing(const config::PipelineConfig& cfg, int width_px, int height_px, double& frame_interval_ms,
                    double& latency_ms);
-
-FlightResult fly(const config::PipelineConfig& cfg, const Scene& scene, const FlightParams& fp,
-                 uint32_t noise_seed = 1);
 
 // v_max = a (sqrt(tau^2 + 2 d / a) - tau): the speed from which a vehicle reacting after tau and
 // braking at a stops within the sensing range d (../shared/docs/published-numbers.md).

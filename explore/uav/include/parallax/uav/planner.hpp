@@ -1,0 +1,104 @@
+// The flight's planner (docs/flight.md): obstacles kept over frames in a vehicle-centred occupancy
+// map (a rolling grid, in the spirit of 3DVFH+'s histogram and NanoMap's memory of past views)
+// and a direction search over that map: only directions the cameras have seen, checked along the
+// path for the vehicle's width, a speed from which it can still stop in the free distance, and
+// hysteresis against left/right flips.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "parallax/uav/avoid.hpp"
+#include "parallax/uav/scene.hpp"
+#include "parallax/uav/vehicle.hpp"
+
+namespace parallax::explore {
+
+struct MapParams {
+  double cell_m = 0.2;
+  int size_cells = 256;         // the window around the vehicle (51.2 m at 0.2 m)
+  double band_m = 0.9;          // points within this of the vehicle's altitude are obstacles
+  double max_range_m = 25.0;    // farther points and free space are not trusted
+  double min_disparity_px = 2;  // nor disparities under this
+  int min_hits = 2;             // samples of one frame that make a cell's hit
+  int hit_gain = 4, miss_loss = 1, occupied_at = 6, log_odds_max = 24, log_odds_min = -12;
+};
+
+// A vehicle-centred 2D occupancy grid of the flight band: cells hold hit/miss log-odds and whether
+// the cameras ever saw them; storage is a ring indexed by world cell, so the window follows the
+// vehicle without copying and cells leaving it are forgotten.
+class LocalMap {
+ public:
+  enum class Cell : uint8_t { unknown, free, occupied };
+  explicit LocalMap(const MapParams& p = {});
+  // Declares a disk free and seen (the take-off area).
+  void clear_disk(double x_m, double z_m, double radius_m);
+  // One frame: points of the disparity map (CV_32F, valid_mask CV_8U 255) through the rig at the
+  // pose of capture; within band_m of the camera's altitude they are hits, and the space in
+  // front of each column's nearest hit (or its farthest point) is a miss.
+  void integrate(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const Rig& rig, const CameraPose& pose);
+  Cell at(double x_m, double z_m) const;
+  const MapParams& params() const { return p_; }
+
+ private:
+  struct Slot {
+    int32_t ix = INT32_MIN, iz = INT32_MIN;
+    int16_t log_odds = 0;
+    bool seen = false;
+  };
+  Slot* slot(int32_t ix, int32_t iz, bool create);
+  const Slot* slot(int32_t ix, int32_t iz) const;
+  int32_t index(double m) const { return int32_t(std::floor(m / p_.cell_m)); }
+  MapParams p_;
+  std::vector<Slot> slots_;
+  std::vector<int32_t> frame_hits_;  // per slot, this frame's hit count
+  double centre_x_m_ = 0, centre_z_m_ = 0;
+};
+
+struct PlannerParams {
+  double cruise_mps = 5.0;
+  double brake_mps2 = 2.4;     // the deceleration planned with (0.8 MPC_ACC_HOR)
+  double reaction_s = 0.1;     // latency + stage + frame + the jerk-limited brake onset: set by the loop
+  double safety_m = 0.9;       // vehicle radius + margin: occupied cells this near a path block it
+  double horizon_m = 20.0;     // how far a direction is checked
+  double span_deg = 90.0;      // candidates within this of the goal's bearing ...
+  double step_deg = 5.0;       // ... at this spacing
+  double hysteresis = 0.1;     // a new direction must beat the current by this x cruise
+  double short_cost = 0.5;     // x cruise for a course free for none of the horizon
+  double turn_cost = 0.25;     // x cruise per rad of change from the current direction
+  double stop_margin_m = 1.0;  // kept when stopping: the loop's slow final approach to zero
+  double rollout_s = 2.0;      // each candidate flown this long through the vehicle model
+  VehicleParams vehicle;       // the model the rollouts use (the vehicle's own)
+  double bound_half_width_m = 1e9;
+  Eigen::Vector2d goal_xz{0, 60};
+};
+
+struct Plan {
+  Eigen::Vector3d velocity_mps{0, 0, 0};  // world frame, horizontal
+  double yaw_rad = 0;
+  double heading_rad = 0, free_m = 0;
+  bool braking = false;  // no direction is free enough: stop and look
+};
+
+class Planner {
+ public:
+  explicit Planner(const PlannerParams& p) : p_(p) {}
+  Plan plan(const LocalMap& map, const VehicleState& s);
+  // How often the chosen direction swapped sides of the goal's bearing (by more than 10 degrees).
+  int flips() const { return flips_; }
+  // The free distance along a heading from a point: where the path first comes within safety_m
+  // of an occupied cell (or nearer than it starts), enters an unseen cell or the bounds' margin;
+  // capped at horizon_m.
+  double free_distance(const LocalMap& map, const Eigen::Vector3d& from, double heading_rad) const;
+
+ private:
+  PlannerParams p_;
+  double heading_ = 0;
+  bool has_heading_ = false;
+  int side_ = 0, flips_ = 0;
+};
+
+}  // namespace parallax::explore

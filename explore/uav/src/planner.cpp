@@ -1,0 +1,266 @@
+// The flight's map and planner (planner.hpp).
+#include "parallax/uav/planner.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "parallax/uav/fly.hpp"
+
+namespace parallax::explore {
+
+LocalMap::LocalMap(const MapParams& p)
+    : p_(p), slots_(std::size_t(p.size_cells) * std::size_t(p.size_cells)), frame_hits_(slots_.size(), 0) {}
+
+LocalMap::Slot* LocalMap::slot(int32_t ix, int32_t iz, bool create) {
+  const int n = p_.size_cells;
+  const int32_t cx = index(centre_x_m_), cz = index(centre_z_m_);
+  if (std::abs(ix - cx) >= n / 2 || std::abs(iz - cz) >= n / 2) return nullptr;  // outside the window
+  Slot& s = slots_[std::size_t(((iz % n) + n) % n) * std::size_t(n) + std::size_t(((ix % n) + n) % n)];
+  if (s.ix != ix || s.iz != iz) {
+    if (!create) return nullptr;
+    s = Slot{ix, iz, 0, false};  // a cell that left the window is forgotten
+  }
+  return &s;
+}
+
+const LocalMap::Slot* LocalMap::slot(int32_t ix, int32_t iz) const {
+  return const_cast<LocalMap*>(this)->slot(ix, iz, false);
+}
+
+LocalMap::Cell LocalMap::at(double x, double z) const {
+  const Slot* s = slot(index(x), index(z));
+  if (s == nullptr || !s->seen) return Cell::unknown;
+  return s->log_odds >= p_.occupied_at ? Cell::occupied : Cell::free;
+}
+
+void LocalMap::clear_disk(double x, double z, double r) {
+  centre_x_m_ = x;
+  centre_z_m_ = z;
+  for (double dz = -r; dz <= r; dz += p_.cell_m)
+    for (double dx = -r; dx <= r; dx += p_.cell_m)
+      if (dx * dx + dz * dz <= r * r)
+        if (Slot* s = slot(index(x + dx), index(z + dz), true)) {
+          s->seen = true;
+          s->log_odds = int16_t(std::max(int(s->log_odds) - p_.miss_loss, p_.log_odds_min));
+        }
+}
+
+void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid, const Rig& rig, const CameraPose& pose) {
+  centre_x_m_ = pose.position_m.x();
+  centre_z_m_ = pose.position_m.z();
+  const Eigen::Matrix3d axes = camera_axes(pose);
+  const Eigen::Vector3d cam = pose.position_m;
+  const double fb = rig.focal_px * rig.baseline_m, altitude = -cam.y();
+  const int w = disp.cols, h = disp.rows;
+  // Per column: the nearest hit's and the farthest point's horizontal range.
+  std::vector<double> nearest(std::size_t(w), 1e9), farthest(std::size_t(w), 0.0);
+  std::vector<Slot*> touched;
+  for (int v = 0; v < h; ++v) {
+    const float* dr = disp.ptr<float>(v);
+    const uint8_t* vr = valid.ptr<uint8_t>(v);
+    for (int u = 0; u < w; ++u) {
+      if (vr[u] == 0 || dr[u] < p_.min_disparity_px) continue;
+      const double z = fb / dr[u];
+      const Eigen::Vector3d p =
+          cam + axes * Eigen::Vector3d((u - rig.cx_px) * z / rig.focal_px, (v - rig.cy_px) * z / rig.focal_px, z);
+      const double range = std::hypot(p.x() - cam.x(), p.z() - cam.z());
+      if (range > p_.max_range_m) continue;
+      farthest[std::size_t(u)] = std::max(farthest[std::size_t(u)], range);
+      if (std::fabs(-p.y() - altitude) > p_.band_m) continue;
+      nearest[std::size_t(u)] = std::min(nearest[std::size_t(u)], range);
+      Slot* s = slot(index(p.x()), index(p.z()), true);
+      if (s == nullptr) continue;
+      int32_t& hits = frame_hits_[std::size_t(s - slots_.data())];
+      if (hits++ == 0) touched.push_back(s);
+    }
+  }
+  // Misses: each column's ray in the band, up to a cell before its nearest hit (or its farthest
+  // point when it has none).
+  for (int u = 0; u < w; u += 2) {
+    const double free_m = std::min(nearest[std::size_t(u)] - 1.5 * p_.cell_m, farthest[std::size_t(u)]);
+    if (free_m <= 0) continue;
+    Eigen::Vector3d d = axes * Eigen::Vector3d((u - rig.cx_px) / rig.focal_px, 0, 1);
+    d.y() = 0;
+    d.normalize();
+    for (double r = 0; r < free_m; r += 0.5 * p_.cell_m) {
+      Slot* s = slot(index(cam.x() + r * d.x()), index(cam.z() + r * d.z()), true);
+      if (s == nullptr) break;
+      const std::size_t i = std::size_t(s - slots_.data());
+      if (frame_hits_[i] >= p_.min_hits || frame_hits_[i] < 0) continue;  // hit, or missed already this frame
+      s->seen = true;
+      s->log_odds = int16_t(std::max(int(s->log_odds) - p_.miss_loss, p_.log_odds_min));
+      if (frame_hits_[i] == 0) touched.push_back(s);
+      frame_hits_[i] = -1;
+    }
+  }
+  for (Slot* s : touched) {
+    int32_t& hits = frame_hits_[std::size_t(s - slots_.data())];
+    if (hits >= p_.min_hits) {
+      s->seen = true;
+      s->log_odds = int16_t(std::min(int(s->log_odds) + p_.hit_gain, p_.log_odds_max));
+    }
+    hits = 0;
+  }
+}
+
+namespace {
+
+// The map around a point as distances to the nearest occupied cell (capped just past the safety
+// distance) and whether each cell was seen: what a path of the vehicle's width may not come near,
+// and what it may not enter unseen.
+class Clearance {
+ public:
+  Clearance(const LocalMap& map, const Eigen::Vector3d& centre, double radius_m, double safety_m)
+      : cell_(map.params().cell_m), cap_m_(safety_m + cell_) {
+    const int reach = int(std::ceil(safety_m / cell_)) + 1;
+    half_ = int(std::ceil(radius_m / cell_)) + reach + 1;
+    n_ = 2 * half_ + 1;
+    ix0_ = int32_t(std::floor(centre.x() / cell_)) - half_;
+    iz0_ = int32_t(std::floor(centre.z() / cell_)) - half_;
+    dist_.assign(std::size_t(n_) * std::size_t(n_), float(cap_m_));
+    seen_.assign(dist_.size(), 0);
+    for (int j = 0; j < n_; ++j)
+      for (int i = 0; i < n_; ++i) {
+        const LocalMap::Cell c = map.at((ix0_ + i + 0.5) * cell_, (iz0_ + j + 0.5) * cell_);
+        if (c == LocalMap::Cell::unknown) continue;
+        seen_[std::size_t(j) * std::size_t(n_) + std::size_t(i)] = 1;
+        if (c != LocalMap::Cell::occupied) continue;
+        for (int b = -reach; b <= reach; ++b)
+          for (int a = -reach; a <= reach; ++a) {
+            const int x = i + a, y = j + b;
+            if (x < 0 || y < 0 || x >= n_ || y >= n_) continue;
+            float& d = dist_[std::size_t(y) * std::size_t(n_) + std::size_t(x)];
+            d = std::min(d, float(std::sqrt(double(a * a + b * b)) * cell_));
+          }
+      }
+  }
+  // Distance to the nearest occupied cell, capped at safety + a cell; 0 outside the window.
+  double distance(double x, double z) const {
+    const std::ptrdiff_t k = slot(x, z);
+    return k < 0 ? 0.0 : double(dist_[std::size_t(k)]);
+  }
+  bool unknown(double x, double z) const {
+    const std::ptrdiff_t k = slot(x, z);
+    return k < 0 || seen_[std::size_t(k)] == 0;
+  }
+
+ private:
+  std::ptrdiff_t slot(double x, double z) const {
+    const int i = int(std::floor(x / cell_)) - ix0_, j = int(std::floor(z / cell_)) - iz0_;
+    if (i < 0 || j < 0 || i >= n_ || j >= n_) return -1;
+    return std::ptrdiff_t(j) * n_ + i;
+  }
+  double cell_, cap_m_;
+  int half_ = 0, n_ = 0;
+  int32_t ix0_ = 0, iz0_ = 0;
+  std::vector<float> dist_;
+  std::vector<uint8_t> seen_;
+};
+
+// The free distance along a heading over a Clearance (Planner::free_distance). A path may not come
+// nearer an obstacle than safety_m, or than where it starts when it starts nearer (so a vehicle
+// inside the margin can still leave it).
+double free_along(const Clearance& c, const PlannerParams& p, double cell_m, const Eigen::Vector3d& from,
+                  double heading) {
+  const double step = 0.5 * cell_m, sx = std::sin(heading), sz = std::cos(heading);
+  const double limit = std::min(p.safety_m, c.distance(from.x(), from.z()) - 0.5 * cell_m);
+  for (double r = step; r < p.horizon_m; r += step) {
+    const double x = from.x() + r * sx, z = from.z() + r * sz;
+    if (std::fabs(x) > p.bound_half_width_m - p.safety_m) return r - step;
+    if (c.distance(x, z) < limit) return std::max(0.0, r - 2 * step);
+    if (r > 0.5 && c.unknown(x, z)) return r;
+  }
+  return p.horizon_m;
+}
+
+}  // namespace
+
+double Planner::free_distance(const LocalMap& map, const Eigen::Vector3d& from, double heading) const {
+  return free_along(Clearance(map, from, p_.horizon_m, p_.safety_m), p_, map.params().cell_m, from, heading);
+}
+
+Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
+  const Eigen::Vector3d& pos = s.position_m;
+  const double cell = map.params().cell_m;
+  const Clearance clear(map, pos, p_.horizon_m, p_.safety_m);
+  const double goal_bearing = std::atan2(p_.goal_xz.x() - pos.x(), p_.goal_xz.y() - pos.z());
+  auto speed_for = [&](double free_m) {
+    return std::min(p_.cruise_mps, stopping_distance_speed_bound(p_.brake_mps2, p_.reaction_s,
+                                                                 std::max(0.0, free_m - p_.stop_margin_m)));
+  };
+  // The vehicle's own response to a setpoint (the velocity loop's gain, acceleration and jerk
+  // limits) for rollout_s: safe when it never comes nearer an obstacle than the safety distance
+  // (or than it is now, when nearer), nor enters an unseen cell or the bounds' margin.
+  const double limit = std::min(p_.safety_m, clear.distance(pos.x(), pos.z()) - 0.5 * cell);
+  auto safe = [&](double heading, double speed) {
+    VehicleState v = s;
+    const Eigen::Vector3d sp = Eigen::Vector3d(std::sin(heading), 0, std::cos(heading)) * speed;
+    constexpr double kDt = 0.05;
+    for (double t = 0; t < p_.rollout_s; t += kDt) {
+      step_vehicle(v, sp, heading, p_.vehicle, kDt);
+      const double x = v.position_m.x(), z = v.position_m.z();
+      if (std::fabs(x) > p_.bound_half_width_m - p_.safety_m && std::fabs(x) > std::fabs(pos.x())) return false;
+      if (clear.distance(x, z) < limit) return false;
+      if ((v.position_m - pos).norm() > 0.5 && clear.unknown(x, z)) return false;
+    }
+    return true;
+  };
+  // A candidate's speed: what its free distance allows, halved until its rollout is safe; 0 when
+  // even stopping while turning to it is not.
+  auto checked_speed = [&](double heading, double free_m) {
+    double v = speed_for(free_m);
+    for (int tries = 0; tries < 3; ++tries, v *= 0.5)
+      if (safe(heading, v)) return v;
+    return safe(heading, 0.0) ? 0.0 : -1.0;
+  };
+  // Progress towards the goal at the checked speed, less a cost for a course that ends short of
+  // the horizon (it will need a turn later: turning early is cheaper) and for changing course.
+  auto score = [&](double heading, double free_m, double speed) {
+    if (speed < 0) return -1e9;
+    return speed * std::cos(wrap_angle(heading - goal_bearing)) -
+           p_.short_cost * p_.cruise_mps * (1.0 - free_m / p_.horizon_m) -
+           (has_heading_ ? p_.turn_cost * p_.cruise_mps * std::fabs(wrap_angle(heading - heading_)) : 0.0);
+  };
+  struct Choice {
+    double heading = 0, free_m = 0, speed = -1, score = -1e18;
+  } best, widest;
+  widest.free_m = -1;
+  const int n = int(std::round(p_.span_deg / p_.step_deg));
+  for (int k = -n; k <= n; ++k) {
+    Choice c;
+    c.heading = wrap_angle(goal_bearing + k * p_.step_deg * M_PI / 180.0);
+    c.free_m = free_along(clear, p_, cell, pos, c.heading);
+    c.speed = checked_speed(c.heading, c.free_m);
+    c.score = score(c.heading, c.free_m, c.speed);
+    if (c.score > best.score) best = c;
+    if (c.speed >= 0 && c.free_m > widest.free_m) widest = c;
+  }
+  // Hysteresis: keep the current direction unless another is clearly better.
+  if (has_heading_) {
+    Choice c;
+    c.heading = heading_;
+    c.free_m = free_along(clear, p_, cell, pos, heading_);
+    c.speed = checked_speed(heading_, c.free_m);
+    c.score = score(heading_, c.free_m, c.speed);
+    if (c.speed > 0.2 * p_.cruise_mps && c.score + p_.hysteresis * p_.cruise_mps >= best.score) best = c;
+  }
+  Plan plan;
+  plan.braking = best.speed < 0.2 * p_.cruise_mps;
+  // Nothing free enough: stop, turning to the widest safe direction to see more.
+  const Choice& go = plan.braking ? (widest.free_m >= 0 ? widest : best) : best;
+  plan.velocity_mps = Eigen::Vector3d(std::sin(go.heading), 0, std::cos(go.heading)) * (plan.braking ? 0.0 : go.speed);
+  plan.yaw_rad = go.heading;
+  plan.heading_rad = go.heading;
+  plan.free_m = go.free_m;
+  const double off = wrap_angle(plan.heading_rad - goal_bearing);
+  const int side = off > 10 * M_PI / 180 ? 1 : off < -10 * M_PI / 180 ? -1 : 0;
+  if (side != 0) {
+    if (side_ != 0 && side != side_) ++flips_;
+    side_ = side;
+  }
+  heading_ = plan.heading_rad;
+  has_heading_ = true;
+  return plan;
+}
+
+}  // namespace parallax::explore
