@@ -7,6 +7,9 @@
 #include <deque>
 #include <random>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "parallax/eval/evaluate.hpp"
 #include "parallax/eval/simulate.hpp"
 #include "parallax/sim/cycle.hpp"
@@ -76,9 +79,20 @@ namespace {
 // A frame captured and on its way through the design and the avoidance stage.
 struct InFlight {
   double ready_s;
-  cv::Mat disparity_px, valid_mask;
+  cv::Mat disparity_px, valid_mask, left;
   CameraPose pose;
 };
+
+// Every 10th frame of a flight: the planner's map and the pixels it took as obstacles
+// (FlightParams::debug_dir).
+void write_debug_pictures(const FlightParams& fp, uint32_t seed, int frame, const LocalMap& map, const cv::Mat& hits) {
+  char stem[96];
+  std::snprintf(stem, sizeof stem, "/%s_seed%u_frame%04d", fp.oracle ? "oracle" : "design", seed, frame);
+  cv::Mat big;
+  cv::resize(map.picture(), big, cv::Size(), 2, 2, cv::INTER_NEAREST);
+  cv::imwrite(fp.debug_dir + stem + "_map.png", big);
+  cv::imwrite(fp.debug_dir + stem + "_obstacle_pixels.png", hits);
+}
 
 }  // namespace
 
@@ -120,7 +134,7 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
       StereoFrame f = render(scene, setup.rig, setup.width_px, setup.height_px, pose, sc.imaging.antialias);
       apply_sensor(f, sc.imaging, rng);
       const auto t1 = clock::now();
-      InFlight in{t + setup.reaction_s, {}, {}, pose};
+      InFlight in{t + setup.reaction_s, {}, {}, f.left, pose};
       if (fp.oracle) {
         in.disparity_px = f.disparity_px;
         in.valid_mask = f.valid_mask;
@@ -139,7 +153,10 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
     // A disparity map through the stage: into the map, then a plan from the current state.
     while (!pipeline.empty() && pipeline.front().ready_s <= t) {
       const InFlight& in = pipeline.front();
-      map.integrate(in.disparity_px, in.valid_mask, setup.rig, in.pose);
+      const bool dump = !fp.debug_dir.empty() && r.frames % 10 == 0;
+      cv::Mat hits;
+      map.integrate(in.disparity_px, in.valid_mask, setup.rig, in.pose, in.left, dump ? &hits : nullptr);
+      if (dump) write_debug_pictures(fp, seed, r.frames, map, hits);
       const Plan plan = planner.plan(map, st);
       v_sp = plan.velocity_mps;
       yaw_sp = plan.yaw_rad;

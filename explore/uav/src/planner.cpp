@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <opencv2/imgproc.hpp>
+
 #include "parallax/uav/fly.hpp"
 
 namespace parallax::explore {
@@ -33,6 +35,20 @@ LocalMap::Cell LocalMap::at(double x, double z) const {
   return s->log_odds >= p_.occupied_at ? Cell::occupied : Cell::free;
 }
 
+cv::Mat LocalMap::picture() const {
+  const int n = p_.size_cells;
+  cv::Mat img(n, n, CV_8UC3, cv::Scalar(128, 128, 128));
+  const int32_t cx = index(centre_x_m_), cz = index(centre_z_m_);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int32_t ix = cx - n / 2 + i, iz = cz + n / 2 - 1 - j;
+      const Cell c = at((ix + 0.5) * p_.cell_m, (iz + 0.5) * p_.cell_m);
+      if (c != Cell::unknown) img.at<cv::Vec3b>(j, i) = c == Cell::free ? cv::Vec3b(255, 255, 255) : cv::Vec3b(0, 0, 0);
+    }
+  cv::circle(img, cv::Point(n / 2, n / 2 - 1), 2, cv::Scalar(0, 0, 255), -1);
+  return img;
+}
+
 void LocalMap::clear_disk(double x, double z, double r) {
   centre_x_m_ = x;
   centre_z_m_ = z;
@@ -45,7 +61,19 @@ void LocalMap::clear_disk(double x, double z, double r) {
         }
 }
 
-void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid, const Rig& rig, const CameraPose& pose) {
+void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid_in, const Rig& rig, const CameraPose& pose,
+                         const cv::Mat& left, cv::Mat* hit_pixels) {
+  if (hit_pixels != nullptr) *hit_pixels = cv::Mat::zeros(disp.size(), CV_8U);
+  cv::Mat valid = valid_in;
+  if (!left.empty() && p_.min_texture_grey > 0) {
+    // Texture along the epipolar lines: a horizontal edge (the horizon, a wall's top) or a flat
+    // region says nothing about disparity, however sharp it is.
+    cv::Mat gx, texture;
+    cv::Sobel(left, gx, CV_32F, 1, 0, 3, 0.25);
+    cv::blur(cv::abs(gx), texture, cv::Size(5, 5));
+    const cv::Mat textured = texture >= p_.min_texture_grey;
+    valid = valid_in & textured;
+  }
   centre_x_m_ = pose.position_m.x();
   centre_z_m_ = pose.position_m.z();
   const Eigen::Matrix3d axes = camera_axes(pose);
@@ -66,7 +94,9 @@ void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid, const Rig& r
       const double range = std::hypot(p.x() - cam.x(), p.z() - cam.z());
       if (range > p_.max_range_m) continue;
       farthest[std::size_t(u)] = std::max(farthest[std::size_t(u)], range);
-      if (std::fabs(-p.y() - altitude) > p_.band_m) continue;
+      const bool in_band = std::fabs(-p.y() - altitude) <= p_.band_m;
+      if (hit_pixels != nullptr) hit_pixels->at<uint8_t>(v, u) = in_band ? 255 : 128;
+      if (!in_band) continue;
       nearest[std::size_t(u)] = std::min(nearest[std::size_t(u)], range);
       Slot* s = slot(index(p.x()), index(p.z()), true);
       if (s == nullptr) continue;

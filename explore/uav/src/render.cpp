@@ -22,8 +22,8 @@ constexpr double kNearM = 0.05;
 // 3/4 of the coarser one's amplitude): grey levels 25..230. Lattice
 // values come from a fixed 1024-entry permutation and value table offset by the seed (a Perlin-
 // style hash: two table reads per lattice point, periodic over 1024 lattice cells). An octave
-// whose period is under four footprints fades to its mean (a box filter's effect on value noise),
-// so distant and grazing texture does not alias; footprint 0 keeps every octave.
+// whose period nears the pixel's footprint fades to its mean (octave_weight), so distant and
+// grazing texture does not alias; footprint 0 keeps every octave.
 constexpr int kLattice = 1024;
 struct NoiseTables {
   uint16_t perm[kLattice];
@@ -43,8 +43,11 @@ float lattice(const NoiseTables& t, uint32_t seed, int64_t i, int64_t j) {
   const uint32_t a = t.perm[(uint32_t(i) + seed) & (kLattice - 1)];
   return t.value[(t.perm[(a + uint32_t(j) + (seed >> 10)) & (kLattice - 1)] + (seed >> 20)) & (kLattice - 1)];
 }
+// An octave's contrast after the pixel's box filter, roughly: whole down to a period of three
+// footprints, 0.8 at two (the sampling limit), none at one (sinc(1/3) = 0.83, sinc(1/2) = 0.64,
+// sinc(1) = 0; the sharper knee keeps less alias).
 double octave_weight(double footprint, double freq) {
-  return std::clamp(2.0 - 4.0 * footprint * freq, 0.0, 1.0);
+  return std::clamp(1.6 * (1.0 - footprint * freq), 0.0, 1.0);
 }
 double noise(uint32_t seed, double u, double v, double footprint) {
   const NoiseTables& t = tables();

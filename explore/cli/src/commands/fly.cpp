@@ -28,7 +28,7 @@ using namespace parallax::explore;
 
 struct FlyOptions {
   ConfigArgs cfg;
-  std::string scenario, trace_csv;
+  std::string scenario, trace_csv, debug_maps;
   int seeds = 3, size = 0, jobs = 0;
   double speed = 5.0, noise = -1.0, limit = 60.0;
   bool json = false, find = false, no_oracle = false;
@@ -135,6 +135,7 @@ int run_fly(const FlyOptions& o, const Invocation&) {
   FlightParams fp;
   fp.width_px = o.size;
   fp.time_limit_s = o.limit;
+  fp.debug_dir = o.debug_maps;
   const FlightSetup setup = flight_setup(cfg, sc, fp);
   const int jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
   const double goal_z = generate_scene(sc, 1).goal_z_m;
@@ -228,6 +229,9 @@ Command add_fly(CLI::App& app) {
   flyc->add_option("--time-limit-s", o->limit, "Flight time limit")->capture_default_str()->check(InRange(1.0, 3600.0));
   flyc->add_option("--trace-csv", o->trace_csv,
                    "Write every setpoint of every flight (vehicle state, setpoint, free distance) to this CSV");
+  flyc->add_option("--debug-maps", o->debug_maps,
+                   "Every 10th frame, write the planner's map and the pixels it took as obstacles to this folder")
+      ->check(CLI::ExistingDirectory);
   flyc->add_flag("--json", o->json, "Print JSON");
   return bind_command(flyc, o, run_fly);
 }

@@ -29,6 +29,9 @@ struct FlightParams {
   int width_px = 0;
   double camera_fps = 30.0;  // the cameras' rate: frames come no faster than this nor the design
   bool oracle = false;       // exact disparity instead of the design's: the planner's own limits
+  // Not empty: every 10th frame, the planner's map (white free, black occupied, grey unseen) and
+  // the pixels it took as obstacle points (white; grey: other trusted points) go here as PNGs.
+  std::string debug_dir;
 };
 
 // What a flight is flown with: the design at its window, the rig, the timing.

@@ -24,6 +24,10 @@ struct MapParams {
   double max_range_m = 25.0;    // farther points and free space are not trusted
   double min_disparity_px = 2;  // nor disparities under this
   int min_hits = 2;             // samples of one frame that make a cell's hit
+  // Texture confidence: disparities where the left image's mean horizontal gradient over 5x5
+  // (grey levels per pixel) is under this are not trusted: a matcher fills textureless regions
+  // (the sky) and horizontal edges (the horizon) from their neighbours.
+  double min_texture_grey = 2.0;
   int hit_gain = 4, miss_loss = 1, occupied_at = 6, log_odds_max = 24, log_odds_min = -12;
 };
 
@@ -39,9 +43,14 @@ class LocalMap {
   // One frame: points of the disparity map (CV_32F, valid_mask CV_8U 255) through the rig at the
   // pose of capture; within band_m of the camera's altitude they are hits, and the space in
   // front of each column's nearest hit (or its farthest point) is a miss.
-  void integrate(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const Rig& rig, const CameraPose& pose);
+  // left_grey (CV_8U, optional): the left image, for the texture confidence.
+  // hits (optional): CV_8U, 255 at the pixels taken as obstacle points, 128 at the other trusted ones.
+  void integrate(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const Rig& rig, const CameraPose& pose,
+                 const cv::Mat& left_grey = cv::Mat(), cv::Mat* hits = nullptr);
   Cell at(double x_m, double z_m) const;
   const MapParams& params() const { return p_; }
+  // The window as a picture, +z up: unknown grey, free white, occupied black, the vehicle red.
+  cv::Mat picture() const;
 
  private:
   struct Slot {
