@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -379,82 +378,6 @@ std::vector<std::pair<std::string, double>> AvoidAccumulator::metrics() const {
           {"range_error_m", total_.matched ? total_.range_error_sum_m / total_.matched : 0.0},
           {"decision_agreement_pct", frames_ ? 100.0 * agree_ / frames_ : 0.0},
           {"mean_ms_per_frame", frames_ ? timing_sum_.total_ms() / frames_ : 0.0}};
-}
-
-// --- MAVLink 2 ------------------------------------------------------------------------------
-
-uint16_t mavlink_crc(const uint8_t* data, std::size_t n, uint16_t crc) {
-  for (std::size_t i = 0; i < n; ++i) {
-    uint8_t tmp = uint8_t(data[i] ^ uint8_t(crc & 0xFF));
-    tmp = uint8_t(tmp ^ uint8_t(tmp << 4));
-    crc = uint16_t((crc >> 8) ^ (uint16_t(tmp) << 8) ^ (uint16_t(tmp) << 3) ^ (tmp >> 4));
-  }
-  return crc;
-}
-
-namespace {
-
-std::vector<uint8_t> frame(uint8_t seq, uint8_t sysid, uint8_t compid, uint32_t msgid, std::vector<uint8_t> payload,
-                           uint8_t crc_extra) {
-  while (payload.size() > 1 && payload.back() == 0) payload.pop_back();  // MAVLink 2 truncation
-  const std::size_t n = payload.size();
-  std::vector<uint8_t> f(10 + n + 2, 0);
-  const uint8_t header[10] = {0xFD,
-                              uint8_t(n),
-                              0,
-                              0,
-                              seq,
-                              sysid,
-                              compid,
-                              uint8_t(msgid & 0xFF),
-                              uint8_t((msgid >> 8) & 0xFF),
-                              uint8_t((msgid >> 16) & 0xFF)};
-  for (std::size_t i = 0; i < 10; ++i) f[i] = header[i];
-  for (std::size_t i = 0; i < n; ++i) f[10 + i] = payload[i];
-  uint16_t crc = mavlink_crc(f.data() + 1, 9 + n);
-  crc = mavlink_crc(&crc_extra, 1, crc);
-  f[10 + n] = uint8_t(crc & 0xFF);
-  f[11 + n] = uint8_t(crc >> 8);
-  return f;
-}
-
-template <class T>
-void put(std::vector<uint8_t>& b, T v) {
-  uint8_t raw[sizeof(T)];
-  std::memcpy(raw, &v, sizeof(T));  // little-endian host (x86, ARM): MAVLink's wire order
-  b.insert(b.end(), raw, raw + sizeof(T));
-}
-
-}  // namespace
-
-std::vector<uint8_t> mavlink_heartbeat(uint8_t seq, uint8_t sysid, uint8_t compid) {
-  std::vector<uint8_t> p;
-  put<uint32_t>(p, 0);  // custom_mode
-  p.push_back(18);      // type: MAV_TYPE_ONBOARD_CONTROLLER
-  p.push_back(8);       // autopilot: MAV_AUTOPILOT_INVALID (not an autopilot)
-  p.push_back(0);       // base_mode
-  p.push_back(4);       // system_status: MAV_STATE_ACTIVE
-  p.push_back(3);       // mavlink_version
-  return frame(seq, sysid, compid, 0, p, 50);
-}
-
-std::vector<uint8_t> mavlink_velocity_setpoint(uint8_t seq, uint8_t sysid, uint8_t compid, uint32_t time_boot_ms,
-                                               const Eigen::Vector3d& v, uint8_t target_system,
-                                               uint8_t target_component) {
-  std::vector<uint8_t> p;
-  put<uint32_t>(p, time_boot_ms);
-  put<float>(p, 0);  // x
-  put<float>(p, 0);  // y
-  put<float>(p, 0);  // z
-  put<float>(p, float(v.x()));
-  put<float>(p, float(v.y()));
-  put<float>(p, float(v.z()));
-  for (int i = 0; i < 5; ++i) put<float>(p, 0);  // afx, afy, afz, yaw, yaw_rate
-  put<uint16_t>(p, 0x0DC7);                      // type_mask: velocity only
-  p.push_back(target_system);
-  p.push_back(target_component);
-  p.push_back(8);  // coordinate_frame: MAV_FRAME_BODY_NED
-  return frame(seq, sysid, compid, 84, p, 143);
 }
 
 }  // namespace parallax::explore

@@ -85,13 +85,15 @@ struct InFlight {
 
 // Every 10th frame of a flight: the planner's map and the pixels it took as obstacles
 // (FlightParams::debug_dir).
-void write_debug_pictures(const FlightParams& fp, uint32_t seed, int frame, const LocalMap& map, const cv::Mat& hits) {
+void write_debug_pictures(const FlightParams& fp, uint32_t seed, int frame, const LocalMap& map, const cv::Mat& hits,
+                          const cv::Mat& left) {
   char stem[96];
   std::snprintf(stem, sizeof stem, "/%s_seed%u_frame%04d", fp.oracle ? "oracle" : "design", seed, frame);
   cv::Mat big;
   cv::resize(map.picture(), big, cv::Size(), 2, 2, cv::INTER_NEAREST);
   cv::imwrite(fp.debug_dir + stem + "_map.png", big);
   cv::imwrite(fp.debug_dir + stem + "_obstacle_pixels.png", hits);
+  cv::imwrite(fp.debug_dir + stem + "_left.png", left);
 }
 
 }  // namespace
@@ -110,7 +112,12 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
   pp.bound_half_width_m = scene.bound_half_width_m;
   pp.goal_xz = Eigen::Vector2d(0.0, scene.goal_z_m);
   Planner planner(pp);
-  LocalMap map;
+  // The texture a disparity needs to be trusted rises with the cameras' read noise (a property of
+  // the cameras the system knows): the 5x5 mean |horizontal gradient| of noise alone is ~0.7
+  // sigma.
+  MapParams mp;
+  mp.min_texture_grey = std::max(2.0, 1.5 + 0.75 * sc.imaging.noise_grey);
+  LocalMap map(mp);
   map.clear_disk(0.0, 0.0, 2.0);  // the take-off area is known to be free
   std::mt19937 rng(seed * 7919u + 17u);
   sim::FuncPipeline pipe;
@@ -156,7 +163,7 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
       const bool dump = !fp.debug_dir.empty() && r.frames % 10 == 0;
       cv::Mat hits;
       map.integrate(in.disparity_px, in.valid_mask, setup.rig, in.pose, in.left, dump ? &hits : nullptr);
-      if (dump) write_debug_pictures(fp, seed, r.frames, map, hits);
+      if (dump) write_debug_pictures(fp, seed, r.frames, map, hits, in.left);
       const Plan plan = planner.plan(map, st);
       v_sp = plan.velocity_mps;
       yaw_sp = plan.yaw_rad;
@@ -186,6 +193,41 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
   r.collided = r.outcome == Outcome::collision;
   r.flips = planner.flips();
   return r;
+}
+
+std::vector<std::vector<uint8_t>> flight_mavlink(const FlightResult& r, SetpointFrame frame, double period_s,
+                                                 const VehicleParams& vehicle, double entry_s) {
+  MavlinkStream stream(1, 191, entry_s);
+  std::vector<std::vector<uint8_t>> out;
+  auto send = [&](const VelocitySetpoint& sp) {
+    for (auto& f : stream.setpoint(sp)) out.push_back(std::move(f));
+  };
+  const double yaw0 = r.setpoints.empty() ? 0.0 : r.setpoints.front().vehicle_yaw_rad;
+  for (int i = 0; i * period_s < entry_s - 1e-9; ++i) {  // hover before the switch
+    VelocitySetpoint sp;
+    sp.time_boot_ms = uint32_t(std::lround(i * period_s * 1000.0));
+    sp.frame = frame;
+    sp.yaw_rad = yaw0;
+    send(sp);
+  }
+  const double rate_max = vehicle.max_yaw_rate_dps * M_PI / 180.0;
+  for (const SentSetpoint& p : r.setpoints) {
+    VelocitySetpoint sp;
+    sp.time_boot_ms = uint32_t(std::lround((p.time_s + entry_s) * 1000.0));
+    sp.frame = frame;
+    const Eigen::Vector3d& v = p.velocity_mps;
+    if (frame == SetpointFrame::local_ned) {
+      sp.velocity_mps = Eigen::Vector3d(v.z(), v.x(), v.y());
+      sp.yaw_rad = p.yaw_rad;
+    } else {
+      const double c = std::cos(p.vehicle_yaw_rad), s = std::sin(p.vehicle_yaw_rad);
+      sp.velocity_mps = Eigen::Vector3d(s * v.x() + c * v.z(), c * v.x() - s * v.z(), v.y());
+      sp.yaw_rate_rps =
+          std::clamp(vehicle.yaw_gain_per_s * wrap_angle(p.yaw_rad - p.vehicle_yaw_rad), -rate_max, rate_max);
+    }
+    send(sp);
+  }
+  return out;
 }
 
 }  // namespace parallax::explore

@@ -80,14 +80,16 @@ void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid_in, const Rig
   const Eigen::Vector3d cam = pose.position_m;
   const double fb = rig.focal_px * rig.baseline_m, altitude = -cam.y();
   const int w = disp.cols, h = disp.rows;
-  // Per column: the nearest hit's and the farthest point's horizontal range.
+  // Per column: the nearest hit's and the farthest trusted point's horizontal range.
   std::vector<double> nearest(std::size_t(w), 1e9), farthest(std::size_t(w), 0.0);
   std::vector<Slot*> touched;
-  for (int v = 0; v < h; ++v) {
+  const int border = p_.border_px;
+  for (int v = border; v < h - border; ++v) {
     const float* dr = disp.ptr<float>(v);
     const uint8_t* vr = valid.ptr<uint8_t>(v);
-    for (int u = 0; u < w; ++u) {
-      if (vr[u] == 0 || dr[u] < p_.min_disparity_px) continue;
+    for (int u = border; u < w - border; ++u) {
+      // Not trusted: invalid, too small, or with its match outside the right image.
+      if (vr[u] == 0 || dr[u] < p_.min_disparity_px || double(u) - dr[u] < border) continue;
       const double z = fb / dr[u];
       const Eigen::Vector3d p =
           cam + axes * Eigen::Vector3d((u - rig.cx_px) * z / rig.focal_px, (v - rig.cy_px) * z / rig.focal_px, z);
@@ -104,9 +106,10 @@ void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid_in, const Rig
       if (hits++ == 0) touched.push_back(s);
     }
   }
-  // Misses: each column's ray in the band, up to a cell before its nearest hit (or its farthest
-  // point when it has none).
-  for (int u = 0; u < w; u += 2) {
+  // Misses: each column's ray in the band, up to a cell before its nearest hit (or to its
+  // farthest trusted point when it has none). What the matcher cannot see (a textureless wall)
+  // stays unseen, and the planner keeps its margin from it.
+  for (int u = border; u < w - border; u += 2) {
     const double free_m = std::min(nearest[std::size_t(u)] - 1.5 * p_.cell_m, farthest[std::size_t(u)]);
     if (free_m <= 0) continue;
     Eigen::Vector3d d = axes * Eigen::Vector3d((u - rig.cx_px) / rig.focal_px, 0, 1);
@@ -140,7 +143,7 @@ namespace {
 // and what it may not enter unseen.
 class Clearance {
  public:
-  Clearance(const LocalMap& map, const Eigen::Vector3d& centre, double radius_m, double safety_m)
+  Clearance(const LocalMap& map, const Eigen::Vector3d& centre, double radius_m, double safety_m, double unseen_m)
       : cell_(map.params().cell_m), cap_m_(safety_m + cell_) {
     const int reach = int(std::ceil(safety_m / cell_)) + 1;
     half_ = int(std::ceil(radius_m / cell_)) + reach + 1;
@@ -152,15 +155,24 @@ class Clearance {
     for (int j = 0; j < n_; ++j)
       for (int i = 0; i < n_; ++i) {
         const LocalMap::Cell c = map.at((ix0_ + i + 0.5) * cell_, (iz0_ + j + 0.5) * cell_);
-        if (c == LocalMap::Cell::unknown) continue;
-        seen_[std::size_t(j) * std::size_t(n_) + std::size_t(i)] = 1;
-        if (c != LocalMap::Cell::occupied) continue;
+        if (c != LocalMap::Cell::unknown) seen_[std::size_t(j) * std::size_t(n_) + std::size_t(i)] = 1;
+      }
+    // Occupied cells keep a path safety_m away; unseen ones the vehicle's own radius (a
+    // textureless wall is never occupied, only unseen).
+    for (int j = 0; j < n_; ++j)
+      for (int i = 0; i < n_; ++i) {
+        const LocalMap::Cell c = map.at((ix0_ + i + 0.5) * cell_, (iz0_ + j + 0.5) * cell_);
+        if (c == LocalMap::Cell::free) continue;
+        const bool occupied = c == LocalMap::Cell::occupied;
+        // An unseen cell counts only where it borders a seen one (its inside is reached through it).
+        if (!occupied && !borders_seen(i, j)) continue;
+        const double grow = occupied ? 0.0 : safety_m - unseen_m;
         for (int b = -reach; b <= reach; ++b)
           for (int a = -reach; a <= reach; ++a) {
             const int x = i + a, y = j + b;
             if (x < 0 || y < 0 || x >= n_ || y >= n_) continue;
             float& d = dist_[std::size_t(y) * std::size_t(n_) + std::size_t(x)];
-            d = std::min(d, float(std::sqrt(double(a * a + b * b)) * cell_));
+            d = std::min(d, float(std::sqrt(double(a * a + b * b)) * cell_ + grow));
           }
       }
   }
@@ -168,6 +180,15 @@ class Clearance {
   double distance(double x, double z) const {
     const std::ptrdiff_t k = slot(x, z);
     return k < 0 ? 0.0 : double(dist_[std::size_t(k)]);
+  }
+  bool borders_seen(int i, int j) const {
+    for (int b = -1; b <= 1; ++b)
+      for (int a = -1; a <= 1; ++a) {
+        const int x = i + a, y = j + b;
+        if (x >= 0 && y >= 0 && x < n_ && y < n_ && seen_[std::size_t(y) * std::size_t(n_) + std::size_t(x)])
+          return true;
+      }
+    return false;
   }
   bool unknown(double x, double z) const {
     const std::ptrdiff_t k = slot(x, z);
@@ -206,13 +227,14 @@ double free_along(const Clearance& c, const PlannerParams& p, double cell_m, con
 }  // namespace
 
 double Planner::free_distance(const LocalMap& map, const Eigen::Vector3d& from, double heading) const {
-  return free_along(Clearance(map, from, p_.horizon_m, p_.safety_m), p_, map.params().cell_m, from, heading);
+  return free_along(Clearance(map, from, p_.horizon_m, p_.safety_m, p_.unseen_margin_m), p_, map.params().cell_m, from,
+                    heading);
 }
 
 Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   const Eigen::Vector3d& pos = s.position_m;
   const double cell = map.params().cell_m;
-  const Clearance clear(map, pos, p_.horizon_m, p_.safety_m);
+  const Clearance clear(map, pos, p_.horizon_m, p_.safety_m, p_.unseen_margin_m);
   const double goal_bearing = std::atan2(p_.goal_xz.x() - pos.x(), p_.goal_xz.y() - pos.z());
   auto speed_for = [&](double free_m) {
     return std::min(p_.cruise_mps, stopping_distance_speed_bound(p_.brake_mps2, p_.reaction_s,

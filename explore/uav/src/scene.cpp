@@ -44,6 +44,7 @@ struct FieldReader {
   }
   void reject_unknown() const {
     for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) throw InputError(where + "a field name must be a plain word, not a list or mapping");
       const std::string k = kv.first.as<std::string>();
       if (std::find(known.begin(), known.end(), k) == known.end()) {
         std::string list;
@@ -148,6 +149,12 @@ std::vector<std::string> builtin_scenarios() {
   for (int i = 0; i < res::data::scenario_count; ++i)
     names.push_back(std::filesystem::path(res::data::scenario_files[i]).stem().string());
   return names;
+}
+
+std::string scenario_option_help() {
+  std::string names;
+  for (const std::string& n : builtin_scenarios()) names += (names.empty() ? "" : ", ") + n;
+  return "Scenario: a shipped one by name (" + names + ") or a file, e.g. my/scene.yaml";
 }
 
 Scenario load_scenario(const std::string& name_or_path) {

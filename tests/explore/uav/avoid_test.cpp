@@ -1,13 +1,10 @@
-// unit: the avoidance stage on synthetic scenes with known geometry, the planner's choices,
-// MAVLink 2 frames against an independent bitwise CRC and decoder, and rig files.
+// unit: the avoidance stage on synthetic scenes with known geometry, the planner's choices, and
+// rig files (MAVLink: mavlink_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
-
-#include <nlohmann/json.hpp>
 
 #include "parallax/uav/avoid.hpp"
 #include "parallax/eval/dataset.hpp"
@@ -141,129 +138,6 @@ TEST(Avoid, ScoringMatchesByUMapOverlap) {
   EXPECT_EQ(score_avoidance(none, a).matched, 0);
   EXPECT_FALSE(score_avoidance(none, a).same_decision);
 }
-
-// --- MAVLink ---------------------------------------------------------------------------------
-
-// Bitwise CRC-16/MCRF4XX (reflected 0x1021 = 0x8408, init 0xFFFF), written independently of the
-// table-free byte formula in avoid.cpp.
-uint16_t crc_bitwise(const std::vector<uint8_t>& bytes) {
-  uint16_t crc = 0xFFFF;
-  for (uint8_t b : bytes) {
-    crc ^= b;
-    for (int i = 0; i < 8; ++i) crc = (crc & 1) ? uint16_t((crc >> 1) ^ 0x8408) : uint16_t(crc >> 1);
-  }
-  return crc;
-}
-
-TEST(Mavlink, CrcTestVectors) {
-  const std::string check = "123456789";
-  EXPECT_EQ(mavlink_crc(reinterpret_cast<const uint8_t*>(check.data()), check.size()), 0x6F91);  // CRC-16/MCRF4XX check
-  EXPECT_EQ(crc_bitwise(std::vector<uint8_t>(check.begin(), check.end())), 0x6F91);
-}
-
-// Decodes a MAVLink 2 frame independently: header, zero-extended payload, CRC with CRC_EXTRA.
-struct Decoded {
-  uint8_t len, seq, sysid, compid;
-  uint32_t msgid;
-  std::vector<uint8_t> payload;
-  bool crc_ok;
-};
-Decoded decode(const std::vector<uint8_t>& f, uint8_t crc_extra, std::size_t full_len) {
-  Decoded d{};
-  EXPECT_EQ(f.at(0), 0xFD);
-  d.len = f[1];
-  EXPECT_EQ(f.size(), std::size_t(d.len) + 12);
-  EXPECT_EQ(f[2], 0);  // incompat flags: unsigned
-  EXPECT_EQ(f[3], 0);
-  d.seq = f[4];
-  d.sysid = f[5];
-  d.compid = f[6];
-  d.msgid = uint32_t(f[7]) | uint32_t(f[8]) << 8 | uint32_t(f[9]) << 16;
-  d.payload.assign(f.begin() + 10, f.begin() + 10 + d.len);
-  EXPECT_TRUE(d.len == full_len || (d.len >= 1 && d.payload.back() != 0)) << "trailing zeros must be trimmed";
-  d.payload.resize(full_len, 0);
-  std::vector<uint8_t> covered(f.begin() + 1, f.begin() + 10 + d.len);
-  covered.push_back(crc_extra);
-  d.crc_ok = crc_bitwise(covered) == uint16_t(f[10 + d.len] | f[11 + d.len] << 8);
-  return d;
-}
-
-TEST(Mavlink, HeartbeatFrame) {
-  const auto f = mavlink_heartbeat(7, 1, 191);
-  const Decoded d = decode(f, 50, 9);
-  EXPECT_TRUE(d.crc_ok);
-  EXPECT_EQ(d.msgid, 0u);
-  EXPECT_EQ(d.seq, 7);
-  EXPECT_EQ(d.sysid, 1);
-  EXPECT_EQ(d.compid, 191);
-  EXPECT_EQ(d.payload[4], 18);  // MAV_TYPE_ONBOARD_CONTROLLER
-  EXPECT_EQ(d.payload[8], 3);   // mavlink_version
-}
-
-TEST(Mavlink, VelocitySetpointFrame) {
-  const auto f = mavlink_velocity_setpoint(9, 1, 191, 1234, Eigen::Vector3d(2.5, -1.5, 0.25), 1, 1);
-  const Decoded d = decode(f, 143, 53);
-  EXPECT_TRUE(d.crc_ok);
-  EXPECT_EQ(d.msgid, 84u);
-  uint32_t t;
-  float v[3];
-  uint16_t mask;
-  std::memcpy(&t, d.payload.data(), 4);
-  std::memcpy(v, d.payload.data() + 16, 12);
-  std::memcpy(&mask, d.payload.data() + 48, 2);
-  EXPECT_EQ(t, 1234u);
-  EXPECT_FLOAT_EQ(v[0], 2.5f);
-  EXPECT_FLOAT_EQ(v[1], -1.5f);
-  EXPECT_FLOAT_EQ(v[2], 0.25f);
-  EXPECT_EQ(mask, 0x0DC7);
-  EXPECT_EQ(d.payload[50], 1);  // target system
-  EXPECT_EQ(d.payload[51], 1);  // target component
-  EXPECT_EQ(d.payload[52], 8);  // MAV_FRAME_BODY_NED
-  // A corrupted byte fails the CRC.
-  auto bad = f;
-  bad[20] ^= 0x01;
-  EXPECT_FALSE(decode(bad, 143, 53).crc_ok);
-}
-
-#if defined(PARALLAX_NODE) && defined(PARALLAX_MAVLINK_CHECK)
-// `parallax avoid --mavlink-out` on the shipped frames, decoded by node-mavlink (npm): every frame
-// valid (CRC with CRC_EXTRA), HEARTBEAT and SET_POSITION_TARGET_LOCAL_NED alternating, and the
-// velocities those of the planner's decisions.
-TEST(Mavlink, NodeMavlinkDecodesTheAvoidOutput) {
-  const std::string dir = PARALLAX_MAVLINK_CHECK;
-  if (!std::filesystem::exists(dir + "/node_modules/node-mavlink"))
-    GTEST_SKIP() << "npm install in " << dir << " first";
-  const auto tmp = std::filesystem::temp_directory_path() / "parallax_mavlink_test";
-  std::filesystem::create_directories(tmp);
-  const std::string bin = (tmp / "out.mav").string(), js = (tmp / "avoid.json").string();
-  const std::string cmd = std::string(PARALLAX_CLI) + " avoid --config " + PARALLAX_CONFIG_DIR +
-                          "/ruf2018-census.yaml --dataset " + PARALLAX_DATA_DIR +
-                          "/kitti2015-640x360 --json --mavlink-out " + bin + " > " + js + " 2>/dev/null";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  const std::string dec = (tmp / "decoded.json").string();
-  ASSERT_EQ(std::system((std::string(PARALLAX_NODE) + " " + dir + "/verify.js " + bin + " > " + dec).c_str()), 0);
-  std::ifstream a(js), b(dec);
-  const auto avoid_json = nlohmann::json::parse(a);
-  const auto decoded = nlohmann::json::parse(b);
-  EXPECT_EQ(decoded["invalid"].get<int>(), 0);
-  const auto& packets = decoded["packets"];
-  const auto& frames = avoid_json["per_frame"];
-  ASSERT_EQ(packets.size(), 2 * frames.size());
-  for (std::size_t i = 0; i < frames.size(); ++i) {
-    const auto& hb = packets[2 * i];
-    const auto& sp = packets[2 * i + 1];
-    EXPECT_EQ(hb["msgid"].get<int>(), 0);
-    EXPECT_EQ(sp["msgid"].get<int>(), 84);
-    EXPECT_EQ(sp["seq"].get<int>(), int(2 * i + 1));
-    EXPECT_EQ(sp["typeMask"].get<int>(), 0x0DC7);
-    EXPECT_EQ(sp["coordinateFrame"].get<int>(), 8);
-    const auto& v = frames[i]["velocity_mps"];
-    EXPECT_FLOAT_EQ(sp["vx"].get<float>(), v[0].get<float>());
-    EXPECT_FLOAT_EQ(sp["vy"].get<float>(), v[1].get<float>());
-    EXPECT_FLOAT_EQ(sp["vz"].get<float>(), v[2].get<float>());
-  }
-}
-#endif
 
 // --- rig files ---------------------------------------------------------------------------------
 

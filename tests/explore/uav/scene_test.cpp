@@ -3,6 +3,8 @@
 // and the KITTI export.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 
@@ -78,16 +80,23 @@ TEST(Scene, PoleRangeAndItsOcclusionShadow) {
 // unknown name is an error naming the shipped ones; a file of that name in the working
 // directory wins over the shipped scenario.
 TEST(Scene, ScenariosByName) {
-  for (const char* name : {"single-pole", "forest", "wall-gap", "corridor"}) {
+  // Every shipped file is a scenario by its name, and the name inside is the file's.
+  const std::vector<std::string> shipped = {"corridor",    "corridor-stripes", "forest",
+                                            "single-pole", "wall-gap",         "wall-gap-plain"};
+  for (const std::string& name : shipped) {
     const Scenario by_name = load_scenario(name);
     const Scenario by_file = load_scenario(std::string(PARALLAX_CONFIG_DIR) + "/scenarios/" + name + ".yaml");
     EXPECT_EQ(by_name.name, by_file.name);
     EXPECT_EQ(by_name.kind, by_file.kind);
     EXPECT_EQ(by_name.density_per_100m2, by_file.density_per_100m2);
     EXPECT_EQ(by_name.length_m, by_file.length_m);
+    EXPECT_EQ(by_name.walls, by_file.walls);
+    EXPECT_EQ(by_name.name, name);
     EXPECT_EQ(scenario_reference(name), name);
   }
-  EXPECT_EQ(builtin_scenarios().size(), 4u);
+  auto builtin = builtin_scenarios();
+  std::sort(builtin.begin(), builtin.end());
+  EXPECT_EQ(builtin, shipped);
   try {
     load_scenario("jungle");
     FAIL();

@@ -1,12 +1,9 @@
 // parallax avoid: obstacle detection and avoidance on a design's disparity maps, scored against
 // the same stage on the ground truth; optionally MAVLink setpoints to a file or UDP.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -23,6 +20,7 @@
 #include "parallax/eval/input_error.hpp"
 #include "parallax/sim/func.hpp"
 #include "parallax/uav/avoid.hpp"
+#include "parallax/uav/mavlink.hpp"
 
 namespace parallax::cli {
 
@@ -35,43 +33,6 @@ struct AvoidOptions {
   ConfigArgs cfg;
   std::string dataset, frames, gt = "noc", calib, mavlink;
   bool json = false;
-};
-
-// MAVLink output: a file (binary frames back to back) or udp:HOST:PORT; nothing when empty.
-// Throws InputError naming --mavlink-out when the destination cannot be used.
-class MavlinkSink {
- public:
-  explicit MavlinkSink(const std::string& where) {
-    if (where.empty()) return;
-    if (where.rfind("udp:", 0) == 0) {
-      const auto colon = where.rfind(':');
-      const std::string host = where.substr(4, colon - 4);
-      const int port = std::atoi(where.substr(colon + 1).c_str());
-      fd_ = socket(AF_INET, SOCK_DGRAM, 0);
-      addr_.sin_family = AF_INET;
-      addr_.sin_port = htons(uint16_t(port));
-      if (fd_ < 0 || port <= 0 || inet_pton(AF_INET, host.c_str(), &addr_.sin_addr) != 1)
-        throw InputError("--mavlink-out '" + where + "': expected udp:IPv4:PORT");
-      return;
-    }
-    file_.open(where, std::ios::binary);
-    if (!file_) throw InputError("--mavlink-out '" + where + "': cannot write");
-  }
-  ~MavlinkSink() {
-    if (fd_ >= 0) close(fd_);
-  }
-  MavlinkSink(const MavlinkSink&) = delete;
-  MavlinkSink& operator=(const MavlinkSink&) = delete;
-  void send(const std::vector<uint8_t>& frame) {
-    if (file_.is_open()) file_.write(reinterpret_cast<const char*>(frame.data()), std::streamsize(frame.size()));
-    if (fd_ >= 0)
-      (void)sendto(fd_, frame.data(), frame.size(), 0, reinterpret_cast<const sockaddr*>(&addr_), sizeof addr_);
-  }
-
- private:
-  std::ofstream file_;
-  int fd_ = -1;
-  sockaddr_in addr_{};
 };
 
 // The rig of a frame cropped to `roi`: --calib when given, else the frame's own calibration file
@@ -127,11 +88,14 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
   const Dataset ds = open_dataset(o.dataset);
   const auto refs = list_frames(ds, o.gt == "occ" ? GtKind::occ : GtKind::noc, o.frames);
   if (refs.empty()) throw InputError(o.dataset + ": no frame with ground truth matches '" + o.frames + "'");
-  MavlinkSink mav(o.mavlink);
+  MavlinkSink mav(o.mavlink, "--mavlink-out");
+  // The companion's clock: time stamps are this machine's monotonic time since the command began
+  // (the frames of a dataset are not a flight; what a setpoint says is when it was sent).
+  MavlinkStream stream;
+  const auto boot = std::chrono::steady_clock::now();
   sim::FuncPipeline pipe;
   AvoidAccumulator acc;
   json per_frame = json::array();
-  uint8_t seq = 0;
   for (const auto& ref : refs) {
     Frame f = load_frame(ref);
     const Roi roi = resolve_roi(roi_for(cfg), f.left.cols, f.left.rows);
@@ -140,8 +104,13 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
     const AvoidScore s = acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, roi),
                                  crop_to_roi(f.gt_mask, roi), cfg.disparity_end_px(), rig);
     const AvoidResult& mine = acc.last_design();
-    mav.send(mavlink_heartbeat(seq++, 1, 191));
-    mav.send(mavlink_velocity_setpoint(seq++, 1, 191, uint32_t(acc.frames() * 100), mine.velocity_mps));
+    VelocitySetpoint sp;
+    sp.time_boot_ms = uint32_t(
+        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - boot).count());
+    sp.velocity_mps = mine.velocity_mps;  // forward, right, down
+    sp.frame = SetpointFrame::body_frd;
+    if (mav.active())
+      for (const auto& frame : stream.setpoint(sp)) mav.send(frame);
     per_frame.push_back({{"frame", f.id},
                          {"obstacles", s.predicted},
                          {"reference_obstacles", s.reference},
@@ -149,7 +118,8 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
                          {"decision", to_string(mine.manoeuvre)},
                          {"reference_decision", to_string(acc.last_reference().manoeuvre)},
                          {"nearest_range_m", mine.obstacles.empty() ? 0.0 : mine.obstacles.front().range_m},
-                         {"velocity_mps", {mine.velocity_mps.x(), mine.velocity_mps.y(), mine.velocity_mps.z()}}});
+                         {"velocity_mps", {mine.velocity_mps.x(), mine.velocity_mps.y(), mine.velocity_mps.z()}},
+                         {"time_boot_ms", sp.time_boot_ms}});
   }
   std::map<std::string, double> m;
   for (const auto& kv : acc.metrics()) m[kv.first] = kv.second;
@@ -177,7 +147,8 @@ Command add_avoid(CLI::App& app) {
       "Rig calibration: KITTI calib file (P_rect_02/03 or P2/P3) or OpenCV YAML (default: KITTI 2015's)");
   avoidc
       ->add_option("--mavlink-out", o->mavlink,
-                   "Write MAVLink 2 (HEARTBEAT + velocity setpoint per frame) to a file or udp:HOST:PORT")
+                   "Write MAVLink 2 to a file or udp:IPv4:PORT: a heartbeat each second, a body-frame velocity "
+                   "setpoint per frame, OFFBOARD mode and arm commands after the first second")
       ->check(OutputFile());
   avoidc->add_flag("--json", o->json, "Print JSON");
   return bind_command(avoidc, o, run_avoid);

@@ -28,7 +28,7 @@ using namespace parallax::explore;
 
 struct FlyOptions {
   ConfigArgs cfg;
-  std::string scenario, trace_csv, debug_maps;
+  std::string scenario, trace_csv, debug_maps, mavlink_out, mavlink_frame = "local-ned";
   int seeds = 3, size = 0, jobs = 0;
   double speed = 5.0, noise = -1.0, limit = 60.0;
   bool json = false, find = false, no_oracle = false;
@@ -61,9 +61,30 @@ struct FlightTally {
   }
 };
 
+// Where --mavlink-out puts a seed's stream: the path itself for one seed, else with _seed<N>
+// before the extension.
+std::string mavlink_path(const std::string& path, int seed, int seeds) {
+  if (seeds == 1) return path;
+  const std::size_t dot = path.find_last_of('.'), slash = path.find_last_of('/');
+  const std::size_t cut = dot == std::string::npos || (slash != std::string::npos && dot < slash) ? path.size() : dot;
+  return path.substr(0, cut) + "_seed" + std::to_string(seed) + path.substr(cut);
+}
+
+// The design flights' MAVLink streams (--mavlink-out), one file per seed.
+struct MavlinkOut {
+  std::string path;
+  SetpointFrame frame = SetpointFrame::local_ned;
+  double period_s = 0;
+  void write(const FlightResult& r, const VehicleParams& vehicle, int seed, int seeds) const {
+    const std::string where = mavlink_path(path, seed, seeds);
+    MavlinkSink sink(where, "--mavlink-out");
+    for (const auto& f : flight_mavlink(r, frame, period_s, vehicle)) sink.send(f);
+  }
+};
+
 // Flies seeds 1..`seeds` at `speed` on `jobs` threads; one progress line per flight on stderr.
 FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, FlightParams fp, int seeds, double speed,
-                      int jobs, const char* label, std::FILE* trace) {
+                      int jobs, const char* label, std::FILE* trace, const MavlinkOut* mavlink = nullptr) {
   fp.speed_mps = speed;
   std::vector<FlightResult> results(static_cast<std::size_t>(seeds));
   std::vector<double> goal_z(std::size_t(seeds), 0.0);
@@ -83,6 +104,7 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
                        p.position_m.x(), p.position_m.z(), p.vehicle_velocity_mps.x(), p.vehicle_velocity_mps.z(),
                        p.vehicle_yaw_rad * 180.0 / M_PI, p.velocity_mps.x(), p.velocity_mps.z(),
                        p.yaw_rad * 180.0 / M_PI, p.free_m, p.braking ? 1 : 0);
+      if (mavlink != nullptr) mavlink->write(r, fp.vehicle, s, seeds);
       results[std::size_t(s - 1)] = std::move(r);
     }
   };
@@ -137,6 +159,11 @@ int run_fly(const FlyOptions& o, const Invocation&) {
   fp.time_limit_s = o.limit;
   fp.debug_dir = o.debug_maps;
   const FlightSetup setup = flight_setup(cfg, sc, fp);
+  if (!o.mavlink_out.empty() && o.find)
+    throw InputError("--mavlink-out: not with --find-max-speed (it flies many speeds); give --speed-mps");
+  if (o.mavlink_out.rfind("udp:", 0) == 0)
+    throw InputError("--mavlink-out '" + o.mavlink_out +
+                     "': fly writes files (a simulated flight does not run at the wall clock's pace)");
   const int jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
   const double goal_z = generate_scene(sc, 1).goal_z_m;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> trace(nullptr, std::fclose);
@@ -174,7 +201,10 @@ int run_fly(const FlyOptions& o, const Invocation&) {
           "stopping-distance bound %.2f m/s (a %.1f m/s2, reaction %.1f ms = latency + stage + frame, range 12 m)\n",
           cfg.name.c_str(), sc.name.c_str(), o.seeds, lo, bound, fp.vehicle.max_accel_mps2, 1000.0 * reaction_s);
   } else {
-    const FlightTally design = fly_seeds(cfg, sc, fp, o.seeds, o.speed, jobs, "design", trace.get());
+    MavlinkOut mav{o.mavlink_out, o.mavlink_frame == "body-frd" ? SetpointFrame::body_frd : SetpointFrame::local_ned,
+                   setup.frame_s};
+    const FlightTally design =
+        fly_seeds(cfg, sc, fp, o.seeds, o.speed, jobs, "design", trace.get(), o.mavlink_out.empty() ? nullptr : &mav);
     j["speed_mps"] = o.speed;
     j["design"] = design.to_json(goal_z);
     FlightTally oracle;
@@ -209,10 +239,7 @@ Command add_fly(CLI::App& app) {
   auto* flyc = app.add_subcommand(
       "fly", "Closed-loop flights through synthetic scenes with the design's disparity, latency and frame rate");
   add_config_options(flyc, o->cfg, true);
-  flyc->add_option(
-          "--scenario", o->scenario,
-          "Scenario: a shipped one by name (forest, corridor, wall-gap, single-pole) or a file, e.g. my/scene.yaml")
-      ->required();
+  flyc->add_option("--scenario", o->scenario, scenario_option_help())->required();
   flyc->add_option("--seeds", o->seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(InRange(1, 10000));
   flyc->add_option("--speed-mps", o->speed, "Cruise speed")->capture_default_str()->check(InRange(0.1, 50.0));
   flyc->add_option("--size", o->size,
@@ -232,6 +259,16 @@ Command add_fly(CLI::App& app) {
   flyc->add_option("--debug-maps", o->debug_maps,
                    "Every 10th frame, write the planner's map and the pixels it took as obstacles to this folder")
       ->check(CLI::ExistingDirectory);
+  flyc->add_option("--mavlink-out", o->mavlink_out,
+                   "Write the MAVLink 2 stream each design flight sent (heartbeat 1 Hz, a second of hover setpoints, "
+                   "OFFBOARD mode and arm commands, then the loop's velocity setpoints at flight time + 1 s) to this "
+                   "file; with several seeds, FILE_seed<N>")
+      ->check(OutputFile());
+  flyc->add_option("--mavlink-frame", o->mavlink_frame,
+                   "Setpoint frame: local-ned (velocity north-east-down and yaw) or body-frd (velocity forward-"
+                   "right-down of the vehicle and yaw rate)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"local-ned", "body-frd"}));
   flyc->add_flag("--json", o->json, "Print JSON");
   return bind_command(flyc, o, run_fly);
 }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -39,8 +40,15 @@ int run_scene(const SceneOptions& o, const Invocation&) {
   const Rig rig = rig_of(spec, width, height);
   std::vector<StereoFrame> frames;
   const auto start = std::chrono::steady_clock::now();
-  for (int i = 0; i < o.frames; ++i)
-    frames.push_back(render(scene, rig, width, height, Eigen::Vector3d(0, -s.rig.altitude_m, i * o.step), o.k1));
+  std::mt19937 rng(o.seed * 7919u + 17u);
+  for (int i = 0; i < o.frames; ++i) {
+    CameraPose pose;
+    pose.position_m = Eigen::Vector3d(0, -s.rig.altitude_m, i * o.step);
+    pose.pitch_rad = s.rig.mount_pitch_deg * M_PI / 180.0;
+    frames.push_back(o.k1 != 0.0 ? render(scene, rig, width, height, pose.position_m, o.k1)
+                                 : render(scene, rig, width, height, pose, s.imaging.antialias));
+    apply_sensor(frames.back(), s.imaging, rng);
+  }
   const double render_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / o.frames;
   std::fprintf(stderr, "parallax: rendered %d stereo pairs, %.1f ms per pair\n", o.frames, render_ms);
@@ -67,11 +75,7 @@ Command add_scene(CLI::App& app) {
   auto o = std::make_shared<SceneOptions>();
   auto* scenec = app.add_subcommand(
       "scene", "Render a seeded synthetic scene along the flight axis as a KITTI-layout stereo dataset");
-  scenec
-      ->add_option(
-          "--scenario", o->scenario,
-          "Scenario: a shipped one by name (forest, corridor, wall-gap, single-pole) or a file, e.g. my/scene.yaml")
-      ->required();
+  scenec->add_option("--scenario", o->scenario, scenario_option_help())->required();
   scenec->add_option("--seed", o->seed, "Scene seed")->capture_default_str();
   scenec->add_option("--frames", o->frames, "Frames, one every --step-m along the flight axis")
       ->capture_default_str()

@@ -19,6 +19,7 @@
 #include "parallax/eval/dataset.hpp"
 #include "parallax/eval/input_error.hpp"
 #include "parallax/search/sweep.hpp"
+#include "parallax/uav/scene.hpp"
 
 namespace parallax::cli {
 
@@ -178,7 +179,7 @@ Command add_sweep(CLI::App& app) {
   sweepc->add_option("--seed", o->seed, "Seed of random / lhs");
   sweepc->add_option("--name", o->name, "Sweep name in the store (default: the file's, else 'sweep')");
   sweepc->add_option("--flight", o->flight,
-                     "Also fly every design through this scenario (configs/scenarios/*.yaml), 3 seeds at 5 m/s");
+                     "Also fly every design through this scenario, 3 seeds at 5 m/s; " + scenario_option_help());
   sweepc->add_flag("--avoidance", o->avoidance,
                    "Also score the avoidance stage on every design (obstacle_precision, ...)");
   sweepc->add_flag("--yes", o->yes,

@@ -114,15 +114,4 @@ class AvoidAccumulator {
   AvoidResult last_design_, last_reference_;
 };
 
-// --- MAVLink 2 ------------------------------------------------------------------------------
-// CRC-16/MCRF4XX (X.25) as MAVLink uses it: init 0xFFFF, reflected polynomial 0x1021.
-uint16_t mavlink_crc(const uint8_t* data, std::size_t n, uint16_t crc = 0xFFFF);
-// Frames: 0xFD, len, incompat 0, compat 0, seq, sysid, compid, 24-bit msgid, payload with trailing
-// zeros trimmed, CRC over everything after the magic plus the message's CRC_EXTRA.
-std::vector<uint8_t> mavlink_heartbeat(uint8_t seq, uint8_t sysid, uint8_t compid);
-// SET_POSITION_TARGET_LOCAL_NED (84): a velocity setpoint in MAV_FRAME_BODY_NED, type_mask 0x0DC7.
-std::vector<uint8_t> mavlink_velocity_setpoint(uint8_t seq, uint8_t sysid, uint8_t compid, uint32_t time_boot_ms,
-                                               const Eigen::Vector3d& velocity_mps, uint8_t target_system = 1,
-                                               uint8_t target_component = 1);
-
 }  // namespace parallax::explore

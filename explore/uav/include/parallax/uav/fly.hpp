@@ -13,6 +13,7 @@
 #include "parallax/config/config.hpp"
 #include "parallax/uav/avoid.hpp"
 #include "parallax/uav/planner.hpp"
+#include "parallax/uav/mavlink.hpp"
 #include "parallax/uav/scene.hpp"
 #include "parallax/uav/vehicle.hpp"
 
@@ -30,7 +31,8 @@ struct FlightParams {
   double camera_fps = 30.0;  // the cameras' rate: frames come no faster than this nor the design
   bool oracle = false;       // exact disparity instead of the design's: the planner's own limits
   // Not empty: every 10th frame, the planner's map (white free, black occupied, grey unseen) and
-  // the pixels it took as obstacle points (white; grey: other trusted points) go here as PNGs.
+  // the pixels it took as obstacle points (white; grey: other trusted points) and the left image
+  // go here as PNGs.
   std::string debug_dir;
 };
 
@@ -72,6 +74,15 @@ struct FlightResult {
 
 FlightResult fly(const config::PipelineConfig& cfg, const Scenario& scenario, const Scene& scene,
                  const FlightParams& fp, uint32_t seed = 1);
+
+// The MAVLink stream the loop sent (mavlink.hpp), as a companion computer booted entry_s before
+// take-off would send it: hover setpoints every period_s from boot (PX4 enters OFFBOARD only after
+// a second of them), DO_SET_MODE OFFBOARD and ARM at entry_s, then each setpoint at its flight
+// time + entry_s, with a heartbeat every second. World (x right, y down, z forward) maps to NED as
+// north = z, east = x, down = y; body_frd gives the velocity in the vehicle's axes when sent and
+// the yaw rate its controller would command (MC_YAW_P, MPC_YAWRAUTO_MAX of `vehicle`).
+std::vector<std::vector<uint8_t>> flight_mavlink(const FlightResult& r, SetpointFrame frame, double period_s,
+                                                 const VehicleParams& vehicle, double entry_s = 1.0);
 
 // The design's frame interval and latency (ms) at its clock, from the cycle model, for images of
 // the given size.

@@ -20,10 +20,13 @@ namespace parallax::explore {
 struct MapParams {
   double cell_m = 0.2;
   int size_cells = 256;         // the window around the vehicle (51.2 m at 0.2 m)
-  double band_m = 0.9;          // points within this of the vehicle's altitude are obstacles
+  double band_m = 0.6;          // points within this of the vehicle's altitude are obstacles
   double max_range_m = 25.0;    // farther points and free space are not trusted
   double min_disparity_px = 2;  // nor disparities under this
-  int min_hits = 2;             // samples of one frame that make a cell's hit
+  // The image's border rows and columns are not trusted: a design's windows (census, median) and
+  // its paths' starts are incomplete there.
+  int border_px = 4;
+  int min_hits = 4;  // samples of one frame that make a cell's hit
   // Texture confidence: disparities where the left image's mean horizontal gradient over 5x5
   // (grey levels per pixel) is under this are not trusted: a matcher fills textureless regions
   // (the sky) and horizontal edges (the horizon) from their neighbours.
@@ -42,7 +45,7 @@ class LocalMap {
   void clear_disk(double x_m, double z_m, double radius_m);
   // One frame: points of the disparity map (CV_32F, valid_mask CV_8U 255) through the rig at the
   // pose of capture; within band_m of the camera's altitude they are hits, and the space in
-  // front of each column's nearest hit (or its farthest point) is a miss.
+  // front of each column's nearest hit (or its farthest trusted point) is a miss.
   // left_grey (CV_8U, optional): the left image, for the texture confidence.
   // hits (optional): CV_8U, 255 at the pixels taken as obstacle points, 128 at the other trusted ones.
   void integrate(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const Rig& rig, const CameraPose& pose,
@@ -69,18 +72,19 @@ class LocalMap {
 
 struct PlannerParams {
   double cruise_mps = 5.0;
-  double brake_mps2 = 2.4;     // the deceleration planned with (0.8 MPC_ACC_HOR)
-  double reaction_s = 0.1;     // latency + stage + frame + the jerk-limited brake onset: set by the loop
-  double safety_m = 0.9;       // vehicle radius + margin: occupied cells this near a path block it
-  double horizon_m = 20.0;     // how far a direction is checked
-  double span_deg = 90.0;      // candidates within this of the goal's bearing ...
-  double step_deg = 5.0;       // ... at this spacing
-  double hysteresis = 0.1;     // a new direction must beat the current by this x cruise
-  double short_cost = 0.5;     // x cruise for a course free for none of the horizon
-  double turn_cost = 0.25;     // x cruise per rad of change from the current direction
-  double stop_margin_m = 1.0;  // kept when stopping: the loop's slow final approach to zero
-  double rollout_s = 2.0;      // each candidate flown this long through the vehicle model
-  VehicleParams vehicle;       // the model the rollouts use (the vehicle's own)
+  double brake_mps2 = 2.4;       // the deceleration planned with (0.8 MPC_ACC_HOR)
+  double reaction_s = 0.1;       // latency + stage + frame + the jerk-limited brake onset: set by the loop
+  double safety_m = 0.9;         // vehicle radius + margin: occupied cells this near a path block it
+  double unseen_margin_m = 0.6;  // unseen cells this near a path block it (a textureless wall is unseen)
+  double horizon_m = 20.0;       // how far a direction is checked
+  double span_deg = 90.0;        // candidates within this of the goal's bearing ...
+  double step_deg = 5.0;         // ... at this spacing
+  double hysteresis = 0.1;       // a new direction must beat the current by this x cruise
+  double short_cost = 0.5;       // x cruise for a course free for none of the horizon
+  double turn_cost = 0.25;       // x cruise per rad of change from the current direction
+  double stop_margin_m = 1.0;    // kept when stopping: the loop's slow final approach to zero
+  double rollout_s = 2.0;        // each candidate flown this long through the vehicle model
+  VehicleParams vehicle;         // the model the rollouts use (the vehicle's own)
   double bound_half_width_m = 1e9;
   Eigen::Vector2d goal_xz{0, 60};
 };

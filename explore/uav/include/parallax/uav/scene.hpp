@@ -84,6 +84,8 @@ struct Scenario {
 // compiled in: builtin_scenarios()) when no such file exists. InputError names both when neither.
 Scenario load_scenario(const std::string& name_or_path);
 std::vector<std::string> builtin_scenarios();
+// The --scenario option's help: the shipped names, or a file.
+std::string scenario_option_help();
 // How a sweep records the scenario: a shipped scenario's name as given, a file's absolute path.
 std::string scenario_reference(const std::string& name_or_path);
 Scene generate_scene(const Scenario& s, uint32_t seed);
