@@ -24,6 +24,7 @@
 #include "parallax/eval/disparity_io.hpp"
 #include "parallax/hls_flow/hls_report.hpp"
 #include "parallax/uav/scene.hpp"
+#include "parallax/uav/truth.hpp"
 #include "parallax/search/sweep.hpp"
 #include "eval/pfm_writer.hpp"
 
@@ -202,6 +203,32 @@ TEST_F(Fuzz, ScenarioReader) {
       [&](const std::string& text) {
         write_all(file, text);
         (void)explore::load_scenario(file.string());
+      },
+      is<explore::InputError>);
+}
+
+// The obstacle list `scene` writes and `avoid` reads (obstacles.json).
+TEST_F(Fuzz, ObstacleListReader) {
+  explore::Scene scene;
+  scene.cylinders.push_back({0.5, 10.0, 0.3, 8.0});
+  scene.boxes.push_back({-3.0, 3.0, 15.0, 15.5, 6.0});
+  const explore::Rig rig = explore::rig_of(explore::RigSpec{}, 640, 360);
+  const fs::path file = dir_ / "obstacles.json";
+  explore::write_truth(file.string(), {explore::obstacles_in_view(scene, rig, 640, Eigen::Vector3d(0, -1.6, 0), 40.0)});
+  const std::vector<std::string> seeds = {read_all(file)};
+  const std::vector<std::string> tokens = {"{",          "}",
+                                           "[",          "]",
+                                           ",",          ":",
+                                           "\"",         "null",
+                                           "-1",         "1e999",
+                                           "\"box\"",    "\"cylinder\"",
+                                           "\"frames\"", "\"obstacles\"",
+                                           "\"id\""};
+  fuzz(
+      "obstacles", seeds, tokens, 15011,
+      [&](const std::string& text) {
+        write_all(file, text);
+        (void)explore::read_truth(file.string());
       },
       is<explore::InputError>);
 }

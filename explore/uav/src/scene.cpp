@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <random>
 
@@ -281,6 +283,26 @@ void export_kitti(const std::vector<StereoFrame>& frames, const std::string& dir
     write_png(root / "image_3" / name, f.right);
     write_kitti_disparity(root / "disp_occ_0" / name, f.disparity_px, f.valid_mask);
     write_kitti_disparity(root / "disp_noc_0" / name, f.disparity_px, f.noc_mask);
+  }
+}
+
+void write_kitti_calibration(const Rig& rig, int frames, const std::string& dir) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(dir) / "training" / "calib_cam_to_cam";
+  std::error_code ec;
+  fs::create_directories(root, ec);
+  if (ec) throw InputError(root.string() + ": cannot create the folder: " + ec.message());
+  for (int i = 0; i < frames; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.txt", i);
+    std::ofstream out(root / name);
+    char line[256];
+    for (int cam = 2; cam <= 3; ++cam) {
+      std::snprintf(line, sizeof line, "P_rect_0%d: %.6f 0 %.6f %.6f 0 %.6f %.6f 0 0 0 1 0\n", cam, rig.focal_px,
+                    rig.cx_px, cam == 2 ? 0.0 : -rig.focal_px * rig.baseline_m, rig.focal_px, rig.cy_px);
+      out << line;
+    }
+    if (!out) throw InputError((root / name).string() + ": cannot write the calibration");
   }
 }
 

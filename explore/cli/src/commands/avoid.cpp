@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -20,7 +21,9 @@
 #include "parallax/eval/input_error.hpp"
 #include "parallax/sim/func.hpp"
 #include "parallax/uav/avoid.hpp"
+#include "parallax/uav/fly.hpp"
 #include "parallax/uav/mavlink.hpp"
+#include "parallax/uav/truth.hpp"
 
 namespace parallax::cli {
 
@@ -31,7 +34,8 @@ using namespace parallax::explore;
 
 struct AvoidOptions {
   ConfigArgs cfg;
-  std::string dataset, frames, gt = "noc", calib, mavlink;
+  std::string dataset, frames, gt = "noc", calib, mavlink, truth;
+  double sigma_d_px = 0.5, speed_mps = 5.0;
   bool json = false;
 };
 
@@ -65,6 +69,31 @@ void print_avoid_text(const config::PipelineConfig& cfg, const AvoidAccumulator&
       m["mean_ms_per_frame"], t.uv_maps_ms / n, t.filtering_ms / n, t.contours_ms / n, t.planning_ms / n);
 }
 
+// One line of the scores against the scene's obstacles.
+void print_truth_line(const char* label, const json& t, const json& head) {
+  std::printf("  %-22s detected", label);
+  for (const char* bin : {"0_5m", "5_10m", "10_20m", "20_40m"}) {
+    const double v = t[std::string("detection_pct_") + bin].get<double>();
+    if (v >= 0) std::printf("  %s %.0f%%", bin, v);
+  }
+  std::printf(
+      "; first at %.1f m (median; %d never); false positives %.2f/frame; range error %.2f m; blocked within %.1f m "
+      "right in %.0f%% of frames (%d missed, %d false)\n",
+      t["first_detection_range_m"].get<double>(), int(t["never_detected"].get<double>()),
+      t["false_positives_per_frame"].get<double>(), t["range_error_m"].get<double>(), head["stopping_m"].get<double>(),
+      t["blocked_agreement_pct"].get<double>(), int(t["missed_blocks"].get<double>()),
+      int(t["false_blocks"].get<double>()));
+}
+
+// The scores against the scene's obstacles as text on stdout.
+void print_truth_text(const json& t) {
+  std::printf("against the scene's obstacles (3D, tolerance %s, sigma_d %.2f px; stopping distance at %.0f m/s):\n",
+              t["tolerance"].get<std::string>().c_str(), t["sigma_disparity_px"].get<double>(),
+              t["speed_mps"].get<double>());
+  print_truth_line("design", t, t);
+  print_truth_line("exact disparity", t["on_ground_truth_disparity"], t);
+}
+
 // The accumulated scores, the stage's time split and the per-frame rows as one JSON object.
 json avoid_json(const config::PipelineConfig& cfg, const AvoidAccumulator& acc, const std::map<std::string, double>& m,
                 const json& per_frame) {
@@ -95,6 +124,15 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
   const auto boot = std::chrono::steady_clock::now();
   sim::FuncPipeline pipe;
   AvoidAccumulator acc;
+  // The scene's own obstacles (a rendered dataset's obstacles.json), when there are any.
+  std::string truth_path = o.truth;
+  if (truth_path.empty() && std::filesystem::exists(std::filesystem::path(o.dataset) / "obstacles.json"))
+    truth_path = (std::filesystem::path(o.dataset) / "obstacles.json").string();
+  const auto truth = truth_path.empty() ? std::map<std::string, std::vector<TruthObstacle>>() : read_truth(truth_path);
+  TruthScoreParams tp;
+  tp.sigma_disparity_px = o.sigma_d_px;
+  TruthAccumulator truth_acc, truth_ref;  // the stage on the design's disparity, on the exact one
+  bool truth_started = false;
   json per_frame = json::array();
   for (const auto& ref : refs) {
     Frame f = load_frame(ref);
@@ -104,6 +142,21 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
     const AvoidScore s = acc.add(d.disparity_px, d.valid_mask, crop_to_roi(f.gt_disparity_px, roi),
                                  crop_to_roi(f.gt_mask, roi), cfg.disparity_end_px(), rig);
     const AvoidResult& mine = acc.last_design();
+    if (!truth_path.empty()) {
+      const auto it = truth.find(f.id);
+      if (it == truth.end()) throw InputError(truth_path + ": no obstacle list for frame " + f.id);
+      if (!truth_started) {  // the first frame: the stopping distance at the design's size and timing
+        truth_started = true;
+        double interval_ms = 0, latency_ms = 0;
+        design_timing(cfg, roi.width_px, roi.height_px, interval_ms, latency_ms);
+        const double tau_s = (latency_ms + cfg.avoid_ms + interval_ms) * 1e-3, a = VehicleParams{}.max_accel_mps2;
+        tp.stopping_m = o.speed_mps * tau_s + o.speed_mps * o.speed_mps / (2 * a);
+        truth_acc = TruthAccumulator(tp);
+        truth_ref = TruthAccumulator(tp);
+      }
+      truth_acc.add(mine.obstacles, it->second, rig);
+      truth_ref.add(acc.last_reference().obstacles, it->second, rig);
+    }
     VelocitySetpoint sp;
     sp.time_boot_ms = uint32_t(
         std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - boot).count());
@@ -123,10 +176,25 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
   }
   std::map<std::string, double> m;
   for (const auto& kv : acc.metrics()) m[kv.first] = kv.second;
-  if (o.json)
-    std::cout << avoid_json(cfg, acc, m, per_frame).dump(2) << "\n";
-  else
+  json j = avoid_json(cfg, acc, m, per_frame);
+  if (!truth_path.empty()) {
+    json t = {{"file", truth_path},
+              {"sigma_disparity_px", tp.sigma_disparity_px},
+              {"tolerance", "max(0.5 m, 3 Z^2 sigma_d / (f B))"},
+              {"speed_mps", o.speed_mps},
+              {"stopping_m", tp.stopping_m}};
+    for (const auto& kv : truth_acc.metrics()) t[kv.first] = kv.second;
+    json r;
+    for (const auto& kv : truth_ref.metrics()) r[kv.first] = kv.second;
+    t["on_ground_truth_disparity"] = r;
+    j["scene_obstacles"] = t;
+  }
+  if (o.json) {
+    std::cout << j.dump(2) << "\n";
+  } else {
     print_avoid_text(cfg, acc, m);
+    if (!truth_path.empty()) print_truth_text(j["scene_obstacles"]);
+  }
   return 0;
 }
 
@@ -150,6 +218,17 @@ Command add_avoid(CLI::App& app) {
                    "Write MAVLink 2 to a file or udp:IPv4:PORT: a heartbeat each second, a body-frame velocity "
                    "setpoint per frame, OFFBOARD mode and arm commands after the first second")
       ->check(OutputFile());
+  avoidc
+      ->add_option("--truth", o->truth,
+                   "The scene's obstacles per frame (obstacles.json, written by `parallax scene`; default: the "
+                   "dataset's own when it has one): detections matched in 3D, scored by range")
+      ->check(CLI::ExistingFile);
+  avoidc->add_option("--sigma-d-px", o->sigma_d_px, "Disparity error (one sigma) for the 3D match tolerance")
+      ->capture_default_str()
+      ->check(InRange(0.01, 10.0));
+  avoidc->add_option("--speed-mps", o->speed_mps, "Speed whose stopping distance decides 'blocked' (3D scores)")
+      ->capture_default_str()
+      ->check(InRange(0.1, 50.0));
   avoidc->add_flag("--json", o->json, "Print JSON");
   return bind_command(avoidc, o, run_avoid);
 }

@@ -13,6 +13,7 @@
 
 #include "commands.hpp"
 #include "parallax/uav/scene.hpp"
+#include "parallax/uav/truth.hpp"
 
 namespace parallax::cli {
 
@@ -39,6 +40,7 @@ int run_scene(const SceneOptions& o, const Invocation&) {
   const int width = spec.width_px, height = spec.height_px;
   const Rig rig = rig_of(spec, width, height);
   std::vector<StereoFrame> frames;
+  std::vector<std::vector<TruthObstacle>> truth;
   const auto start = std::chrono::steady_clock::now();
   std::mt19937 rng(o.seed * 7919u + 17u);
   for (int i = 0; i < o.frames; ++i) {
@@ -48,11 +50,14 @@ int run_scene(const SceneOptions& o, const Invocation&) {
     frames.push_back(o.k1 != 0.0 ? render(scene, rig, width, height, pose.position_m, o.k1)
                                  : render(scene, rig, width, height, pose, s.imaging.antialias));
     apply_sensor(frames.back(), s.imaging, rng);
+    truth.push_back(obstacles_in_view(scene, rig, width, pose.position_m, 40.0));
   }
   const double render_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / o.frames;
   std::fprintf(stderr, "parallax: rendered %d stereo pairs, %.1f ms per pair\n", o.frames, render_ms);
   export_kitti(frames, o.out);
+  write_kitti_calibration(rig, o.frames, o.out);
+  write_truth((fs::path(o.out) / "obstacles.json").string(), truth);
   if (o.k1 != 0.0) {
     for (const char* side : {"maps_left.yml", "maps_right.yml"})
       write_rectification_maps(rig, width, height, o.k1, (fs::path(o.out) / side).string());
@@ -62,8 +67,9 @@ int run_scene(const SceneOptions& o, const Invocation&) {
         o.k1, o.out.c_str(), o.out.c_str());
   }
   std::printf(
-      "%s (seed %u): %zu poles/trees, %zu boxes; %d frames of %dx%d written to %s/training "
-      "(f = %.1f px, B = %.4f m, camera %.1f m above the ground)\n",
+      "%s (seed %u): %zu poles/trees, %zu boxes; %d frames of %dx%d written to %s/training with their "
+      "calibration (f = %.1f px, B = %.4f m, camera %.1f m above the ground) and the obstacles in view "
+      "(obstacles.json, read by avoid)\n",
       s.name.c_str(), o.seed, scene.cylinders.size(), scene.boxes.size(), o.frames, width, height, o.out.c_str(),
       rig.focal_px, rig.baseline_m, s.rig.altitude_m);
   return 0;

@@ -47,11 +47,11 @@ struct AvoidParams {
 };
 
 struct Obstacle {
-  cv::Rect u_box;            // in the U map: x = image column, y = disparity
-  cv::Rect v_box;            // in the V map: x = disparity, y = image row
-  cv::RotatedRect ellipse;   // fitted to the U-map contour
-  cv::Point2f centroid;      // U-map centroid (column, disparity)
-  Eigen::Vector3d centre_m;  // camera frame: x right, y down, z forward
+  cv::Rect u_box;                     // in the U map: x = image column, y = disparity
+  cv::Rect v_box;                     // in the V map: x = disparity, y = image row
+  cv::RotatedRect ellipse;            // fitted to the U-map contour
+  cv::Point2f centroid;               // U-map centroid (column, disparity)
+  Eigen::Vector3d centre_m{0, 0, 0};  // camera frame: x right, y down, z forward
   double range_m = 0, lateral_m = 0, width_m = 0, height_m = 0;
   bool reaches_roi_top = false;  // its top is cut by the region of interest: its height is unknown
 };

@@ -132,6 +132,10 @@ void write_rectification_maps(const Rig& rig, int width_px, int height_px, doubl
 
 // Writes frames as KITTI 2015 training data: image_2, image_3, disp_noc_0, disp_occ_0.
 void export_kitti(const std::vector<StereoFrame>& frames, const std::string& dir);
+// training/calib_cam_to_cam/NNNNNN.txt for frames 0..frames-1: KITTI's rectified projections
+// P_rect_02 = [f 0 cx 0; 0 f cy 0; 0 0 1 0] and P_rect_03 with -f B, which `eval` and `avoid`
+// read as the frames' own calibration.
+void write_kitti_calibration(const Rig& rig, int frames, const std::string& dir);
 
 // Clearance from a point to the scene's obstacles (negative inside one), m: trunks, boxes and
 // branches.
