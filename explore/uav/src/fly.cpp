@@ -51,10 +51,8 @@ const char* to_string(Outcome o) {
 FlightSetup flight_setup(const config::PipelineConfig& cfg, const Scenario& sc, const FlightParams& fp) {
   FlightSetup s;
   s.cfg = cfg;
-  RigSpec spec = sc.rig;
+  const RigSpec spec = scaled_rig(sc.rig, fp.width_px);
   if (fp.width_px > 0) {  // the whole rig scaled: the design processes the scaled sensor
-    spec.height_px = std::max(16, int(std::lround(double(spec.height_px) * fp.width_px / spec.width_px)));
-    spec.width_px = fp.width_px;
     s.width_px = spec.width_px;
     s.height_px = spec.height_px;
   } else if (cfg.roi_full) {

@@ -238,6 +238,14 @@ Rig scene_rig(int w, int h) {
   return r;
 }
 
+RigSpec scaled_rig(const RigSpec& spec, int width_px) {
+  if (width_px <= 0) return spec;
+  RigSpec r = spec;
+  r.height_px = std::max(16, int(std::lround(double(spec.height_px) * width_px / spec.width_px)));
+  r.width_px = width_px;
+  return r;
+}
+
 Rig rig_of(const RigSpec& spec, int roi_w, int roi_h) {
   if (roi_w > spec.width_px || roi_h > spec.height_px)
     throw InputError("the design's region of interest " + std::to_string(roi_w) + "x" + std::to_string(roi_h) +

@@ -32,11 +32,7 @@ struct SceneOptions {
 int run_scene(const SceneOptions& o, const Invocation&) {
   const Scenario s = load_scenario(o.scenario);
   const Scene scene = generate_scene(s, o.seed);
-  RigSpec spec = s.rig;
-  if (o.width > 0) {
-    spec.height_px = std::max(16, int(std::lround(double(spec.height_px) * o.width / spec.width_px)));
-    spec.width_px = o.width;
-  }
+  const RigSpec spec = scaled_rig(s.rig, o.width);
   const int width = spec.width_px, height = spec.height_px;
   const Rig rig = rig_of(spec, width, height);
   std::vector<StereoFrame> frames;

@@ -103,6 +103,9 @@ Rig scene_rig(int width_px, int height_px);
 // the principal point at the sensor's centre, shifted to a centred roi_width x roi_height window
 // (the design's region of interest). InputError when the window exceeds the sensor.
 Rig rig_of(const RigSpec& spec, int roi_width_px, int roi_height_px);
+// The whole rig scaled to a sensor width_px wide (height in proportion, at least 16 rows; the
+// field of view kept); width_px <= 0 returns it unchanged.
+RigSpec scaled_rig(const RigSpec& spec, int width_px);
 
 // Where the left camera is and where it looks: yaw about the vertical (0 = +z, positive towards
 // +x), pitch (positive: looking up). The right camera sits baseline_m along the left's x axis.
