@@ -52,10 +52,9 @@ FlightSetup flight_setup(const config::PipelineConfig& cfg, const Scenario& sc, 
   FlightSetup s;
   s.cfg = cfg;
   const RigSpec spec = scaled_rig(sc.rig, fp.width_px);
-  if (fp.width_px > 0) {  // the whole rig scaled: the design processes the scaled sensor
-    s.width_px = spec.width_px;
-    s.height_px = spec.height_px;
-  } else if (cfg.roi_full) {
+  // The whole rig scaled (the design processes the scaled sensor), or a full-frame design: the
+  // sensor; else the design's own window on it.
+  if (fp.width_px > 0 || cfg.roi_full) {
     s.width_px = spec.width_px;
     s.height_px = spec.height_px;
   } else {
