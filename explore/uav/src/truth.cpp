@@ -200,7 +200,15 @@ void TruthAccumulator::add(const std::vector<Obstacle>& det, const std::vector<T
     if (bin >= 0) ++detected_[std::size_t(bin)];
     if (first_detection_m_.count(t.id) == 0) first_detection_m_[t.id] = t.range_m;
   }
-  for (bool u : used) false_positives_ += u ? 0 : 1;
+  // A false positive lies near no obstacle at all (a long wall seen as several blobs is matched
+  // once, and its other blobs are not false).
+  for (std::size_t i = 0; i < det.size(); ++i) {
+    if (used[i]) continue;
+    bool near = false;
+    for (const TruthObstacle& t : truth)
+      near = near || footprint_distance(t, det[i].lateral_m, det[i].range_m) <= truth_tolerance_m(t.range_m, rig, p_);
+    false_positives_ += near ? 0 : 1;
+  }
   // Blocked within the stopping distance: by the scene, and by the detections.
   bool truth_blocked = false, design_blocked = false;
   for (const TruthObstacle& t : truth) truth_blocked = truth_blocked || blocks(t, p_.corridor_half_m, p_.stopping_m);

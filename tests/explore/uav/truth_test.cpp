@@ -113,6 +113,20 @@ TEST(Truth, MatchingFirstDetectionAndBlocking) {
   b.add({detection(0.2, 9.5)}, {pole}, rig);
   EXPECT_EQ(metric(b, "detection_pct_5_10m"), 0.0);
   EXPECT_EQ(metric(b, "never_detected"), 1.0);
+  // A wall seen as three blobs: one match, and the other two are not false positives; a blob 3 m
+  // in front of it is.
+  TruthAccumulator c(p);
+  TruthObstacle wall;
+  wall.id = 1;
+  wall.kind = "box";
+  wall.x0_m = -10;
+  wall.x1_m = 10;
+  wall.z0_m = 15;
+  wall.z1_m = 15.5;
+  wall.range_m = 15;
+  c.add({detection(-4, 15.2), detection(0, 15.1), detection(5, 14.9), detection(1, 12)}, {wall}, rig);
+  EXPECT_EQ(metric(c, "detection_pct_10_20m"), 100.0);
+  EXPECT_EQ(metric(c, "false_positives_per_frame"), 1.0);
 }
 
 TEST(Truth, ObstacleFileAndCalibrationRoundTrip) {

@@ -46,7 +46,8 @@ struct TruthScoreParams {
 double truth_tolerance_m(double depth_m, const Rig& rig, const TruthScoreParams& p);
 
 // Scores over a sequence of frames (taken in order: the first-detection range is that of the first
-// frame that detects an obstacle). Each detection matches at most one obstacle, nearest first.
+// frame that detects an obstacle). Each obstacle, nearest first, takes the nearest unused detection
+// within its tolerance; a detection within no obstacle's tolerance is a false positive.
 class TruthAccumulator {
  public:
   explicit TruthAccumulator(const TruthScoreParams& p = {}) : p_(p) {}
