@@ -194,23 +194,32 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
 
 std::vector<std::vector<uint8_t>> flight_mavlink(const FlightResult& r, SetpointFrame frame, double period_s,
                                                  const VehicleParams& vehicle, double entry_s) {
+  constexpr double kResendS = 0.1;  // a setpoint is repeated at least this often (PX4: > 2 Hz)
+  const double step_s = period_s > 0 ? std::min(period_s, kResendS) : kResendS;
   MavlinkStream stream(1, 191, entry_s);
   std::vector<std::vector<uint8_t>> out;
-  auto send = [&](const VelocitySetpoint& sp) {
+  double last_s = -1;
+  VelocitySetpoint last;
+  auto send = [&](VelocitySetpoint sp, double t_s) {
+    for (double t = last_s + kResendS; last_s >= 0 && t < t_s - 1e-9; t += kResendS) {  // fill a gap
+      last.time_boot_ms = uint32_t(std::lround(t * 1000.0));
+      for (auto& f : stream.setpoint(last)) out.push_back(std::move(f));
+    }
+    sp.time_boot_ms = uint32_t(std::lround(t_s * 1000.0));
     for (auto& f : stream.setpoint(sp)) out.push_back(std::move(f));
+    last = sp;
+    last_s = t_s;
   };
   const double yaw0 = r.setpoints.empty() ? 0.0 : r.setpoints.front().vehicle_yaw_rad;
-  for (int i = 0; i * period_s < entry_s - 1e-9; ++i) {  // hover before the switch
+  for (int i = 0; i * step_s < entry_s - 1e-9; ++i) {  // hover before the switch
     VelocitySetpoint sp;
-    sp.time_boot_ms = uint32_t(std::lround(i * period_s * 1000.0));
     sp.frame = frame;
     sp.yaw_rad = yaw0;
-    send(sp);
+    send(sp, i * step_s);
   }
   const double rate_max = vehicle.max_yaw_rate_dps * M_PI / 180.0;
   for (const SentSetpoint& p : r.setpoints) {
     VelocitySetpoint sp;
-    sp.time_boot_ms = uint32_t(std::lround((p.time_s + entry_s) * 1000.0));
     sp.frame = frame;
     const Eigen::Vector3d& v = p.velocity_mps;
     if (frame == SetpointFrame::local_ned) {
@@ -222,7 +231,7 @@ std::vector<std::vector<uint8_t>> flight_mavlink(const FlightResult& r, Setpoint
       sp.yaw_rate_rps =
           std::clamp(vehicle.yaw_gain_per_s * wrap_angle(p.yaw_rad - p.vehicle_yaw_rad), -rate_max, rate_max);
     }
-    send(sp);
+    send(sp, p.time_s + entry_s);
   }
   return out;
 }

@@ -111,13 +111,17 @@ std::vector<std::vector<uint8_t>> MavlinkStream::setpoint(const VelocitySetpoint
     started_ = true;
     first_setpoint_ms_ = t;
     next_heartbeat_ms_ = t;
+  } else if (t - last_setpoint_ms_ >= kMaxSetpointGapMs && !entered_) {
+    first_setpoint_ms_ = t;  // the stream broke: PX4 would not count what came before
   }
-  while (t >= next_heartbeat_ms_) {
+  last_setpoint_ms_ = t;
+  if (t >= next_heartbeat_ms_) {  // one heartbeat, even after a long gap
     out.push_back(mavlink_heartbeat(seq_++, sysid_, compid_));
     next_heartbeat_ms_ += 1000;
+    if (next_heartbeat_ms_ <= t) next_heartbeat_ms_ = t + 1000;
   }
   out.push_back(mavlink_velocity_setpoint(seq_++, sysid_, compid_, sp));
-  if (!entered_ && t - first_setpoint_ms_ >= entry_ms_) {  // after the setpoint that completes the span
+  if (!entered_ && t - first_setpoint_ms_ > entry_ms_) {  // after the setpoint that completes the span
     entered_ = true;
     const float mode[7] = {kMavModeFlagCustomModeEnabled, kPx4CustomMainModeOffboard, 0, 0, 0, 0, 0};
     out.push_back(mavlink_command_long(seq_++, sysid_, compid_, kMavCmdDoSetMode, mode));

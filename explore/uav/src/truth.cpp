@@ -22,8 +22,10 @@ double footprint_distance(const TruthObstacle& t, double x, double z) {
 
 // Whether the flight path (|x| <= half, 0 < z <= stop) meets the footprint.
 bool blocks(const TruthObstacle& t, double half_m, double stop_m) {
-  if (t.kind == "cylinder")
-    return t.z_m - t.radius_m <= stop_m && t.z_m + t.radius_m > 0 && std::fabs(t.x_m) <= half_m + t.radius_m;
+  if (t.kind == "cylinder") {  // the circle reaches the rectangle [-half, half] x [0, stop]
+    const double dx = std::max(std::fabs(t.x_m) - half_m, 0.0), dz = std::max({-t.z_m, 0.0, t.z_m - stop_m});
+    return std::hypot(dx, dz) <= t.radius_m;
+  }
   return t.z0_m <= stop_m && t.z1_m > 0 && t.x0_m <= half_m && t.x1_m >= -half_m;
 }
 
@@ -36,17 +38,39 @@ int bin_of(double range_m) {
 
 }  // namespace
 
-std::vector<TruthObstacle> obstacles_in_view(const Scene& scene, const Rig& rig, int width_px,
-                                             const Eigen::Vector3d& position_m, double max_range_m) {
+bool clip_to_view(TruthObstacle& t, const Rig& rig, int width_px, double max_range_m) {
   // The horizontal field of view as slopes x/z of its left and right edges.
   const double left = (0.0 - rig.cx_px) / rig.focal_px, right = (width_px - rig.cx_px) / rig.focal_px;
+  auto inside = [&](double x, double z) { return z > 0.1 && z <= max_range_m && x >= left * z && x <= right * z; };
+  double z_near = 1e9, x_near = 0;
+  if (t.kind == "cylinder") {
+    // The circle's outline, every 2 degrees: its nearest point in view.
+    for (int k = 0; k < 180; ++k) {
+      const double a = k * M_PI / 90.0, x = t.x_m + t.radius_m * std::sin(a), z = t.z_m - t.radius_m * std::cos(a);
+      if (inside(x, z) && z < z_near) {
+        z_near = z;
+        x_near = x;
+      }
+    }
+  } else {
+    // The nearest depth at which the box's x range meets the wedge, and the point there nearest
+    // the axis.
+    for (double z = std::max(t.z0_m, 0.1); z <= std::min(t.z1_m, max_range_m); z += 0.05)
+      if (t.x1_m >= left * z && t.x0_m <= right * z) {
+        z_near = z;
+        x_near = std::clamp(0.0, std::max(t.x0_m, left * z), std::min(t.x1_m, right * z));
+        break;
+      }
+  }
+  if (z_near > max_range_m) return false;
+  t.range_m = z_near;
+  t.lateral_m = x_near;
+  return true;
+}
+
+std::vector<TruthObstacle> obstacles_in_view(const Scene& scene, const Rig& rig, int width_px,
+                                             const Eigen::Vector3d& position_m, double max_range_m) {
   std::vector<TruthObstacle> out;
-  auto keep = [&](TruthObstacle t, double x_near, double z_near) {
-    if (!(z_near > 0.1 && z_near <= max_range_m)) return;
-    t.range_m = z_near;
-    t.lateral_m = x_near;
-    out.push_back(t);
-  };
   int id = 0;
   for (const Cylinder& c : scene.cylinders) {
     TruthObstacle t;
@@ -55,11 +79,7 @@ std::vector<TruthObstacle> obstacles_in_view(const Scene& scene, const Rig& rig,
     t.x_m = c.x_m - position_m.x();
     t.z_m = c.z_m - position_m.z();
     t.radius_m = c.radius_m;
-    // In view when the circle reaches inside the wedge (its centre within a radius of an edge).
-    const double lo = left * t.z_m - t.radius_m * std::hypot(1.0, left),
-                 hi = right * t.z_m + t.radius_m * std::hypot(1.0, right);
-    if (t.z_m + t.radius_m <= 0 || t.x_m < lo || t.x_m > hi) continue;
-    keep(t, t.x_m, t.z_m - t.radius_m);
+    if (clip_to_view(t, rig, width_px, max_range_m)) out.push_back(t);
   }
   for (const Box& b : scene.boxes) {
     TruthObstacle t;
@@ -69,17 +89,7 @@ std::vector<TruthObstacle> obstacles_in_view(const Scene& scene, const Rig& rig,
     t.x1_m = b.x1_m - position_m.x();
     t.z0_m = b.z0_m - position_m.z();
     t.z1_m = b.z1_m - position_m.z();
-    // The nearest depth at which the box's x range meets the wedge.
-    const double z_from = std::max(t.z0_m, 0.1);
-    double z_near = -1;
-    for (double z = z_from; z <= std::min(t.z1_m, max_range_m); z += 0.05)
-      if (t.x1_m >= left * z && t.x0_m <= right * z) {
-        z_near = z;
-        break;
-      }
-    if (z_near < 0) continue;
-    const double x_near = std::clamp(0.0, std::max(t.x0_m, left * z_near), std::min(t.x1_m, right * z_near));
-    keep(t, x_near, z_near);
+    if (clip_to_view(t, rig, width_px, max_range_m)) out.push_back(t);
   }
   return out;
 }
@@ -232,7 +242,8 @@ std::vector<std::pair<std::string, double>> TruthAccumulator::metrics() const {
   std::vector<double> first;
   for (const auto& kv : first_detection_m_) first.push_back(kv.second);
   std::sort(first.begin(), first.end());
-  const double median = first.empty() ? 0.0 : first[first.size() / 2];
+  const std::size_t n = first.size();
+  const double median = n == 0 ? 0.0 : n % 2 == 1 ? first[n / 2] : 0.5 * (first[n / 2 - 1] + first[n / 2]);
   m.emplace_back("false_positives_per_frame", frames_ ? double(false_positives_) / frames_ : 0.0);
   m.emplace_back("range_error_m", matches_ ? range_error_sum_m_ / matches_ : 0.0);
   m.emplace_back("first_detection_range_m", median);

@@ -187,6 +187,29 @@ TEST(Mavlink, StreamEntersOffboardAfterASecondOfSetpoints) {
   EXPECT_TRUE(stream.offboard_requested());
 }
 
+// A pause in the stream: one heartbeat when it resumes (no burst), and the second of setpoints
+// PX4 needs before OFFBOARD counts again from the resumption.
+TEST(Mavlink, StreamAfterAPause) {
+  MavlinkStream stream;
+  std::vector<std::vector<uint8_t>> frames;
+  auto at = [&](uint32_t ms) {
+    VelocitySetpoint sp;
+    sp.time_boot_ms = ms;
+    for (auto& f : stream.setpoint(sp)) frames.push_back(f);
+  };
+  for (uint32_t t = 0; t < 1000; t += 100) at(t);
+  for (uint32_t t = 3000; t <= 5000; t += 100) at(t);
+  std::vector<uint32_t> heartbeats_after;  // the setpoint time each heartbeat precedes
+  uint32_t mode_after_ms = 0;
+  const auto ev = events(frames);
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    if (ev[i].msgid == 0 && i + 1 < ev.size()) heartbeats_after.push_back(ev[i + 1].time_ms);
+    if (ev[i].msgid == 76 && ev[i].command == kMavCmdDoSetMode) mode_after_ms = ev[i - 1].time_ms;
+  }
+  EXPECT_EQ(heartbeats_after, (std::vector<uint32_t>{0, 3000, 4000, 5000}));
+  EXPECT_EQ(mode_after_ms, 4100u);  // more than a second after the resumption at 3.0 s
+}
+
 // A flight's setpoints in NED (north = the flight axis z, east = x) and in the body's axes.
 TEST(Mavlink, FlightFramesInNedAndBodyAxes) {
   FlightResult r;
@@ -201,8 +224,10 @@ TEST(Mavlink, FlightFramesInNedAndBodyAxes) {
   VehicleParams vp;
   for (SetpointFrame frame : {SetpointFrame::local_ned, SetpointFrame::body_frd}) {
     const auto frames = flight_mavlink(r, frame, 0.1, vp);
-    ASSERT_EQ(frames.size(), 2u + 10u + 1u + 2u);  // heartbeats at 0 and 1 s, hover, the flight's setpoint, mode, arm
-    const Decoded last = decode(frames[frames.size() - 3], 143, 53);
+    // Heartbeats at 0 and 1 s, 10 hover setpoints, the last one repeated every 0.1 s from 1.0 to
+    // 1.4 s (PX4 leaves OFFBOARD under 2 Hz), mode and arm after 1.1 s, the flight's setpoint.
+    ASSERT_EQ(frames.size(), 2u + 10u + 5u + 2u + 1u);
+    const Decoded last = decode(frames.back(), 143, 53);
     ASSERT_EQ(last.msgid, 84u);
     EXPECT_EQ(field<uint32_t>(last, 0), 1500u);  // flight time + the second of entry
     if (frame == SetpointFrame::local_ned) {

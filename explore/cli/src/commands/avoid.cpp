@@ -154,8 +154,12 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
         truth_acc = TruthAccumulator(tp);
         truth_ref = TruthAccumulator(tp);
       }
-      truth_acc.add(mine.obstacles, it->second, rig);
-      truth_ref.add(acc.last_reference().obstacles, it->second, rig);
+      // What the design's window sees of them (the list is for the rendered frame's full width).
+      std::vector<TruthObstacle> in_roi;
+      for (TruthObstacle t : it->second)
+        if (clip_to_view(t, rig, roi.width_px, 40.0)) in_roi.push_back(t);
+      truth_acc.add(mine.obstacles, in_roi, rig);
+      truth_ref.add(acc.last_reference().obstacles, in_roi, rig);
     }
     VelocitySetpoint sp;
     sp.time_boot_ms = uint32_t(

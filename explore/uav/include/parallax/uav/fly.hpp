@@ -76,11 +76,13 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& scenario, co
                  const FlightParams& fp, uint32_t seed = 1);
 
 // The MAVLink stream the loop sent (mavlink.hpp), as a companion computer booted entry_s before
-// take-off would send it: hover setpoints every period_s from boot (PX4 enters OFFBOARD only after
-// a second of them), DO_SET_MODE OFFBOARD and ARM at entry_s, then each setpoint at its flight
-// time + entry_s, with a heartbeat every second. World (x right, y down, z forward) maps to NED as
-// north = z, east = x, down = y; body_frd gives the velocity in the vehicle's axes when sent and
-// the yaw rate its controller would command (MC_YAW_P, MPC_YAWRAUTO_MAX of `vehicle`).
+// the flight would send it: hover setpoints from boot every min(period_s, 0.1 s), the loop's
+// setpoints at their flight time + entry_s (each repeated every 0.1 s while the next is not due,
+// so the rate never drops under PX4's 2 Hz), a heartbeat every second, and DO_SET_MODE OFFBOARD
+// and ARM after the first setpoint more than entry_s after the first. World (x right, y down, z
+// forward) maps to NED as north = z, east = x, down = y (the flight axis taken as north: a real
+// vehicle's local frame needs its heading at boot); body_frd gives the velocity in the vehicle's
+// axes when sent and the yaw rate its controller would command (MC_YAW_P, MPC_YAWRAUTO_MAX).
 std::vector<std::vector<uint8_t>> flight_mavlink(const FlightResult& r, SetpointFrame frame, double period_s,
                                                  const VehicleParams& vehicle, double entry_s = 1.0);
 

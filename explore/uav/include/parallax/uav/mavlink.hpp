@@ -54,16 +54,19 @@ constexpr uint16_t kMavCmdComponentArmDisarm = 400;  // param1 1 = arm
 constexpr float kMavModeFlagCustomModeEnabled = 1;
 constexpr float kPx4CustomMainModeOffboard = 6;
 
-// The stream a companion computer sends: a heartbeat at start and once a second after, velocity
-// setpoints as they come, and, once setpoints have streamed for entry_s (PX4 wants > 2 Hz for
-// more than a second before it enters OFFBOARD), DO_SET_MODE OFFBOARD then ARM, once. Sequence
-// numbers wrap at 256. Frames go to the sink (a callable taking the bytes).
+// The stream a companion computer sends: a heartbeat at start and once a second after (one, never
+// a burst, after a pause), velocity setpoints as they come, and, once setpoints have streamed for
+// more than entry_s without a gap of kMaxSetpointGapMs (PX4 wants > 2 Hz for more than a second
+// before it enters OFFBOARD), DO_SET_MODE OFFBOARD then ARM, once. The vehicle is taken to be
+// airborne and holding (PX4's Position mode) when the companion takes over: ARM is then a no-op,
+// and the stream does not take off. Sequence numbers wrap at 256.
 class MavlinkStream {
  public:
+  static constexpr uint32_t kMaxSetpointGapMs = 500;
   explicit MavlinkStream(uint8_t sysid = 1, uint8_t compid = 191, double entry_s = 1.0)
       : sysid_(sysid), compid_(compid), entry_ms_(uint32_t(entry_s * 1000.0)) {}
-  // The heartbeat when one is due, the setpoint, then the commands once the setpoints span
-  // entry_s. Times must not go back.
+  // The heartbeat when one is due, the setpoint, then the commands once the setpoints span more
+  // than entry_s. Times must not go back.
   std::vector<std::vector<uint8_t>> setpoint(const VelocitySetpoint& sp);
   bool offboard_requested() const { return entered_; }
 
@@ -72,7 +75,7 @@ class MavlinkStream {
   uint32_t entry_ms_;
   uint8_t seq_ = 0;
   bool started_ = false, entered_ = false;
-  uint32_t first_setpoint_ms_ = 0, next_heartbeat_ms_ = 0;
+  uint32_t first_setpoint_ms_ = 0, last_setpoint_ms_ = 0, next_heartbeat_ms_ = 0;
 };
 
 // A destination for frames: a file (binary frames back to back) or udp:IPv4:PORT; nothing when

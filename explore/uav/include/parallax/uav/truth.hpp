@@ -24,8 +24,11 @@ struct TruthObstacle {
   double range_m = 0, lateral_m = 0;              // its nearest point
 };
 
-// The obstacles of `scene` in the horizontal field of view of a camera at `position_m` looking
-// along +z (any part within it), nearer than max_range_m and farther than 0.1 m.
+// Whether any part of an obstacle (in camera coordinates) lies in the horizontal field of view of
+// an image width_px wide through `rig`, between 0.1 m and max_range_m deep; if so its range_m and
+// lateral_m become those of its nearest point in view.
+bool clip_to_view(TruthObstacle& t, const Rig& rig, int width_px, double max_range_m);
+// The obstacles of `scene` in view of a camera at `position_m` looking along +z (clip_to_view).
 std::vector<TruthObstacle> obstacles_in_view(const Scene& scene, const Rig& rig, int width_px,
                                              const Eigen::Vector3d& position_m, double max_range_m);
 
