@@ -294,6 +294,12 @@ const std::vector<Case>& cases() {
       {"scene step NaN", "scene --scenario $T/scenario_kind.yaml --out $T/scene --step-m nan", "--step-m"},
       {"fly scenario folder", "fly --config $C --scenario $T/folder", "folder"},
       {"fly scenario /dev/zero", "fly --config $C --scenario /dev/zero", "/dev/zero"},
+      {"fly mavlink udp", "fly --config $C --scenario single-pole --mavlink-out udp:127.0.0.1:14540", "udp:127.0.0.1"},
+      {"fly mavlink folder", "fly --config $C --scenario single-pole --mavlink-out $T/folder", "--mavlink-out"},
+      {"fly mavlink frame", "fly --config $C --scenario single-pole --mavlink-frame enu", "--mavlink-frame"},
+      {"fly mavlink with search", "fly --config $C --scenario single-pole --find-max-speed --mavlink-out $T/m.mav",
+       "--find-max-speed"},
+      {"avoid truth missing", "avoid --config $C --dataset $D --truth $T/none.json", "--truth"},
       {"fly speed NaN", "fly --config $C --scenario $T/scenario_kind.yaml --speed-mps nan", "--speed-mps"},
       {"fly speed inf", "fly --config $C --scenario $T/scenario_kind.yaml --speed-mps inf", "--speed-mps"},
       // --- HLS

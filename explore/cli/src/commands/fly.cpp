@@ -104,7 +104,6 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
                        p.position_m.x(), p.position_m.z(), p.vehicle_velocity_mps.x(), p.vehicle_velocity_mps.z(),
                        p.vehicle_yaw_rad * 180.0 / M_PI, p.velocity_mps.x(), p.velocity_mps.z(),
                        p.yaw_rad * 180.0 / M_PI, p.free_m, p.braking ? 1 : 0);
-      if (mavlink != nullptr) mavlink->write(r, fp.vehicle, s, seeds);
       results[std::size_t(s - 1)] = std::move(r);
     }
   };
@@ -115,6 +114,7 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
   g.seeds = seeds;
   for (int s = 1; s <= seeds; ++s) {
     const FlightResult& r = results[std::size_t(s - 1)];
+    if (mavlink != nullptr) mavlink->write(r, fp.vehicle, s, seeds);  // here: an error reaches the command
     g.goal += r.outcome == Outcome::goal ? 1 : 0;
     g.collisions += r.outcome == Outcome::collision ? 1 : 0;
     g.out_of_bounds += r.outcome == Outcome::out_of_bounds ? 1 : 0;
@@ -164,6 +164,9 @@ int run_fly(const FlyOptions& o, const Invocation&) {
   if (o.mavlink_out.rfind("udp:", 0) == 0)
     throw InputError("--mavlink-out '" + o.mavlink_out +
                      "': fly writes files (a simulated flight does not run at the wall clock's pace)");
+  if (!o.mavlink_out.empty())  // every destination writable before minutes of flying
+    for (int seed = 1; seed <= o.seeds; ++seed)
+      MavlinkSink probe(mavlink_path(o.mavlink_out, seed, o.seeds), "--mavlink-out");
   const int jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
   const double goal_z = generate_scene(sc, 1).goal_z_m;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> trace(nullptr, std::fclose);
