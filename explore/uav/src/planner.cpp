@@ -152,16 +152,25 @@ class Clearance {
     iz0_ = int32_t(std::floor(centre.z() / cell_)) - half_;
     dist_.assign(std::size_t(n_) * std::size_t(n_), float(cap_m_));
     seen_.assign(dist_.size(), 0);
+    std::vector<LocalMap::Cell> cells(dist_.size());  // read once: the map's lookups are the cost
     for (int j = 0; j < n_; ++j)
       for (int i = 0; i < n_; ++i) {
-        const LocalMap::Cell c = map.at((ix0_ + i + 0.5) * cell_, (iz0_ + j + 0.5) * cell_);
-        if (c != LocalMap::Cell::unknown) seen_[std::size_t(j) * std::size_t(n_) + std::size_t(i)] = 1;
+        const std::size_t k = std::size_t(j) * std::size_t(n_) + std::size_t(i);
+        cells[k] = map.at((ix0_ + i + 0.5) * cell_, (iz0_ + j + 0.5) * cell_);
+        seen_[k] = cells[k] != LocalMap::Cell::unknown ? 1 : 0;
       }
+    // The distance of each offset within reach, once.
+    const int side = 2 * reach + 1;
+    std::vector<double> offset_m(std::size_t(side) * std::size_t(side));
+    for (int b = -reach; b <= reach; ++b)
+      for (int a = -reach; a <= reach; ++a)
+        offset_m[std::size_t(b + reach) * std::size_t(side) + std::size_t(a + reach)] =
+            std::sqrt(double(a * a + b * b)) * cell_;
     // Occupied cells keep a path safety_m away; unseen ones the vehicle's own radius (a
     // textureless wall is never occupied, only unseen).
     for (int j = 0; j < n_; ++j)
       for (int i = 0; i < n_; ++i) {
-        const LocalMap::Cell c = map.at((ix0_ + i + 0.5) * cell_, (iz0_ + j + 0.5) * cell_);
+        const LocalMap::Cell c = cells[std::size_t(j) * std::size_t(n_) + std::size_t(i)];
         if (c == LocalMap::Cell::free) continue;
         const bool occupied = c == LocalMap::Cell::occupied;
         // An unseen cell counts only where it borders a seen one (its inside is reached through it).
@@ -172,7 +181,8 @@ class Clearance {
             const int x = i + a, y = j + b;
             if (x < 0 || y < 0 || x >= n_ || y >= n_) continue;
             float& d = dist_[std::size_t(y) * std::size_t(n_) + std::size_t(x)];
-            d = std::min(d, float(std::sqrt(double(a * a + b * b)) * cell_ + grow));
+            d = std::min(d,
+                         float(offset_m[std::size_t(b + reach) * std::size_t(side) + std::size_t(a + reach)] + grow));
           }
       }
   }
