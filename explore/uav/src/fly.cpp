@@ -175,6 +175,7 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
     r.time_s = t;
     if (c < 0) {
       r.outcome = Outcome::collision;
+      r.hit = nearest_obstacle(scene, st.position_m);
       break;
     }
     if (std::fabs(st.position_m.x()) > scene.bound_half_width_m) {

@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
 
@@ -11,7 +15,11 @@
 namespace parallax::explore {
 
 LocalMap::LocalMap(const MapParams& p)
-    : p_(p), slots_(std::size_t(p.size_cells) * std::size_t(p.size_cells)), frame_hits_(slots_.size(), 0) {}
+    : p_(p),
+      slots_(std::size_t(p.size_cells) * std::size_t(p.size_cells)),
+      frame_hits_(slots_.size(), 0),
+      frame_cols_(slots_.size(), 0),
+      frame_last_u_(slots_.size(), -1) {}
 
 LocalMap::Slot* LocalMap::slot(int32_t ix, int32_t iz, bool create) {
   const int n = p_.size_cells;
@@ -83,14 +91,14 @@ void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid_in, const Rig
   // Per column: the nearest hit's and the farthest trusted point's horizontal range.
   std::vector<double> nearest(std::size_t(w), 1e9), farthest(std::size_t(w), 0.0);
   std::vector<Slot*> touched;
-  const int border = p_.border_px;
-  for (int v = border; v < h - border; ++v) {
-    const float* dr = disp.ptr<float>(v);
-    const uint8_t* vr = valid.ptr<uint8_t>(v);
-    for (int u = border; u < w - border; ++u) {
+  const int border = p_.border_px, top = std::max(border, p_.top_border_px);
+  // Column by column, so that a cell knows how many columns hit it (frame_cols_).
+  for (int u = border; u < w - border; ++u) {
+    for (int v = top; v < h - border; ++v) {
+      const float dp = disp.at<float>(v, u);
       // Not trusted: invalid, too small, or with its match outside the right image.
-      if (vr[u] == 0 || dr[u] < p_.min_disparity_px || double(u) - dr[u] < border) continue;
-      const double z = fb / dr[u];
+      if (valid.at<uint8_t>(v, u) == 0 || dp < p_.min_disparity_px || double(u) - dp < border) continue;
+      const double z = fb / dp;
       const Eigen::Vector3d p =
           cam + axes * Eigen::Vector3d((u - rig.cx_px) * z / rig.focal_px, (v - rig.cy_px) * z / rig.focal_px, z);
       const double range = std::hypot(p.x() - cam.x(), p.z() - cam.z());
@@ -102,9 +110,26 @@ void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid_in, const Rig
       nearest[std::size_t(u)] = std::min(nearest[std::size_t(u)], range);
       Slot* s = slot(index(p.x()), index(p.z()), true);
       if (s == nullptr) continue;
-      int32_t& hits = frame_hits_[std::size_t(s - slots_.data())];
-      if (hits++ == 0) touched.push_back(s);
+      const std::size_t i = std::size_t(s - slots_.data());
+      if (frame_hits_[i]++ == 0) touched.push_back(s);
+      if (frame_last_u_[i] != u) {
+        frame_last_u_[i] = u;
+        ++frame_cols_[i];
+      }
     }
+  }
+  // A cell is hit when enough samples fall in it from enough of the columns it spans at its
+  // range: an obstacle there fills them, a matcher's error patch (a few columns of wrong
+  // disparities, scattered over ranges) does not.
+  constexpr int32_t kHit = INT32_MAX / 2, kTouched = -2, kMissed = -1;
+  for (Slot* s : touched) {
+    const std::size_t i = std::size_t(s - slots_.data());
+    const double dx = (s->ix + 0.5) * p_.cell_m - cam.x(), dz = (s->iz + 0.5) * p_.cell_m - cam.z();
+    const double span_px = p_.cell_m / std::max(p_.cell_m, std::hypot(dx, dz)) * rig.focal_px;
+    const bool hit = frame_hits_[i] >= p_.min_hits && frame_cols_[i] >= p_.min_column_fraction * span_px;
+    frame_hits_[i] = hit ? kHit : kTouched;
+    frame_cols_[i] = 0;
+    frame_last_u_[i] = -1;
   }
   // Misses: each column's ray in the band, up to a cell before its nearest hit (or to its
   // farthest trusted point when it has none). What the matcher cannot see (a textureless wall)
@@ -119,16 +144,16 @@ void LocalMap::integrate(const cv::Mat& disp, const cv::Mat& valid_in, const Rig
       Slot* s = slot(index(cam.x() + r * d.x()), index(cam.z() + r * d.z()), true);
       if (s == nullptr) break;
       const std::size_t i = std::size_t(s - slots_.data());
-      if (frame_hits_[i] >= p_.min_hits || frame_hits_[i] < 0) continue;  // hit, or missed already this frame
+      if (frame_hits_[i] == kHit || frame_hits_[i] == kMissed) continue;  // hit, or missed already this frame
       s->seen = true;
       s->log_odds = int16_t(std::max(int(s->log_odds) - p_.miss_loss, p_.log_odds_min));
       if (frame_hits_[i] == 0) touched.push_back(s);
-      frame_hits_[i] = -1;
+      frame_hits_[i] = kMissed;
     }
   }
   for (Slot* s : touched) {
     int32_t& hits = frame_hits_[std::size_t(s - slots_.data())];
-    if (hits >= p_.min_hits) {
+    if (hits == kHit) {
       s->seen = true;
       s->log_odds = int16_t(std::min(int(s->log_odds) + p_.hit_gain, p_.log_odds_max));
     }
@@ -151,6 +176,7 @@ class Clearance {
     ix0_ = int32_t(std::floor(centre.x() / cell_)) - half_;
     iz0_ = int32_t(std::floor(centre.z() / cell_)) - half_;
     dist_.assign(std::size_t(n_) * std::size_t(n_), float(cap_m_));
+    occupied_dist_ = dist_;
     seen_.assign(dist_.size(), 0);
     std::vector<LocalMap::Cell> cells(dist_.size());  // read once: the map's lookups are the cost
     for (int j = 0; j < n_; ++j)
@@ -180,9 +206,10 @@ class Clearance {
           for (int a = -reach; a <= reach; ++a) {
             const int x = i + a, y = j + b;
             if (x < 0 || y < 0 || x >= n_ || y >= n_) continue;
-            float& d = dist_[std::size_t(y) * std::size_t(n_) + std::size_t(x)];
-            d = std::min(d,
-                         float(offset_m[std::size_t(b + reach) * std::size_t(side) + std::size_t(a + reach)] + grow));
+            const std::size_t k = std::size_t(y) * std::size_t(n_) + std::size_t(x);
+            const double at_m = offset_m[std::size_t(b + reach) * std::size_t(side) + std::size_t(a + reach)];
+            dist_[k] = std::min(dist_[k], float(at_m + grow));
+            if (occupied) occupied_dist_[k] = std::min(occupied_dist_[k], float(at_m));
           }
       }
   }
@@ -204,6 +231,90 @@ class Clearance {
     const std::ptrdiff_t k = slot(x, z);
     return k < 0 || seen_[std::size_t(k)] == 0;
   }
+  // The cost of the shortest path from each cell to the goal line z >= goal_z_m (metres; unseen
+  // cells cost unseen_factor per metre: they may be free), keeping limit_m from occupied cells
+  // and inside the bounds' margin. The window's edge is reached from the goal at the straight
+  // distance to the goal line (the world beyond is unknown); infinity where no path exists. A
+  // navigation function (a local planner's "navfn"): descending it leads round dead ends that a
+  // direction search from the vehicle cannot see out of.
+  void solve_cost_to_goal(double goal_z_m, double limit_m, double bound_half_width_m, double unseen_factor) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    cost_.assign(dist_.size(), kInf);
+    using Item = std::pair<float, int32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+    auto passable = [&](int i, int j) {
+      const double x = (ix0_ + i + 0.5) * cell_;
+      return std::fabs(x) <= bound_half_width_m &&
+             occupied_dist_[std::size_t(j) * std::size_t(n_) + std::size_t(i)] >= limit_m;
+    };
+    for (int j = 0; j < n_; ++j)
+      for (int i = 0; i < n_; ++i) {
+        const double z = (iz0_ + j + 0.5) * cell_;
+        const bool edge = i == 0 || j == 0 || i == n_ - 1 || j == n_ - 1;
+        if ((!edge && z < goal_z_m) || !passable(i, j)) continue;
+        const int32_t k = j * n_ + i;
+        cost_[std::size_t(k)] = float(std::max(0.0, goal_z_m - z));
+        open.push({cost_[std::size_t(k)], k});
+      }
+    const float diagonal = float(std::sqrt(2.0) * cell_), straight = float(cell_);
+    while (!open.empty()) {
+      const auto [c, k] = open.top();
+      open.pop();
+      if (c > cost_[std::size_t(k)]) continue;
+      const int i = k % n_, j = k / n_;
+      for (int b = -1; b <= 1; ++b)
+        for (int a = -1; a <= 1; ++a) {
+          const int x = i + a, y = j + b;
+          if ((a == 0 && b == 0) || x < 0 || y < 0 || x >= n_ || y >= n_ || !passable(x, y)) continue;
+          const std::size_t kk = std::size_t(y) * std::size_t(n_) + std::size_t(x);
+          const float step = (a != 0 && b != 0 ? diagonal : straight) * (seen_[kk] ? 1.0f : float(unseen_factor));
+          if (c + step < cost_[kk]) {
+            cost_[kk] = c + step;
+            open.push({cost_[kk], int32_t(kk)});
+          }
+        }
+    }
+  }
+  // Where the shortest path from a point is after length_m (down the cost, neighbour by
+  // neighbour); the point itself when it has no path. Of the neighbours on a shortest path (an
+  // 8-connected grid has many), the one nearest the goal's direction (+z): the straight line
+  // rather than a staircase.
+  Eigen::Vector2d follow_path(double x, double z, double length_m) const {
+    std::ptrdiff_t k = slot(x, z);
+    Eigen::Vector2d at(x, z);
+    if (k < 0 || !std::isfinite(cost_[std::size_t(k)])) return at;
+    for (double walked = 0; walked < length_m;) {
+      const int i = int(k % n_), j = int(k / n_);
+      std::ptrdiff_t next = k;
+      double next_step = 0, next_rank = -1e9;
+      for (int b = -1; b <= 1; ++b)
+        for (int a = -1; a <= 1; ++a) {
+          const int xi = i + a, yj = j + b;
+          if ((a == 0 && b == 0) || xi < 0 || yj < 0 || xi >= n_ || yj >= n_) continue;
+          const std::ptrdiff_t kk = std::ptrdiff_t(yj) * n_ + xi;
+          const double step = (a != 0 && b != 0 ? std::sqrt(2.0) : 1.0) * cell_;
+          const double descent = double(cost_[std::size_t(k)]) - double(cost_[std::size_t(kk)]);
+          if (descent <= 0) continue;
+          // Steepest first; among the equally steep, the most towards +z.
+          const double rank = std::round(descent / step * 100.0) + 0.01 * b / std::hypot(a, b);
+          if (rank > next_rank) {
+            next_rank = rank;
+            next = kk;
+            next_step = step;
+          }
+        }
+      if (next == k) break;  // the goal line or the window's edge
+      walked += next_step;
+      k = next;
+      at = Eigen::Vector2d((ix0_ + int(k % n_) + 0.5) * cell_, (iz0_ + int(k / n_) + 0.5) * cell_);
+    }
+    return at;
+  }
+  // solve_cost_to_goal's cost at a point; infinity outside the window or where no path exists.
+  double cost_to_goal(double x, double z) const {
+    const std::ptrdiff_t k = slot(x, z);
+    return k < 0 ? std::numeric_limits<double>::infinity() : double(cost_[std::size_t(k)]);
+  }
 
  private:
   std::ptrdiff_t slot(double x, double z) const {
@@ -214,7 +325,7 @@ class Clearance {
   double cell_, cap_m_;
   int half_ = 0, n_ = 0;
   int32_t ix0_ = 0, iz0_ = 0;
-  std::vector<float> dist_;
+  std::vector<float> dist_, occupied_dist_, cost_;
   std::vector<uint8_t> seen_;
 };
 
@@ -244,22 +355,52 @@ double Planner::free_distance(const LocalMap& map, const Eigen::Vector3d& from, 
 Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   const Eigen::Vector3d& pos = s.position_m;
   const double cell = map.params().cell_m;
-  const Clearance clear(map, pos, p_.horizon_m, p_.safety_m, p_.unseen_margin_m);
+  Clearance clear(map, pos, p_.horizon_m, p_.safety_m, p_.unseen_margin_m);
   const double goal_bearing = std::atan2(p_.goal_xz.x() - pos.x(), p_.goal_xz.y() - pos.z());
+  // A path may come no nearer an obstacle than safety_m, or than the vehicle is now when nearer.
+  const double limit = std::min(p_.safety_m, clear.distance(pos.x(), pos.z()) - 0.5 * cell);
+  clear.solve_cost_to_goal(p_.goal_xz.y(), limit, p_.bound_half_width_m - p_.safety_m + cell, p_.unseen_cost);
+  const double cost_here = clear.cost_to_goal(pos.x(), pos.z());
+  const bool routed = std::isfinite(cost_here);
+  // How fast a course descends the cost to the goal (1: straight at it along the shortest path),
+  // over the lookahead or as much of it as is passable; the goal's bearing when the vehicle has no
+  // path (it is inside an obstacle's margin as mapped).
+  auto progress = [&](double heading) {
+    if (!routed) return std::cos(wrap_angle(heading - goal_bearing));
+    for (double d = p_.lookahead_m; d > 0.5; d -= 1.0) {
+      const double c = clear.cost_to_goal(pos.x() + d * std::sin(heading), pos.z() + d * std::cos(heading));
+      if (std::isfinite(c)) return std::clamp((cost_here - c) / d, -1.0, 1.0);
+    }
+    return -1.0;
+  };
+  // The direction the shortest path leaves in: the candidates are centred on it, and a vehicle
+  // that must stop looks there.
+  double path_bearing = goal_bearing;
+  if (routed) {
+    const Eigen::Vector2d ahead = clear.follow_path(pos.x(), pos.z(), p_.lookahead_m);
+    if ((ahead - Eigen::Vector2d(pos.x(), pos.z())).norm() > 0.5 * cell)
+      path_bearing = std::atan2(ahead.x() - pos.x(), ahead.y() - pos.z());
+  }
   auto speed_for = [&](double free_m) {
     return std::min(p_.cruise_mps, stopping_distance_speed_bound(p_.brake_mps2, p_.reaction_s,
                                                                  std::max(0.0, free_m - p_.stop_margin_m)));
   };
   // The vehicle's own response to a setpoint (the velocity loop's gain, acceleration and jerk
-  // limits) for rollout_s: safe when it never comes nearer an obstacle than the safety distance
-  // (or than it is now, when nearer), nor enters an unseen cell or the bounds' margin.
-  const double limit = std::min(p_.safety_m, clear.distance(pos.x(), pos.z()) - 0.5 * cell);
-  auto safe = [&](double heading, double speed) {
+  // limits) for rollout_s, the setpoint held until the vehicle must brake to stop short of the
+  // free distance (the plan a frame later would do no less) and zero after: safe when it never
+  // comes nearer an obstacle than the safety distance (or than it is now, when nearer), nor enters
+  // an unseen cell or the bounds' margin.
+  auto safe = [&](double heading, double speed, double free_m) {
     VehicleState v = s;
-    const Eigen::Vector3d sp = Eigen::Vector3d(std::sin(heading), 0, std::cos(heading)) * speed;
+    const Eigen::Vector3d dir(std::sin(heading), 0, std::cos(heading));
+    const double stop_at_m = std::max(0.0, free_m - p_.stop_margin_m);
     constexpr double kDt = 0.05;
+    bool stopping = false;
     for (double t = 0; t < p_.rollout_s; t += kDt) {
-      step_vehicle(v, sp, heading, p_.vehicle, kDt);
+      const double along_mps = std::max(0.0, v.velocity_mps.dot(dir));
+      const double to_stop_m = along_mps * (p_.reaction_s + along_mps / (2.0 * p_.brake_mps2));
+      stopping = stopping || (v.position_m - pos).dot(dir) + to_stop_m >= stop_at_m;
+      step_vehicle(v, stopping ? Eigen::Vector3d::Zero().eval() : (dir * speed).eval(), heading, p_.vehicle, kDt);
       const double x = v.position_m.x(), z = v.position_m.z();
       if (std::fabs(x) > p_.bound_half_width_m - p_.safety_m && std::fabs(x) > std::fabs(pos.x())) return false;
       if (clear.distance(x, z) < limit) return false;
@@ -272,15 +413,15 @@ Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   auto checked_speed = [&](double heading, double free_m) {
     double v = speed_for(free_m);
     for (int tries = 0; tries < 3; ++tries, v *= 0.5)
-      if (safe(heading, v)) return v;
-    return safe(heading, 0.0) ? 0.0 : -1.0;
+      if (safe(heading, v, free_m)) return v;
+    return safe(heading, 0.0, free_m) ? 0.0 : -1.0;
   };
-  // Progress towards the goal at the checked speed, less a cost for a course that ends short of
-  // the horizon (it will need a turn later: turning early is cheaper) and for changing course.
+  // Progress along the path to the goal at the checked speed, less a cost for a course that ends
+  // short of the horizon (it will need a turn later: turning early is cheaper) and for changing
+  // course.
   auto score = [&](double heading, double free_m, double speed) {
     if (speed < 0) return -1e9;
-    return speed * std::cos(wrap_angle(heading - goal_bearing)) -
-           p_.short_cost * p_.cruise_mps * (1.0 - free_m / p_.horizon_m) -
+    return speed * progress(heading) - p_.short_cost * p_.cruise_mps * (1.0 - free_m / p_.horizon_m) -
            (has_heading_ ? p_.turn_cost * p_.cruise_mps * std::fabs(wrap_angle(heading - heading_)) : 0.0);
   };
   struct Choice {
@@ -290,7 +431,7 @@ Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   const int n = int(std::round(p_.span_deg / p_.step_deg));
   for (int k = -n; k <= n; ++k) {
     Choice c;
-    c.heading = wrap_angle(goal_bearing + k * p_.step_deg * M_PI / 180.0);
+    c.heading = wrap_angle(path_bearing + k * p_.step_deg * M_PI / 180.0);
     c.free_m = free_along(clear, p_, cell, pos, c.heading);
     c.speed = checked_speed(c.heading, c.free_m);
     c.score = score(c.heading, c.free_m, c.speed);
@@ -308,8 +449,12 @@ Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   }
   Plan plan;
   plan.braking = best.speed < 0.2 * p_.cruise_mps;
-  // Nothing free enough: stop, turning to the widest safe direction to see more.
-  const Choice& go = plan.braking ? (widest.free_m >= 0 ? widest : best) : best;
+  // Nothing free enough: stop, turning to where the path leads (to see it), or without one to the
+  // widest safe direction.
+  Choice look;
+  look.heading = path_bearing;
+  look.free_m = free_along(clear, p_, cell, pos, path_bearing);
+  const Choice& go = !plan.braking ? best : routed ? look : widest.free_m >= 0 ? widest : best;
   plan.velocity_mps = Eigen::Vector3d(std::sin(go.heading), 0, std::cos(go.heading)) * (plan.braking ? 0.0 : go.speed);
   plan.yaw_rad = go.heading;
   plan.heading_rad = go.heading;

@@ -336,4 +336,32 @@ double clearance_m(const Scene& sc, const Eigen::Vector3d& p) {
   return best;
 }
 
+std::string nearest_obstacle(const Scene& sc, const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  char name[160] = "nothing";
+  auto take = [&](double d) {
+    if (d >= best) return false;
+    best = d;
+    return true;
+  };
+  for (const auto& c : sc.cylinders)
+    if (p.y() >= -c.height_m && take(std::hypot(p.x() - c.x_m, p.z() - c.z_m) - c.radius_m))
+      std::snprintf(name, sizeof name, "tree r %.2f m at (x %.2f, z %.2f)", c.radius_m, c.x_m, c.z_m);
+  for (const auto& br : sc.branches) {
+    const Eigen::Vector3d a(br.x_m, -br.height_m, br.z_m), ax(std::sin(br.heading_rad), 0, std::cos(br.heading_rad));
+    const double s = std::clamp((p - a).dot(ax), 0.0, br.length_m);
+    if (take((p - (a + s * ax)).norm() - br.radius_m))
+      std::snprintf(name, sizeof name, "branch (r %.3f m, %.2f m up) from (x %.2f, z %.2f)", br.radius_m, br.height_m,
+                    br.x_m, br.z_m);
+  }
+  for (const auto& b : sc.boxes) {
+    if (p.y() < -b.height_m) continue;
+    const double dx = std::max({b.x0_m - p.x(), 0.0, p.x() - b.x1_m});
+    const double dz = std::max({b.z0_m - p.z(), 0.0, p.z() - b.z1_m});
+    if (take(std::hypot(dx, dz)))
+      std::snprintf(name, sizeof name, "wall x %.1f..%.1f z %.1f..%.1f", b.x0_m, b.x1_m, b.z0_m, b.z1_m);
+  }
+  return name;
+}
+
 }  // namespace parallax::explore

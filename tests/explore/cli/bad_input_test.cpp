@@ -297,6 +297,7 @@ const std::vector<Case>& cases() {
       {"fly mavlink udp", "fly --config $C --scenario single-pole --mavlink-out udp:127.0.0.1:14540", "udp:127.0.0.1"},
       {"fly mavlink folder", "fly --config $C --scenario single-pole --mavlink-out $T/folder", "--mavlink-out"},
       {"fly mavlink frame", "fly --config $C --scenario single-pole --mavlink-frame enu", "--mavlink-frame"},
+      {"fly first seed 0", "fly --config $C --scenario single-pole --first-seed 0", "--first-seed"},
       {"fly mavlink with search", "fly --config $C --scenario single-pole --find-max-speed --mavlink-out $T/m.mav",
        "--find-max-speed"},
       {"avoid truth missing", "avoid --config $C --dataset $D --truth $T/none.json", "--truth"},

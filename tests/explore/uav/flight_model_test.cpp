@@ -214,5 +214,36 @@ TEST(Planner, RemembersUnseenDirectionsAndDoesNotFlip) {
   EXPECT_EQ(turned.at(0.0, 7.7), LocalMap::Cell::occupied);
 }
 
+// A dead end: the vehicle inside a U of walls open behind it, having looked all round. A direction
+// search towards the goal (ahead) finds nothing free; the cost to the goal over the map leads out
+// the way it came, round the U's side.
+TEST(Planner, LeavesADeadEndByThePathToTheGoal) {
+  const Rig rig = level_rig();
+  Scene scene;
+  scene.boxes.push_back({-4.3, 4.3, 6.0, 6.3, 5.0});    // across, ahead
+  scene.boxes.push_back({-4.3, -4.0, -1.0, 6.0, 5.0});  // the sides
+  scene.boxes.push_back({4.0, 4.3, -1.0, 6.0, 5.0});
+  LocalMap map;
+  map.clear_disk(0, 0, 2.0);
+  for (const double yaw_deg : {0.0, 60.0, 120.0, 180.0, 240.0, 300.0}) {
+    CameraPose pose;
+    pose.yaw_rad = yaw_deg * M_PI / 180.0;
+    const StereoFrame f = render(scene, rig, 640, 360, pose, false);
+    for (int k = 0; k < 3; ++k) map.integrate(f.disparity_px, f.valid_mask, rig, pose, f.left);
+  }
+  EXPECT_EQ(map.at(0.0, 6.0), LocalMap::Cell::occupied);
+  EXPECT_EQ(map.at(0.0, -5.0), LocalMap::Cell::free);  // behind: open
+  PlannerParams pp;
+  pp.cruise_mps = 3.0;
+  pp.goal_xz = Eigen::Vector2d(0, 40);
+  Planner planner(pp);
+  VehicleState st;
+  st.position_m = CameraPose{}.position_m;
+  const Plan plan = planner.plan(map, st);
+  EXPECT_FALSE(plan.braking);
+  EXPECT_GT(std::fabs(plan.heading_rad), M_PI / 2) << plan.heading_rad;  // out of the U, backwards
+  EXPECT_GT(plan.velocity_mps.norm(), 0.5);
+}
+
 }  // namespace
 }  // namespace parallax::test

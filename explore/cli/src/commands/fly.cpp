@@ -29,12 +29,12 @@ using namespace parallax::explore;
 struct FlyOptions {
   ConfigArgs cfg;
   std::string scenario, trace_csv, debug_maps, mavlink_out, mavlink_frame = "local-ned";
-  int seeds = 3, size = 0, jobs = 0;
+  int seeds = 3, first_seed = 1, size = 0, jobs = 0;
   double speed = 5.0, noise = -1.0, limit = 60.0;
   bool json = false, find = false, no_oracle = false;
 };
 
-// The flights of seeds 1..N at one speed, summed.
+// The flights of seeds first..first+N-1 at one speed, summed.
 struct FlightTally {
   int seeds = 0, goal = 0, collisions = 0, out_of_bounds = 0, timeouts = 0, frames = 0, flips = 0;
   double min_clear = 1e9, ratio = 0, time = 0, simulated_s = 0, render_s = 0, perception_s = 0;
@@ -82,29 +82,33 @@ struct MavlinkOut {
   }
 };
 
-// Flies seeds 1..`seeds` at `speed` on `jobs` threads; one progress line per flight on stderr.
-FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, FlightParams fp, int seeds, double speed,
-                      int jobs, const char* label, std::FILE* trace, const MavlinkOut* mavlink = nullptr) {
+// Flies seeds first..first+`seeds`-1 at `speed` on `jobs` threads; one progress line per flight on
+// stderr.
+FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, FlightParams fp, int first, int seeds,
+                      double speed, int jobs, const char* label, std::FILE* trace,
+                      const MavlinkOut* mavlink = nullptr) {
   fp.speed_mps = speed;
   std::vector<FlightResult> results(static_cast<std::size_t>(seeds));
   std::vector<double> goal_z(std::size_t(seeds), 0.0);
-  std::atomic<int> next{1};
+  std::atomic<int> next{first};
   std::mutex out;
   auto worker = [&] {
-    for (int s = next++; s <= seeds; s = next++) {
+    for (int s = next++; s < first + seeds; s = next++) {
       const Scene scene = generate_scene(sc, uint32_t(s));
       FlightResult r = fly(cfg, sc, scene, fp, uint32_t(s));
       const std::lock_guard<std::mutex> lock(out);
-      std::fprintf(stderr, "parallax: %s %s seed %d at %.1f m/s: %s after %.1f s (min clearance %.2f m, %d frames)\n",
-                   label, sc.name.c_str(), s, speed, to_string(r.outcome), r.time_s, r.min_clearance_m, r.frames);
-      goal_z[std::size_t(s - 1)] = scene.goal_z_m;
+      std::fprintf(stderr,
+                   "parallax: %s %s seed %d at %.1f m/s: %s%s%s after %.1f s (min clearance %.2f m, %d frames)\n",
+                   label, sc.name.c_str(), s, speed, to_string(r.outcome), r.hit.empty() ? "" : " with ", r.hit.c_str(),
+                   r.time_s, r.min_clearance_m, r.frames);
+      goal_z[std::size_t(s - first)] = scene.goal_z_m;
       if (trace != nullptr)
         for (const SentSetpoint& p : r.setpoints)
           std::fprintf(trace, "%s,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%.3f,%.3f,%.1f,%.2f,%d\n", label, s, p.time_s,
                        p.position_m.x(), p.position_m.z(), p.vehicle_velocity_mps.x(), p.vehicle_velocity_mps.z(),
                        p.vehicle_yaw_rad * 180.0 / M_PI, p.velocity_mps.x(), p.velocity_mps.z(),
                        p.yaw_rad * 180.0 / M_PI, p.free_m, p.braking ? 1 : 0);
-      results[std::size_t(s - 1)] = std::move(r);
+      results[std::size_t(s - first)] = std::move(r);
     }
   };
   std::vector<std::thread> pool;
@@ -112,8 +116,8 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
   for (auto& t : pool) t.join();
   FlightTally g;
   g.seeds = seeds;
-  for (int s = 1; s <= seeds; ++s) {
-    const FlightResult& r = results[std::size_t(s - 1)];
+  for (int s = first; s < first + seeds; ++s) {
+    const FlightResult& r = results[std::size_t(s - first)];
     if (mavlink != nullptr) mavlink->write(r, fp.vehicle, s, seeds);  // here: an error reaches the command
     g.goal += r.outcome == Outcome::goal ? 1 : 0;
     g.collisions += r.outcome == Outcome::collision ? 1 : 0;
@@ -126,11 +130,12 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
     g.render_s += r.render_wall_s;
     g.perception_s += r.perception_wall_s;
     if (r.reached_goal) {
-      g.ratio += r.path_length_m / goal_z[std::size_t(s - 1)];
+      g.ratio += r.path_length_m / goal_z[std::size_t(s - first)];
       g.time += r.time_s;
     }
     g.per_seed.push_back({{"seed", s},
                           {"outcome", to_string(r.outcome)},
+                          {"hit", r.hit},
                           {"min_clearance_m", r.min_clearance_m},
                           {"time_s", r.time_s},
                           {"path_length_m", r.path_length_m},
@@ -165,7 +170,7 @@ int run_fly(const FlyOptions& o, const Invocation&) {
     throw InputError("--mavlink-out '" + o.mavlink_out +
                      "': fly writes files (a simulated flight does not run at the wall clock's pace)");
   if (!o.mavlink_out.empty())  // every destination writable before minutes of flying
-    for (int seed = 1; seed <= o.seeds; ++seed)
+    for (int seed = o.first_seed; seed < o.first_seed + o.seeds; ++seed)
       MavlinkSink probe(mavlink_path(o.mavlink_out, seed, o.seeds), "--mavlink-out");
   const int jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
   const double goal_z = generate_scene(sc, 1).goal_z_m;
@@ -181,6 +186,7 @@ int run_fly(const FlyOptions& o, const Invocation&) {
   j["config"] = cfg.name;
   j["scenario"] = sc.name;
   j["seeds"] = o.seeds;
+  j["first_seed"] = o.first_seed;
   j["image_px"] = {setup.width_px, setup.height_px};
   j["focal_px"] = setup.rig.focal_px;
   j["baseline_m"] = setup.rig.baseline_m;
@@ -192,7 +198,7 @@ int run_fly(const FlyOptions& o, const Invocation&) {
     double lo = 0.0, hi = 16.0;
     for (int it = 0; it < 5; ++it) {
       const double mid = (lo + hi) / 2;
-      (fly_seeds(cfg, sc, fp, o.seeds, mid, jobs, "design", nullptr).collisions == 0 ? lo : hi) = mid;
+      (fly_seeds(cfg, sc, fp, o.first_seed, o.seeds, mid, jobs, "design", nullptr).collisions == 0 ? lo : hi) = mid;
     }
     const double reaction_s = setup.reaction_s + setup.frame_s;
     const double bound = stopping_distance_speed_bound(fp.vehicle.max_accel_mps2, reaction_s, 12.0);
@@ -206,15 +212,15 @@ int run_fly(const FlyOptions& o, const Invocation&) {
   } else {
     MavlinkOut mav{o.mavlink_out, o.mavlink_frame == "body-frd" ? SetpointFrame::body_frd : SetpointFrame::local_ned,
                    setup.frame_s};
-    const FlightTally design =
-        fly_seeds(cfg, sc, fp, o.seeds, o.speed, jobs, "design", trace.get(), o.mavlink_out.empty() ? nullptr : &mav);
+    const FlightTally design = fly_seeds(cfg, sc, fp, o.first_seed, o.seeds, o.speed, jobs, "design", trace.get(),
+                                         o.mavlink_out.empty() ? nullptr : &mav);
     j["speed_mps"] = o.speed;
     j["design"] = design.to_json(goal_z);
     FlightTally oracle;
     if (!o.no_oracle) {
       FlightParams ofp = fp;
       ofp.oracle = true;
-      oracle = fly_seeds(cfg, sc, ofp, o.seeds, o.speed, jobs, "oracle", trace.get());
+      oracle = fly_seeds(cfg, sc, ofp, o.first_seed, o.seeds, o.speed, jobs, "oracle", trace.get());
       j["oracle"] = oracle.to_json(goal_z);
     }
     if (!o.json) {
@@ -243,7 +249,12 @@ Command add_fly(CLI::App& app) {
       "fly", "Closed-loop flights through synthetic scenes with the design's disparity, latency and frame rate");
   add_config_options(flyc, o->cfg, true);
   flyc->add_option("--scenario", o->scenario, scenario_option_help())->required();
-  flyc->add_option("--seeds", o->seeds, "Scenes (seeds 1..N)")->capture_default_str()->check(InRange(1, 10000));
+  flyc->add_option("--seeds", o->seeds, "Scenes (seeds first..first+N-1)")
+      ->capture_default_str()
+      ->check(InRange(1, 10000));
+  flyc->add_option("--first-seed", o->first_seed, "The first scene's seed (to fly one failing scene again)")
+      ->capture_default_str()
+      ->check(InRange(1, 1000000));
   flyc->add_option("--speed-mps", o->speed, "Cruise speed")->capture_default_str()->check(InRange(0.1, 50.0));
   flyc->add_option("--size", o->size,
                    "Scale the rig to this image width (0: the design's own region of interest on the scenario's "

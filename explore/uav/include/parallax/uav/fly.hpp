@@ -63,6 +63,7 @@ struct SentSetpoint {
 
 struct FlightResult {
   Outcome outcome = Outcome::time_out;
+  std::string hit;  // the obstacle of a collision (nearest_obstacle)
   bool reached_goal = false, collided = false;
   double min_clearance_m = 1e9, path_length_m = 0, time_s = 0;
   int frames = 0, flips = 0;

@@ -26,7 +26,13 @@ struct MapParams {
   // The image's border rows and columns are not trusted: a design's windows (census, median) and
   // its paths' starts are incomplete there.
   int border_px = 4;
-  int min_hits = 4;  // samples of one frame that make a cell's hit
+  // The top rows more: a raster-order matcher's paths from above (top, top-left, top-right) start
+  // at row 0, so its first rows are aggregated over the left-to-right path alone, and trunks cut
+  // by the image's top edge come out with wild disparities there (seen at 1.5-2 m in the forest).
+  int top_border_px = 12;
+  int min_hits = 4;  // samples of one frame that make a cell's hit ...
+  // ... from at least this fraction of the image columns the cell spans at its range
+  double min_column_fraction = 0.25;
   // Texture confidence: disparities where the left image's mean horizontal gradient over 5x5
   // (grey levels per pixel) is under this are not trusted: a matcher fills textureless regions
   // (the sky) and horizontal edges (the horizon) from their neighbours.
@@ -66,7 +72,9 @@ class LocalMap {
   int32_t index(double m) const { return int32_t(std::floor(m / p_.cell_m)); }
   MapParams p_;
   std::vector<Slot> slots_;
-  std::vector<int32_t> frame_hits_;  // per slot, this frame's hit count
+  std::vector<int32_t> frame_hits_;    // per slot, this frame's hit count
+  std::vector<int32_t> frame_cols_;    // ... the columns the hits came from
+  std::vector<int32_t> frame_last_u_;  // ... the last of them
   double centre_x_m_ = 0, centre_z_m_ = 0;
 };
 
@@ -77,13 +85,15 @@ struct PlannerParams {
   double safety_m = 0.9;         // vehicle radius + margin: occupied cells this near a path block it
   double unseen_margin_m = 0.6;  // unseen cells this near a path block it (a textureless wall is unseen)
   double horizon_m = 20.0;       // how far a direction is checked
-  double span_deg = 90.0;        // candidates within this of the goal's bearing ...
+  double span_deg = 90.0;        // candidates within this of the path's bearing ...
   double step_deg = 5.0;         // ... at this spacing
   double hysteresis = 0.1;       // a new direction must beat the current by this x cruise
   double short_cost = 0.5;       // x cruise for a course free for none of the horizon
   double turn_cost = 0.25;       // x cruise per rad of change from the current direction
   double stop_margin_m = 1.0;    // kept when stopping: the loop's slow final approach to zero
   double rollout_s = 2.0;        // each candidate flown this long through the vehicle model
+  double unseen_cost = 1.0;      // a path's cost per metre through unseen cells (x seen ones)
+  double lookahead_m = 3.0;      // a course's descent of the cost to the goal is taken over this
   VehicleParams vehicle;         // the model the rollouts use (the vehicle's own)
   double bound_half_width_m = 1e9;
   Eigen::Vector2d goal_xz{0, 60};

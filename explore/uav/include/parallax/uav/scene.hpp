@@ -143,5 +143,8 @@ void write_kitti_calibration(const Rig& rig, int frames, const std::string& dir)
 // Clearance from a point to the scene's obstacles (negative inside one), m: trunks, boxes and
 // branches.
 double clearance_m(const Scene& scene, const Eigen::Vector3d& p);
+// The obstacle nearest a point, named for a report: "tree r 0.25 m at (x 1.20, z 30.5)", "branch
+// (r 0.03 m, 2.10 m up) of the tree at ...", "wall x -3.0..3.0 z 20.0..20.4".
+std::string nearest_obstacle(const Scene& scene, const Eigen::Vector3d& p);
 
 }  // namespace parallax::explore
