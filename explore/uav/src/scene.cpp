@@ -314,53 +314,49 @@ void write_kitti_calibration(const Rig& rig, int frames, const std::string& dir)
   }
 }
 
-double clearance_m(const Scene& sc, const Eigen::Vector3d& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& c : sc.cylinders) {
-    if (p.y() < -c.height_m) continue;
-    best = std::min(best, std::hypot(p.x() - c.x_m, p.z() - c.z_m) - c.radius_m);
-  }
-  for (const auto& br : sc.branches) {
-    const Eigen::Vector3d a(br.x_m, -br.height_m, br.z_m), ax(std::sin(br.heading_rad), 0, std::cos(br.heading_rad));
-    const double s = std::clamp((p - a).dot(ax), 0.0, br.length_m);
-    best = std::min(best, (p - (a + s * ax)).norm() - br.radius_m);
-  }
-  for (const auto& b : sc.boxes) {
-    if (p.y() < -b.height_m) continue;
-    const double dx = std::max({b.x0_m - p.x(), 0.0, p.x() - b.x1_m});
-    const double dz = std::max({b.z0_m - p.z(), 0.0, p.z() - b.z1_m});
-    const double outside = std::hypot(dx, dz);
-    best = std::min(
-        best, outside > 0 ? outside : -std::min({p.x() - b.x0_m, b.x1_m - p.x(), p.z() - b.z0_m, b.z1_m - p.z()}));
-  }
-  return best;
-}
+namespace {
 
-std::string nearest_obstacle(const Scene& sc, const Eigen::Vector3d& p) {
+// The distance from a point to the nearest obstacle's surface (negative inside a wall); with
+// `name`, what that obstacle is.
+double nearest(const Scene& sc, const Eigen::Vector3d& p, std::string* name) {
   double best = std::numeric_limits<double>::infinity();
-  char name[160] = "nothing";
+  char text[160] = "nothing";
   auto take = [&](double d) {
     if (d >= best) return false;
     best = d;
-    return true;
+    return name != nullptr;
   };
   for (const auto& c : sc.cylinders)
     if (p.y() >= -c.height_m && take(std::hypot(p.x() - c.x_m, p.z() - c.z_m) - c.radius_m))
-      std::snprintf(name, sizeof name, "tree r %.2f m at (x %.2f, z %.2f)", c.radius_m, c.x_m, c.z_m);
+      std::snprintf(text, sizeof text, "tree r %.2f m at (x %.2f, z %.2f)", c.radius_m, c.x_m, c.z_m);
   for (const auto& br : sc.branches) {
     const Eigen::Vector3d a(br.x_m, -br.height_m, br.z_m), ax(std::sin(br.heading_rad), 0, std::cos(br.heading_rad));
     const double s = std::clamp((p - a).dot(ax), 0.0, br.length_m);
     if (take((p - (a + s * ax)).norm() - br.radius_m))
-      std::snprintf(name, sizeof name, "branch (r %.3f m, %.2f m up) from (x %.2f, z %.2f)", br.radius_m, br.height_m,
+      std::snprintf(text, sizeof text, "branch (r %.3f m, %.2f m up) from (x %.2f, z %.2f)", br.radius_m, br.height_m,
                     br.x_m, br.z_m);
   }
   for (const auto& b : sc.boxes) {
     if (p.y() < -b.height_m) continue;
     const double dx = std::max({b.x0_m - p.x(), 0.0, p.x() - b.x1_m});
     const double dz = std::max({b.z0_m - p.z(), 0.0, p.z() - b.z1_m});
-    if (take(std::hypot(dx, dz)))
-      std::snprintf(name, sizeof name, "wall x %.1f..%.1f z %.1f..%.1f", b.x0_m, b.x1_m, b.z0_m, b.z1_m);
+    const double outside = std::hypot(dx, dz);
+    if (take(outside > 0 ? outside : -std::min({p.x() - b.x0_m, b.x1_m - p.x(), p.z() - b.z0_m, b.z1_m - p.z()})))
+      std::snprintf(text, sizeof text, "wall x %.1f..%.1f z %.1f..%.1f", b.x0_m, b.x1_m, b.z0_m, b.z1_m);
   }
+  if (name != nullptr) *name = text;
+  return best;
+}
+
+}  // namespace
+
+double clearance_m(const Scene& sc, const Eigen::Vector3d& p) {
+  return nearest(sc, p, nullptr);
+}
+
+std::string nearest_obstacle(const Scene& sc, const Eigen::Vector3d& p) {
+  std::string name;
+  nearest(sc, p, &name);
   return name;
 }
 

@@ -149,6 +149,13 @@ TEST(Scene, ClearanceAndKittiExport) {
   EXPECT_NEAR(clearance_m(s, Eigen::Vector3d(0, -1, 7)), 2.5, 1e-9);
   EXPECT_LT(clearance_m(s, Eigen::Vector3d(3, -1, 21)), 0.0);  // inside the box
   EXPECT_GT(clearance_m(s, Eigen::Vector3d(0, -7, 10)), 1e6);  // above the pole: nothing
+  // What a collision report names: the nearest obstacle, a branch across the pole's side.
+  EXPECT_EQ(nearest_obstacle(s, Eigen::Vector3d(0, -1, 7)), "tree r 0.50 m at (x 0.00, z 10.00)");
+  EXPECT_EQ(nearest_obstacle(s, Eigen::Vector3d(3, -1, 21)), "wall x 2.0..4.0 z 20.0..22.0");
+  s.branches.push_back({0.5, 10, 1.6, M_PI / 2, 2.0, 0.03});
+  EXPECT_NEAR(clearance_m(s, Eigen::Vector3d(1.5, -1.6, 10.2)), 0.17, 1e-9);
+  EXPECT_EQ(nearest_obstacle(s, Eigen::Vector3d(1.5, -1.6, 10.2)),
+            "branch (r 0.030 m, 1.60 m up) from (x 0.50, z 10.00)");
   const auto dir = std::filesystem::temp_directory_path() / "parallax_scene_export";
   std::filesystem::remove_all(dir);
   std::vector<StereoFrame> frames = {render(s, rig640(), 96, 54, kCam),
