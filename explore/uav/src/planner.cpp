@@ -338,7 +338,8 @@ double free_along(const Clearance& c, const PlannerParams& p, double cell_m, con
   const double limit = std::min(p.safety_m, c.distance(from.x(), from.z()) - 0.5 * cell_m);
   for (double r = step; r < p.horizon_m; r += step) {
     const double x = from.x() + r * sx, z = from.z() + r * sz;
-    if (std::fabs(x) > p.bound_half_width_m - p.safety_m) return r - step;
+    // The bounds' margin: not entered, nor gone deeper into (a vehicle braked into it may leave).
+    if (std::fabs(x) > p.bound_half_width_m - p.safety_m && std::fabs(x) > std::fabs(from.x())) return r - step;
     if (c.distance(x, z) < limit) return std::max(0.0, r - 2 * step);
     if (r > 0.5 && c.unknown(x, z)) return r;
   }

@@ -245,5 +245,17 @@ TEST(Planner, LeavesADeadEndByThePathToTheGoal) {
   EXPECT_GT(plan.velocity_mps.norm(), 0.5);
 }
 
+// A vehicle that braked into the bounds' margin may leave it, not go deeper.
+TEST(Planner, LeavesTheBoundsMargin) {
+  LocalMap map;
+  map.clear_disk(9.3, 0.0, 2.0);
+  PlannerParams pp;
+  pp.bound_half_width_m = 10.0;  // the margin starts at 10 - safety_m = 9.1 m
+  const Planner planner(pp);
+  const Eigen::Vector3d at(9.3, -1.6, 0.0);
+  EXPECT_GT(planner.free_distance(map, at, -M_PI / 2), 1.0);  // inwards: to the seen disk, less its margin
+  EXPECT_EQ(planner.free_distance(map, at, M_PI / 2), 0.0);   // outwards: nothing
+}
+
 }  // namespace
 }  // namespace parallax::test

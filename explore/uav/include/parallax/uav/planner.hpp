@@ -113,8 +113,8 @@ class Planner {
   // How often the chosen direction swapped sides of the goal's bearing (by more than 10 degrees).
   int flips() const { return flips_; }
   // The free distance along a heading from a point: where the path first comes within safety_m
-  // of an occupied cell (or nearer than it starts), enters an unseen cell or the bounds' margin;
-  // capped at horizon_m.
+  // of an occupied cell (or nearer than it starts), enters an unseen cell, or enters the bounds'
+  // margin (or goes deeper into it); capped at horizon_m.
   double free_distance(const LocalMap& map, const Eigen::Vector3d& from, double heading_rad) const;
 
  private:
