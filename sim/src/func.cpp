@@ -3,12 +3,14 @@
 #include "parallax/sim/func.hpp"
 
 #include <cstdio>
+#include <atomic>
 #include <cstdlib>
 #include <memory>
 #include <tuple>
 
 #include "design_dispatch.hpp"
 #include "engine.hpp"
+#include "parallax/fast/engine.hpp"
 #include "parallax/kernels/rectify.hpp"
 #include "parallax/sim/fifo.hpp"
 
@@ -41,7 +43,35 @@ int largest_divisor_at_most(int d, int cap) {
   return 1;
 }
 
+std::atomic<FuncEngine>& default_engine_slot() {
+  static std::atomic<FuncEngine> slot{FuncEngine::fast};
+  return slot;
+}
+
 }  // namespace
+
+void set_default_func_engine(FuncEngine e) {
+  default_engine_slot().store(e == FuncEngine::automatic ? FuncEngine::fast : e);
+}
+FuncEngine default_func_engine() {
+  return default_engine_slot().load();
+}
+const char* to_string(FuncEngine e) {
+  return e == FuncEngine::kernels ? "kernels" : "fast";
+}
+bool parse_func_engine(const std::string& name, FuncEngine& out) {
+  if (name == "fast")
+    out = FuncEngine::fast;
+  else if (name == "kernels")
+    out = FuncEngine::kernels;
+  else
+    return false;
+  return true;
+}
+FuncEngine resolve_engine(const FuncOptions& opt) {
+  if (opt.use_design_pu) return FuncEngine::kernels;
+  return opt.engine == FuncEngine::automatic ? default_func_engine() : opt.engine;
+}
 
 std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
   std::vector<std::string> e;
@@ -78,14 +108,26 @@ std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
 
 struct CostRecording::Impl {
   std::string key;
-  std::vector<kern::CostLanes<Narrow::lanes>> tokens;
+  FuncEngine engine = FuncEngine::kernels;
+  std::vector<kern::CostLanes<Narrow::lanes>> tokens;  // kernels
+  fast::CostVolume costs;                              // fast
+  fast::AggregateVolume aggregate;                     // fast, kept for the next design
 };
 CostRecording::CostRecording() : impl(std::make_unique<Impl>()) {}
 CostRecording::~CostRecording() = default;
 CostRecording::CostRecording(CostRecording&&) noexcept = default;
 CostRecording& CostRecording::operator=(CostRecording&&) noexcept = default;
 
-std::string cost_sharing_key(const kern::StereoParams& p) {
+std::string aggregate_sharing_key(const kern::StereoParams& p, FuncEngine engine) {
+  FuncOptions o;
+  o.engine = engine;
+  return resolve_engine(o) == FuncEngine::fast ? fast::aggregate_key(p) : std::string();
+}
+
+std::string cost_sharing_key(const kern::StereoParams& p, FuncEngine engine) {
+  FuncOptions o;
+  o.engine = engine;
+  if (resolve_engine(o) == FuncEngine::fast) return fast::cost_key(p);
   if (kern::two_pass_paths(p.path_mask)) return "";
   // Everything the cost stage reads: size, cost, census taps (census only), window, D, m.
   return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) +
@@ -100,6 +142,11 @@ struct FuncPipeline::Impl {
   std::tuple<std::unique_ptr<Engine<Narrow, uint16_t>>, std::unique_ptr<Engine<Narrow, uint32_t>>,
              std::unique_ptr<Engine<Wide, uint16_t>>, std::unique_ptr<Engine<Wide, uint32_t>>>
       engines;
+  std::unique_ptr<fast::Engine> fast_engine;
+  fast::Engine& fast() {
+    if (!fast_engine) fast_engine = std::make_unique<fast::Engine>();
+    return *fast_engine;
+  }
   template <class Design>
   Engine<typename Design::Caps, typename Design::Word>& engine(Design) {
     using E = Engine<typename Design::Caps, typename Design::Word>;
@@ -108,6 +155,19 @@ struct FuncPipeline::Impl {
     return *e;
   }
 };
+
+namespace {
+DisparityCodes codes_of(const kern::StereoParams& p, std::vector<uint16_t>&& code) {
+  DisparityCodes out;
+  out.width_px = p.width_px;
+  out.height_px = p.height_px;
+  out.disparities = p.disparities;
+  out.min_disparity = p.min_disparity;
+  out.subpixel_bits = p.subpixel_bits;
+  out.code = std::move(code);
+  return out;
+}
+}  // namespace
 
 FuncPipeline::FuncPipeline() : impl_(std::make_unique<Impl>()) {}
 FuncPipeline::~FuncPipeline() = default;
@@ -119,6 +179,8 @@ DisparityCodes FuncPipeline::run(const GreyImage& left, const GreyImage& right, 
   if (left.width_px != p_in.width_px || left.height_px != p_in.height_px || right.width_px != p_in.width_px ||
       right.height_px != p_in.height_px)
     internal_error("image size differs from the parameters");
+  if (resolve_engine(opt) == FuncEngine::fast)
+    return codes_of(p_in, impl_->fast().run(left.px.data(), right.px.data(), p_in));
   kern::StereoParams p = p_in;
   if (!opt.use_design_pu) p.parallel_units = largest_divisor_at_most(p.disparities, 64);
   DisparityCodes out;
@@ -180,20 +242,38 @@ DisparityCodes run_func(const GreyImage& left, const GreyImage& right, const ker
 }
 
 void FuncPipeline::record_costs(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p_in,
-                                CostRecording& rec) {
+                                CostRecording& rec, const FuncOptions& opt) {
   const auto errors = func_param_errors(p_in);
   if (!errors.empty()) internal_error(("invalid parameters reached record_costs: " + errors.front()).c_str());
+  rec.impl->engine = resolve_engine(opt);
+  rec.impl->aggregate.key.clear();
+  if (rec.impl->engine == FuncEngine::fast) {
+    rec.impl->key = fast::cost_key(p_in);
+    impl_->fast().record_costs(left.px.data(), right.px.data(), p_in, rec.impl->costs);
+    return;
+  }
   kern::StereoParams p = p_in;
   p.parallel_units = largest_divisor_at_most(p.disparities, 64);
-  rec.impl->key = cost_sharing_key(p_in);
+  rec.impl->key = cost_sharing_key(p_in, FuncEngine::kernels);
   if (rec.impl->key.empty()) internal_error("record_costs: the 8-path variant cannot replay costs");
   impl_->engine(detail::Design<Narrow, uint16_t>{}).record_costs(left, right, p, rec.impl->tokens);
 }
 
-DisparityCodes FuncPipeline::run_from_costs(const CostRecording& rec, const kern::StereoParams& p_in) {
+DisparityCodes FuncPipeline::run_from_costs(CostRecording& rec, const kern::StereoParams& p_in, bool keep_aggregate) {
   const auto errors = func_param_errors(p_in);
   if (!errors.empty()) internal_error(("invalid parameters reached run_from_costs: " + errors.front()).c_str());
-  if (rec.impl->key.empty() || rec.impl->key != cost_sharing_key(p_in))
+  if (rec.impl->engine == FuncEngine::fast) {
+    if (rec.impl->key != fast::cost_key(p_in))
+      internal_error("run_from_costs: the recording belongs to another cost stage");
+    fast::Engine& e = impl_->fast();
+    fast::AggregateVolume& agg = rec.impl->aggregate;
+    if (agg.key == fast::aggregate_key(p_in)) return codes_of(p_in, e.run_from_aggregate(agg, p_in));
+    agg.key.clear();
+    if (!keep_aggregate) return codes_of(p_in, e.run_from_costs(rec.impl->costs, p_in));
+    e.record_aggregate(rec.impl->costs, p_in, agg);
+    return codes_of(p_in, e.run_from_aggregate(agg, p_in));
+  }
+  if (rec.impl->key.empty() || rec.impl->key != cost_sharing_key(p_in, FuncEngine::kernels))
     internal_error("run_from_costs: the recording belongs to another cost stage");
   kern::StereoParams p = p_in;
   p.parallel_units = largest_divisor_at_most(p.disparities, 64);

@@ -1,13 +1,15 @@
-// equiv: the kernels, fired by the func scheduler with the design's PU, are bit-identical to the
-// independent golden model (models/reference) over a table of configurations, patterns and
-// awkward sizes.
+// equiv: the kernels, fired by the func scheduler with the design's PU, and the fast engine
+// (models/fast) at every SIMD level this CPU runs are bit-identical to the independent golden
+// model (models/reference) over a table of configurations, patterns and awkward sizes.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "equiv_util.hpp"
+#include "parallax/fast/engine.hpp"
 #include "parallax/reference/stereo.hpp"
 #include "parallax/sim/func.hpp"
 
@@ -20,6 +22,22 @@ StereoParams base_params(int w, int h) {
   return test_params(w, h);
 }
 
+// The fast engine at every SIMD level against the golden codes r; the level is restored.
+void expect_fast_equivalent(const StereoPair& sp, const StereoParams& p, const std::vector<uint16_t>& r,
+                            const std::string& what) {
+  const std::string before = fast::simd_level();
+  for (const std::string& level : fast::supported_simd_levels()) {
+    fast::set_simd_level(level);
+    fast::Engine e;
+    const std::vector<uint16_t> f = e.run(sp.left.px.data(), sp.right.px.data(), p);
+    const Comparison c = compare_maps(f, r, p.width_px);
+    EXPECT_TRUE(c.sizes_equal && c.mismatches == 0)
+        << "fast engine (" << level << ") " << describe(p) << " " << what << ": " << c.mismatches
+        << " mismatching pixels, first at " << c.first;
+  }
+  fast::set_simd_level(before);
+}
+
 void expect_equivalent(const StereoParams& p, Pattern pat, uint32_t seed) {
   const StereoPair sp = make_pair(pat, p.width_px, p.height_px, seed, 3 + int(seed % 9));
   sim::FuncOptions opt;
@@ -29,6 +47,7 @@ void expect_equivalent(const StereoParams& p, Pattern pat, uint32_t seed) {
   const Comparison c = compare_maps(k.code, r, p.width_px);
   EXPECT_TRUE(c.sizes_equal && c.mismatches == 0) << describe(p) << " pattern " << int(pat) << " seed " << seed << ": "
                                                   << c.mismatches << " mismatching pixels, first at " << c.first;
+  expect_fast_equivalent(sp, p, r, "pattern " + std::to_string(int(pat)) + " seed " + std::to_string(seed));
 }
 
 // With 180 alone among the backward paths the design stays one pass (row_reverse.hpp).
@@ -180,6 +199,7 @@ TEST(Equiv, MinDisparityOffsets) {
           EXPECT_TRUE(c.sizes_equal && c.mismatches == 0)
               << describe(p) << " seed " << seed << ": " << c.mismatches << " mismatching pixels, first at " << c.first;
           EXPECT_EQ(k.min_disparity, m);
+          expect_fast_equivalent(sp, p, r, "seed " + std::to_string(seed));
         }
 }
 
@@ -337,7 +357,8 @@ TEST(Equiv, SeededRandomConfigurations) {
   }
 }
 
-// The func default (widest lanes) gives the same bits as the design's PU.
+// The func default (widest lanes) gives the same bits as the design's PU; the kernels engine
+// is asked for by name, as the default func engine is the fast one.
 TEST(Equiv, FuncLanesIndependentOfDesignPu) {
   StereoParams p = base_params(80, 24);
   p.disparities = 60;
@@ -347,7 +368,9 @@ TEST(Equiv, FuncLanesIndependentOfDesignPu) {
   for (int pu : {1, 3, 6, 20, 60}) {
     p.parallel_units = pu;
     const auto a = sim::run_func(sp.left, sp.right, p, design);
-    const auto b = sim::run_func(sp.left, sp.right, p);
+    sim::FuncOptions widest;
+    widest.engine = sim::FuncEngine::kernels;
+    const auto b = sim::run_func(sp.left, sp.right, p, widest);
     const Comparison c = compare_maps(a.code, b.code, p.width_px);
     EXPECT_EQ(c.mismatches, 0) << "PU " << pu << ": first at " << c.first;
   }

@@ -566,42 +566,60 @@ TEST(CycleEquiv, FastForwardStopsAtAnIrregularInputRow) {
 }
 
 // Work sharing: one recording of the cost stage replayed into designs that differ in every later
-// stage gives each the codes of its own func run.
+// stage gives each the codes of its own func run, with either engine; with the fast engine the
+// designs of one aggregate (the last three: WTA, LR, uniqueness, sub-pixel and median differ)
+// reuse it, and the eight-path variant replays too.
 TEST(FuncSharing, ReplayedCostsGiveTheCodesOfTheRun) {
   uint32_t seed = 9500;
-  for (int cost : {int(kern::kCostCensus), int(kern::kCostSad)}) {
-    StereoParams base = params(53, 17, 32, 8, kern::kForwardPaths);
-    base.cost = cost;
-    const StereoPair sp = make_pair(Pattern::kShiftedTexture, base.width_px, base.height_px, seed++, 5);
-    sim::FuncPipeline pipe;
-    sim::CostRecording rec;
-    pipe.record_costs(sp.left, sp.right, base, rec);
-    const struct {
-      int p1, p2, median;
-      unsigned paths;
-      bool lr;
-    } variants[] = {{8, 32, 5, kern::kForwardPaths, true},
-                    {4, 96, 0, kern::kPath0, false},
-                    {20, 400, 3, kern::kPath0 | kern::kPath90, true},
-                    {2, 3, 7, kern::kPath45 | kern::kPath135, true},
-                    {6, 48, 5, kern::kForwardPaths | kern::kPath180, true}};
-    for (const auto& v : variants) {
-      StereoParams p = base;
-      p.p1 = cost == kern::kCostSad ? v.p1 * 25 : v.p1;
-      p.p2 = cost == kern::kCostSad ? v.p2 * 25 : v.p2;
-      p.median = v.median;
-      p.path_mask = v.paths;
-      p.lr_check = v.lr;
-      p.parallel_units = 4;  // the design's PU does not matter to the func run's lanes
-      ASSERT_EQ(sim::cost_sharing_key(p), sim::cost_sharing_key(base));
-      const sim::DisparityCodes replayed = pipe.run_from_costs(rec, p);
-      const sim::DisparityCodes direct = sim::run_func(sp.left, sp.right, p);
-      const Comparison c = compare_maps(replayed.code, direct.code, p.width_px);
-      EXPECT_TRUE(c.sizes_equal && c.mismatches == 0) << describe(p) << ": " << c.mismatches << " at " << c.first;
+  for (sim::FuncEngine engine : {sim::FuncEngine::kernels, sim::FuncEngine::fast})
+    for (int cost : {int(kern::kCostCensus), int(kern::kCostSad)}) {
+      StereoParams base = params(53, 17, 32, 8, kern::kForwardPaths);
+      base.cost = cost;
+      const StereoPair sp = make_pair(Pattern::kShiftedTexture, base.width_px, base.height_px, seed++, 5);
+      sim::FuncPipeline pipe;
+      sim::CostRecording rec;
+      sim::FuncOptions opt;
+      opt.engine = engine;
+      pipe.record_costs(sp.left, sp.right, base, rec, opt);
+      const struct {
+        int p1, p2, median;
+        unsigned paths;
+        bool lr;
+        int uniqueness, subpixel;
+      } variants[] = {{8, 32, 5, kern::kForwardPaths, true, 0, 0},
+                      {4, 96, 0, kern::kPath0, false, 0, 0},
+                      {20, 400, 3, kern::kPath0 | kern::kPath90, true, 0, 0},
+                      {2, 3, 7, kern::kPath45 | kern::kPath135, true, 0, 0},
+                      {6, 48, 5, kern::kForwardPaths | kern::kPath180, true, 0, 0},
+                      {6, 48, 0, kern::kForwardPaths | kern::kPath180, false, 10, 0},
+                      {6, 48, 3, kern::kForwardPaths | kern::kPath180, true, 0, 3},
+                      {6, 48, 5, kern::kAllPaths, true, 5, 2}};
+      for (std::size_t i = 0; i < std::size(variants); ++i) {
+        const auto& v = variants[i];
+        StereoParams p = base;
+        p.p1 = cost == kern::kCostSad ? v.p1 * 25 : v.p1;
+        p.p2 = cost == kern::kCostSad ? v.p2 * 25 : v.p2;
+        p.median = v.median;
+        p.path_mask = v.paths;
+        p.lr_check = v.lr;
+        p.uniqueness_pct = v.uniqueness;
+        p.subpixel_bits = v.subpixel;
+        p.parallel_units = 4;  // the design's PU does not matter to the func run's lanes
+        if (sim::cost_sharing_key(p, engine).empty()) continue;  // the kernels' two passes
+        ASSERT_EQ(sim::cost_sharing_key(p, engine), sim::cost_sharing_key(base, engine));
+        const bool keep = i + 1 < std::size(variants) && variants[i + 1].paths == v.paths && variants[i + 1].p1 == v.p1;
+        const sim::DisparityCodes replayed = pipe.run_from_costs(rec, p, keep);
+        sim::FuncOptions kernels;
+        kernels.engine = sim::FuncEngine::kernels;
+        const sim::DisparityCodes direct = sim::run_func(sp.left, sp.right, p, kernels);
+        const Comparison c = compare_maps(replayed.code, direct.code, p.width_px);
+        EXPECT_TRUE(c.sizes_equal && c.mismatches == 0)
+            << sim::to_string(engine) << " " << describe(p) << ": " << c.mismatches << " at " << c.first;
+      }
     }
-  }
   StereoParams eight = params(20, 9, 16, 4, kern::kAllPaths);
-  EXPECT_EQ(sim::cost_sharing_key(eight), "");
+  EXPECT_EQ(sim::cost_sharing_key(eight, sim::FuncEngine::kernels), "");
+  EXPECT_NE(sim::cost_sharing_key(eight, sim::FuncEngine::fast), "");
   StereoParams sparse = params(20, 9, 16, 4, kern::kForwardPaths);
   StereoParams full = sparse;
   sparse.census = kern::kCensusSparse;

@@ -1,6 +1,8 @@
 // What the `parallax` commands share (cli_common.hpp).
 #include "cli_common.hpp"
 
+#include "parallax/sim/func.hpp"
+
 #include <unistd.h>
 
 #include <opencv2/core.hpp>
@@ -108,6 +110,20 @@ void add_config_options(CLI::App* cmd, ConfigArgs& a, bool required) {
   auto* opt = cmd->add_option("--config", a.path, "Design configuration (YAML), e.g. configs/ruf2018-census.yaml");
   if (required) opt->required();
   cmd->add_option("--set", a.sets, "Override one field, KEY=VALUE (repeatable), e.g. --set p2=64");
+}
+
+void add_engine_option(CLI::App* cmd) {
+  cmd->add_option_function<std::string>(
+         "--engine",
+         [](const std::string& v) {
+           sim::FuncEngine e = sim::FuncEngine::fast;
+           if (!sim::parse_func_engine(v, e))
+             throw CLI::ValidationError("--engine", "expected fast or kernels, got '" + v + "'");
+           sim::set_default_func_engine(e);
+         },
+         "What computes the disparities: fast (whole rows, SIMD; the default) or kernels (the HLS kernels "
+         "fired one by one); both give the same bits")
+      ->check(CLI::IsMember({"fast", "kernels"}));
 }
 
 config::PipelineConfig load_config_args(const ConfigArgs& a) {

@@ -65,6 +65,10 @@ struct ConfigArgs {
 // Adds --config (required when `required`) and --set to `cmd`, filling `a`.
 void add_config_options(CLI::App* cmd, ConfigArgs& a, bool required);
 
+// --engine fast|kernels: what computes the designs' disparities (sim::FuncEngine; both give the
+// same bits). Sets the process default when given; fast otherwise.
+void add_engine_option(CLI::App* cmd);
+
 // The configuration with every override applied and validated. Throws ConfigError naming the file
 // and every problem (bad override, invalid field) at once.
 config::PipelineConfig load_config_args(const ConfigArgs& a);

@@ -16,6 +16,7 @@
 
 #include "parallax/eval/evaluate.hpp"
 #include "parallax/eval/simulate.hpp"
+#include "parallax/fast/engine.hpp"
 #include "parallax/sim/cycle.hpp"
 #include "parallax/sim/func.hpp"
 
@@ -82,9 +83,24 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
     r.peak_extra_rss_mib = std::max(0.0, m.peak_rss_mib - idle.peak_rss_mib);
     rows.push_back(r);
   };
-  add("parallax func " + cfg.name, [&] {
+  // The fast engine at every SIMD level this CPU runs (the best one is the default), then the
+  // kernels fired one by one.
+  const std::vector<std::string> levels = fast::supported_simd_levels();
+  for (auto it = levels.rbegin(); it != levels.rend(); ++it) {
+    const std::string level = *it;
+    add("parallax func " + cfg.name + " (fast, " + level + ")", [&cfg, &left, &right, level] {
+      fast::set_simd_level(level);
+      static sim::FuncPipeline pipe;  // one per child process; reused across iterations
+      sim::FuncOptions o;
+      o.engine = sim::FuncEngine::fast;
+      (void)run_design(cfg, left, right, pipe, o);
+    });
+  }
+  add("parallax func " + cfg.name + " (kernels)", [&] {
     static sim::FuncPipeline pipe;  // one per child process; reused across iterations
-    (void)run_design(cfg, left, right, pipe);
+    sim::FuncOptions o;
+    o.engine = sim::FuncEngine::kernels;
+    (void)run_design(cfg, left, right, pipe, o);
   });
   add("parallax func, design PU", [&] {
     static sim::FuncPipeline pipe;

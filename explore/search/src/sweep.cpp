@@ -142,15 +142,26 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
   sim::FuncPipeline pipe;
   sim::CostRecording rec;
   const RoiSize roi = roi_for(group.front()->config);
+  // Designs of one aggregate (they differ only after the aggregation) next to each other, so that
+  // each aggregate is computed once per frame and replayed into the rest (fast engine).
+  std::vector<std::size_t> order(group.size());
+  std::vector<std::string> agg_key(group.size());
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    order[k] = k;
+    agg_key[k] = sim::aggregate_sharing_key(group[k]->config.stereo_params(roi.width_px, roi.height_px));
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return agg_key[a] < agg_key[b]; });
   for (const auto& ref : refs) {
     const Frame f = load_frame(ref);
     const Roi r = resolve_roi(roi, f.left.cols, f.left.rows);
     const cv::Mat l = crop_to_roi(f.left, r), rr = crop_to_roi(f.right, r);
     const cv::Mat gtd = crop_to_roi(f.gt_disparity_px, r), gtm = crop_to_roi(f.gt_mask, r);
     pipe.record_costs(to_grey_image(l), to_grey_image(rr), group.front()->config.stereo_params(l.cols, l.rows), rec);
-    for (std::size_t k = 0; k < group.size(); ++k) {
+    for (std::size_t i = 0; i < group.size(); ++i) {
+      const std::size_t k = order[i];
       const kern::StereoParams p = group[k]->config.stereo_params(l.cols, l.rows);
-      const DisparityMap d = to_disparity_map(pipe.run_from_costs(rec, p));
+      const bool next_shares = i + 1 < group.size() && !agg_key[k].empty() && agg_key[order[i + 1]] == agg_key[k];
+      const DisparityMap d = to_disparity_map(pipe.run_from_costs(rec, p, next_shares));
       accuracy[k].frames.push_back(make_frame_row(f.id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm)));
       if (spec.avoidance)
         avoidance[k].add(d.disparity_px, d.valid_mask, gtd, gtm, p.min_disparity + p.disparities,

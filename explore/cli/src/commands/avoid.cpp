@@ -210,6 +210,7 @@ Command add_avoid(CLI::App& app) {
                                     "Obstacle detection and avoidance on the design's disparity maps, scored against "
                                     "the same stage on the ground truth");
   add_config_options(avoidc, o->cfg, true);
+  add_engine_option(avoidc);
   avoidc->add_option("--dataset", o->dataset, "Dataset folder (KITTI 2015/2012)")->required();
   avoidc->add_option("--frames", o->frames, "Frame filter, e.g. 0-9,15, or @FILE (default: all with ground truth)")
       ->transform(FrameList());

@@ -41,6 +41,7 @@ Command add_eval(CLI::App& app) {
   auto o = std::make_shared<EvalCommandOptions>();
   auto* eval = app.add_subcommand("eval", "Score a design on a dataset (KITTI 2015/2012 or Middlebury)");
   add_config_options(eval, o->cfg, true);
+  add_engine_option(eval);
   eval->add_option("--dataset", o->dataset,
                    "Dataset folder (KITTI root or training/, or a Middlebury pairs.tsv folder)")
       ->required();

@@ -248,6 +248,7 @@ Command add_fly(CLI::App& app) {
   auto* flyc = app.add_subcommand(
       "fly", "Closed-loop flights through synthetic scenes with the design's disparity, latency and frame rate");
   add_config_options(flyc, o->cfg, true);
+  add_engine_option(flyc);
   flyc->add_option("--scenario", o->scenario, scenario_option_help())->required();
   flyc->add_option("--seeds", o->seeds, "Scenes (seeds first..first+N-1)")
       ->capture_default_str()

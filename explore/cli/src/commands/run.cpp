@@ -144,6 +144,7 @@ Command add_run(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   auto* run = app.add_subcommand("run", "Compute the disparity of one stereo pair with a design (func run)");
   add_config_options(run, o->cfg, true);
+  add_engine_option(run);
   run->add_option("--left", o->left, "Left image (8-bit grey or colour)")->required();
   run->add_option("--right", o->right, "Right image, same size")->required();
   run->add_option("--out", o->out, "Disparity as KITTI 16-bit PNG (value = 256 d, 0 = invalid)")

@@ -328,6 +328,7 @@ Command add_sim(CLI::App& app) {
   auto* simc =
       app.add_subcommand("sim", "Cycle-level simulation of one frame: latency, frame rate, stalls, FIFO depths");
   add_config_options(simc, o->cfg, true);
+  add_engine_option(simc);
   simc->add_option("--left", o->left, "Left image (default: a generated test pattern of the ROI size)");
   simc->add_option("--right", o->right, "Right image");
   simc->add_option("--out", o->out, "Write the disparity (KITTI 16-bit PNG) of the cycle run")

@@ -165,6 +165,7 @@ Command add_sweep(CLI::App& app) {
                      "Sweep file (YAML, docs/explorer.md); optional when --base and --grid say it all");
   sweepc->add_option("--base", o->base, "Base configuration the axes modify (overrides the file's)");
   sweepc->add_option("--grid", o->grid, "Axis KEY=V1,V2,... over any configuration field (repeatable)");
+  add_engine_option(sweepc);
   sweepc->add_option("--dataset", o->dataset, "Dataset folder (KITTI 2015/2012, Middlebury)")->required();
   sweepc->add_option("--frames", o->frames, "Frame filter, e.g. 0-9,15, or @FILE (default: the file's, else all)")
       ->transform(FrameList());

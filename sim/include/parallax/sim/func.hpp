@@ -29,12 +29,26 @@ struct DisparityCodes {
   std::vector<uint16_t> code;
 };
 
+// What computes a design's codes in the func run. Both give the same bits (tests/kernels/equiv):
+// `fast` is the whole-row SIMD engine of models/fast (what users run by default), `kernels`
+// fires the HLS kernels of kernels/ (what the hardware is). `automatic` is the process default:
+// fast unless set_default_func_engine changed it (the CLI's --engine).
+enum class FuncEngine { automatic, fast, kernels };
+void set_default_func_engine(FuncEngine e);
+FuncEngine default_func_engine();  // never automatic
+// "fast" / "kernels"; parse returns false for anything else.
+const char* to_string(FuncEngine e);
+bool parse_func_engine(const std::string& name, FuncEngine& out);
+
 struct FuncOptions {
   // false: fire the disparity stages with the widest lanes this build carries (a divisor of D,
   // at most 64), which gives the same bits as the design's PU and runs fastest; true: use the
-  // configured parallel_units (the equivalence tests do).
+  // configured parallel_units (the equivalence tests do). true implies the kernels engine.
   bool use_design_pu = false;
+  FuncEngine engine = FuncEngine::automatic;
 };
+// The engine these options select (fast or kernels).
+FuncEngine resolve_engine(const FuncOptions& opt);
 
 // Problems with the parameters that the kernels cannot run (empty when runnable). The full,
 // user-facing validation lives in models/config; this is the kernels' own guard.
@@ -54,8 +68,12 @@ class CostRecording {
 };
 
 // Designs with equal keys (cost, window, disparities, size) produce the same cost tokens in the
-// func run; "" for designs that cannot replay costs (the 8-path variant's two passes).
-std::string cost_sharing_key(const kern::StereoParams& p);
+// func run; "" for designs that cannot replay costs (the kernels' 8-path variant's two passes;
+// the fast engine replays any design).
+std::string cost_sharing_key(const kern::StereoParams& p, FuncEngine engine = FuncEngine::automatic);
+// Designs with equal keys share the fast engine's aggregate volume too (they differ only in the
+// WTA, LR check, uniqueness, sub-pixel bits or median); "" with the kernels engine.
+std::string aggregate_sharing_key(const kern::StereoParams& p, FuncEngine engine = FuncEngine::automatic);
 
 // Reusable pipeline: keeps its (large) stage objects between frames.
 class FuncPipeline {
@@ -68,11 +86,15 @@ class FuncPipeline {
   // Runs one frame. Aborts on parameters rejected by func_param_errors (callers validate).
   DisparityCodes run(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                      const FuncOptions& opt = {});
-  // The cost stage alone on one frame, into `rec` (at the func run's lanes).
-  void record_costs(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p, CostRecording& rec);
+  // The cost stage alone on one frame, into `rec` (at the func run's lanes), with the engine of
+  // opt; run_from_costs uses the recording's engine.
+  void record_costs(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p, CostRecording& rec,
+                    const FuncOptions& opt = {});
   // The rest of the design fed with a recording of a design of the same cost_sharing_key: the
-  // codes of run() on the frame (tested). Aborts when the keys differ.
-  DisparityCodes run_from_costs(const CostRecording& rec, const kern::StereoParams& p);
+  // codes of run() on the frame (tested). Aborts when the keys differ. With the fast engine and
+  // keep_aggregate, the design's aggregate volume stays in `rec` for the next design of the same
+  // aggregate_sharing_key, which then runs only its WTA, LR check and median.
+  DisparityCodes run_from_costs(CostRecording& rec, const kern::StereoParams& p, bool keep_aggregate = false);
 
  private:
   struct Impl;

@@ -1,0 +1,541 @@
+// The fast engine's frame driver: cost rows, the raster passes, the WTA per row and the median,
+// over the per-level hot loops of isa.cpp. See engine.hpp for the contract.
+#include "parallax/fast/engine.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+#include "isa.hpp"
+
+namespace parallax::fast {
+namespace {
+
+using detail::AggregateRow;
+using detail::IsaTable;
+
+bool cpu_has_avx512() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+         __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx2") &&
+         __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("fma");
+}
+bool cpu_has_avx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") &&
+         __builtin_cpu_supports("fma") && __builtin_cpu_supports("popcnt") && __builtin_cpu_supports("sse4.2");
+}
+
+const IsaTable& pick_isa() {
+  const char* forced = std::getenv("PARALLAX_SIMD");
+  const std::string want = forced != nullptr ? forced : "";
+  if (want.empty())
+    return cpu_has_avx512() ? detail::isa_avx512() : cpu_has_avx2() ? detail::isa_avx2() : detail::isa_baseline();
+  if (want == "baseline") return detail::isa_baseline();
+  if (want == "avx2" && cpu_has_avx2()) return detail::isa_avx2();
+  if (want == "avx512" && cpu_has_avx512()) return detail::isa_avx512();
+  if (want == "avx2" || want == "avx512")
+    throw std::invalid_argument("PARALLAX_SIMD=" + want + ": this CPU does not support it (use baseline, or unset it)");
+  throw std::invalid_argument("PARALLAX_SIMD=" + want + ": unknown level (baseline, avx2 or avx512)");
+}
+
+std::atomic<const IsaTable*>& isa_slot() {
+  static std::atomic<const IsaTable*> slot{nullptr};
+  return slot;
+}
+
+const IsaTable& isa() {
+  const IsaTable* t = isa_slot().load(std::memory_order_acquire);
+  if (t == nullptr) {
+    t = &pick_isa();
+    isa_slot().store(t, std::memory_order_release);
+  }
+  return *t;
+}
+
+std::size_t sz(int64_t v) {
+  return static_cast<std::size_t>(v);
+}
+
+// 16-bit sums when no path cost, guard or sum can exceed 16 bits (docs §3: L <= cost_max + P2).
+bool needs_wide_sums(const kern::StereoParams& p) {
+  const int64_t cmax = kern::cost_max(p), p2 = p.p2;
+  return !(kern::path_count(p) * (cmax + p2) <= 65535 && cmax + 2 * p2 + p.p1 <= 65535);
+}
+
+// Whole-vector lanes (padding, isa.hpp) in the 16-bit engine when no real value can reach the
+// padding's range.
+int lanes_for(const kern::StereoParams& p) {
+  const int64_t cmax = kern::cost_max(p);
+  const bool pad = !needs_wide_sums(p) && cmax + 2 * int64_t(p.p2) + p.p1 < detail::kCostPad;
+  return pad ? detail::cost_stride(p.disparities) : p.disparities;
+}
+
+// Cost rows on demand.
+struct CostRows {
+  virtual ~CostRows() = default;
+  virtual const uint16_t* row(int y) = 0;
+};
+
+struct StoredCosts final : CostRows {
+  const CostVolume& v;
+  explicit StoredCosts(const CostVolume& vol) : v(vol) {}
+  const uint16_t* row(int y) override {
+    return v.cost.data() + sz(int64_t(y) * v.width_px * detail::cost_stride(v.disparities));
+  }
+};
+
+// Computes a cost row from the images: census codes of both images once, then per row.
+struct DirectCosts final : CostRows {
+  const kern::StereoParams& p;
+  const uint8_t* left;
+  const uint8_t* right;
+  std::vector<uint64_t> cl, cr, scratch64;
+  std::vector<uint32_t> cl32, cr32, scratch32;
+  std::vector<uint16_t> out, sad_cols;
+  detail::CostRow cr_args;
+  bool narrow = false;
+
+  DirectCosts(const kern::StereoParams& params, const uint8_t* l, const uint8_t* r) : p(params), left(l), right(r) {
+    const int W = p.width_px, H = p.height_px;
+    out.resize(sz(int64_t(W) * detail::cost_stride(p.disparities)));
+    cr_args.width_px = W;
+    cr_args.disparities = p.disparities;
+    cr_args.min_disparity = p.min_disparity;
+    cr_args.cost_max = static_cast<uint16_t>(kern::cost_max(p));
+    cr_args.out = out.data();
+    if (p.cost == kern::kCostCensus) {
+      cl.resize(sz(int64_t(W) * H));
+      cr.resize(cl.size());
+      isa().census(left, W, H, p.window_w, p.window_h, p.census, cl.data());
+      isa().census(right, W, H, p.window_w, p.window_h, p.census, cr.data());
+      narrow = kern::census_bits(p.census, p.window_w, p.window_h) <= 32;
+      if (narrow) {
+        cl32.assign(cl.begin(), cl.end());
+        cr32.assign(cr.begin(), cr.end());
+        scratch32.resize(sz(W));
+      } else {
+        scratch64.resize(sz(W));
+      }
+    } else {
+      sad_cols.resize(sz(int64_t(W + p.window_w) * p.disparities));
+    }
+  }
+  const uint16_t* row(int y) override {
+    const int W = p.width_px, H = p.height_px;
+    if (p.cost == kern::kCostCensus) {
+      const std::size_t o = sz(int64_t(y) * W);
+      if (narrow)
+        isa().cost_census32(cr_args, cl32.data() + o, cr32.data() + o, scratch32.data());
+      else
+        isa().cost_census64(cr_args, cl.data() + o, cr.data() + o, scratch64.data());
+    } else {
+      const uint8_t* lr[9];
+      const uint8_t* rr[9];
+      const int rh = p.window_h / 2;
+      for (int j = 0; j < p.window_h; ++j) {
+        const int yy = std::clamp(y + j - rh, 0, H - 1);
+        lr[j] = left + sz(int64_t(yy) * W);
+        rr[j] = right + sz(int64_t(yy) * W);
+      }
+      isa().cost_sad(cr_args, lr, rr, p.window_w, p.window_h, sad_cols.data());
+    }
+    return out.data();
+  }
+};
+
+// The recursions of one pass over stream paths (bits 0, 45, 90, 135 in stream terms).
+struct PassPlan {
+  int n = 0;
+  int kind[4] = {0, 0, 0, 0};
+  int weight[4] = {1, 1, 1, 1};
+};
+PassPlan plan_pass(unsigned stream_mask, bool mgm) {
+  PassPlan pl;
+  if (!mgm) {
+    for (int b = 0; b < 4; ++b)
+      if ((stream_mask >> b) & 1u) pl.kind[pl.n++] = b;
+    return pl;
+  }
+  const int pixel = int((stream_mask >> 0) & 1u) + int((stream_mask >> 2) & 1u);
+  const int rowk = int((stream_mask >> 1) & 1u) + int((stream_mask >> 3) & 1u);
+  if (pixel > 0) {
+    pl.kind[pl.n] = detail::kMgmPixel;
+    pl.weight[pl.n++] = pixel;
+  }
+  if (rowk > 0) {
+    pl.kind[pl.n] = detail::kMgmRow;
+    pl.weight[pl.n++] = rowk;
+  }
+  return pl;
+}
+
+// Batcher's odd-even merge sort over n = 2^k >= taps inputs, pruned to the comparators that
+// decide the output of rank `rank`; comparators touching the padding (inputs >= taps, +inf) are
+// no-ops and left out.
+std::vector<int16_t> median_network(int taps, int rank) {
+  int n = 1;
+  while (n < taps) n *= 2;
+  std::vector<std::pair<int, int>> all;
+  for (int p = 1; p < n; p *= 2)
+    for (int k = p; k >= 1; k /= 2)
+      for (int j = k % p; j <= n - 1 - k; j += 2 * k)
+        for (int i = 0; i <= std::min(k - 1, n - j - k - 1); ++i)
+          if ((i + j) / (2 * p) == (i + j + k) / (2 * p)) all.emplace_back(i + j, i + j + k);
+  std::vector<bool> needed(sz(n), false);
+  needed[sz(rank)] = true;
+  std::vector<std::pair<int, int>> kept;
+  for (auto it = all.rbegin(); it != all.rend(); ++it) {
+    if (it->second >= taps) continue;
+    if (needed[sz(it->first)] || needed[sz(it->second)]) {
+      kept.push_back(*it);
+      needed[sz(it->first)] = needed[sz(it->second)] = true;
+    }
+  }
+  std::vector<int16_t> pairs;
+  for (auto it = kept.rbegin(); it != kept.rend(); ++it) {
+    pairs.push_back(static_cast<int16_t>(it->first));
+    pairs.push_back(static_cast<int16_t>(it->second));
+  }
+  return pairs;
+}
+
+template <class T>
+struct Work {
+  std::vector<T> rows[5][2];  // per recursion (the fifth: the one-pass 180-degree path), two rows
+  std::vector<T> mins[5][2];
+  std::vector<T> sum_row, sum_frame, right_best;
+  std::vector<uint16_t> right_code;
+  std::vector<int32_t> left_code, offset;
+};
+
+}  // namespace
+
+struct Engine::Impl {
+  Work<uint16_t> w16;
+  Work<uint32_t> w32;
+  std::vector<uint16_t> taps;
+  std::vector<int16_t> network[8];  // by k
+
+  template <class T>
+  Work<T>& work();
+
+  // Runs the passes over `src`, handing each finished aggregate row (y, S row) to sink.
+  template <class T, class Sink>
+  void aggregate(CostRows& src, const uint8_t* left, const kern::StereoParams& p, Sink&& sink);
+  template <class T>
+  void select(const T* sum_row, const kern::StereoParams& p, uint16_t* out_row);
+  template <class T>
+  std::vector<uint16_t> run_rows(CostRows& src, const uint8_t* left, const kern::StereoParams& p);
+  void median(std::vector<uint16_t>& codes, const kern::StereoParams& p);
+};
+
+template <>
+Work<uint16_t>& Engine::Impl::work<uint16_t>() {
+  return w16;
+}
+template <>
+Work<uint32_t>& Engine::Impl::work<uint32_t>() {
+  return w32;
+}
+
+namespace {
+template <class T>
+void fill_recursions(AggregateRow& a, const PassPlan& pl, Work<T>& w, int parity) {
+  a.recursions = pl.n;
+  for (int k = 0; k < pl.n; ++k) {
+    a.rec[k].kind = pl.kind[k];
+    a.rec[k].weight = pl.weight[k];
+    a.rec[k].cur = w.rows[k][parity].data();
+    a.rec[k].prev = w.rows[k][1 - parity].data();
+    a.rec[k].cur_min = w.mins[k][parity].data();
+    a.rec[k].prev_min = w.mins[k][1 - parity].data();
+  }
+}
+template <class T>
+void call_aggregate(const AggregateRow& a);
+template <>
+void call_aggregate<uint16_t>(const AggregateRow& a) {
+  isa().aggregate16(a);
+}
+template <>
+void call_aggregate<uint32_t>(const AggregateRow& a) {
+  isa().aggregate32(a);
+}
+}  // namespace
+
+template <class T, class Sink>
+void Engine::Impl::aggregate(CostRows& src, const uint8_t* left, const kern::StereoParams& p, Sink&& sink) {
+  const int W = p.width_px, H = p.height_px, N = lanes_for(p);
+  const std::size_t row_len = sz(int64_t(W) * N);
+  Work<T>& w = work<T>();
+  for (auto& pair : w.rows)
+    for (auto& r : pair) r.resize(sz(int64_t(W) * (N + 2)));
+  for (auto& pair : w.mins)
+    for (auto& r : pair) r.resize(sz(W));
+  const bool mgm = p.aggregation == kern::kAggregationMgm;
+  const bool two_pass = kern::two_pass_paths(p.path_mask), reverse_row = kern::row_reverse_paths(p.path_mask);
+  const PassPlan fwd = plan_pass(p.path_mask & kern::kForwardPaths, mgm);
+  const PassPlan bwd = plan_pass((p.path_mask & kern::kBackwardPaths) >> 4, mgm);
+  w.sum_row.resize(row_len);
+  if (two_pass) w.sum_frame.resize(row_len * sz(H));
+  AggregateRow a;
+  a.width_px = W;
+  a.disparities = p.disparities;
+  a.lanes = N;
+  a.cost_stride = detail::cost_stride(p.disparities);
+  a.p1 = p.p1;
+  a.p2 = p.p2;
+  a.p2_adaptive = p.p2_adaptive;
+  for (int y = 0; y < H; ++y) {
+    T* sum = two_pass ? w.sum_frame.data() + row_len * sz(y) : w.sum_row.data();
+    a.dir = 1;
+    a.first_row = y == 0;
+    a.cost = src.row(y);
+    a.intensity = left + sz(int64_t(y) * W);
+    a.prev_intensity = y > 0 ? left + sz(int64_t(y - 1) * W) : nullptr;
+    a.accumulate = false;
+    a.sum = sum;
+    fill_recursions(a, fwd, w, y & 1);
+    if (fwd.n > 0) call_aggregate<T>(a);
+    if (reverse_row) {  // the 180-degree path along the finished row (docs §7)
+      AggregateRow h = a;
+      h.dir = -1;
+      h.first_row = true;
+      h.accumulate = fwd.n > 0;
+      h.recursions = 1;
+      h.rec[0].kind = detail::kSgm0;
+      h.rec[0].weight = 1;
+      h.rec[0].cur = w.rows[4][0].data();
+      h.rec[0].prev = w.rows[4][1].data();
+      h.rec[0].cur_min = w.mins[4][0].data();
+      h.rec[0].prev_min = w.mins[4][1].data();
+      call_aggregate<T>(h);
+    }
+    if (!two_pass) sink(y, static_cast<const T*>(sum));
+  }
+  if (!two_pass) return;
+  for (int y = H - 1; y >= 0; --y) {
+    T* sum = w.sum_frame.data() + row_len * sz(y);
+    a.dir = -1;
+    a.first_row = y == H - 1;
+    a.cost = src.row(y);
+    a.intensity = left + sz(int64_t(y) * W);
+    a.prev_intensity = y < H - 1 ? left + sz(int64_t(y + 1) * W) : nullptr;
+    a.accumulate = fwd.n > 0;
+    a.sum = sum;
+    fill_recursions(a, bwd, w, y & 1);
+    call_aggregate<T>(a);
+    sink(y, static_cast<const T*>(sum));
+  }
+}
+
+template <class T>
+void Engine::Impl::select(const T* sum_row, const kern::StereoParams& p, uint16_t* out_row) {
+  const int W = p.width_px;
+  Work<T>& w = work<T>();
+  const int N = lanes_for(p);
+  const std::size_t rlen = sz(int64_t(W) + N + p.min_disparity + 1);
+  w.right_best.resize(rlen);
+  w.right_code.resize(rlen);
+  w.left_code.resize(sz(W));
+  w.offset.resize(sz(W));
+  detail::SelectRow s;
+  s.width_px = W;
+  s.disparities = p.disparities;
+  s.lanes = N;
+  s.min_disparity = p.min_disparity;
+  s.subpixel_bits = p.subpixel_bits;
+  s.lr_check = p.lr_check;
+  s.lr_tolerance = p.lr_tolerance;
+  s.uniqueness_pct = p.uniqueness_pct;
+  s.sum = sum_row;
+  s.right_best = w.right_best.data();
+  s.right_code = w.right_code.data();
+  s.left_code = w.left_code.data();
+  s.offset = w.offset.data();
+  s.out = out_row;
+  if constexpr (sizeof(T) == 2)
+    isa().select16(s);
+  else
+    isa().select32(s);
+}
+
+void Engine::Impl::median(std::vector<uint16_t>& codes, const kern::StereoParams& p) {
+  const int k = p.median;
+  if (k <= 1) return;
+  const int W = p.width_px, H = p.height_px, rk = k / 2, rank = (k * k - 1) / 2;
+  std::vector<int16_t>& net = network[k];
+  if (net.empty()) net = median_network(k * k, rank);
+  taps.resize(sz(int64_t(k) * k * W));
+  std::vector<uint16_t> out(codes.size());
+  const uint16_t* rows[7];
+  for (int y = 0; y < H; ++y) {
+    for (int j = 0; j < k; ++j) rows[j] = codes.data() + sz(int64_t(std::clamp(y + j - rk, 0, H - 1)) * W);
+    isa().median_row(rows, W, k, net.data(), static_cast<int>(net.size() / 2), rank, taps.data(),
+                     out.data() + sz(int64_t(y) * W));
+  }
+  codes.swap(out);
+}
+
+template <class T>
+std::vector<uint16_t> Engine::Impl::run_rows(CostRows& src, const uint8_t* left, const kern::StereoParams& p) {
+  std::vector<uint16_t> codes(sz(int64_t(p.width_px) * p.height_px));
+  aggregate<T>(src, left, p,
+               [&](int y, const T* sum) { select<T>(sum, p, codes.data() + sz(int64_t(y) * p.width_px)); });
+  median(codes, p);
+  return codes;
+}
+
+std::vector<std::string> param_errors(const kern::StereoParams& p) {
+  std::vector<std::string> e;
+  auto need = [&](bool ok, const char* msg) {
+    if (!ok) e.emplace_back(msg);
+  };
+  need(p.width_px >= 1 && p.width_px <= kern::kMaxWidthPx, "width_px out of [1, 4096]");
+  need(p.height_px >= 1 && p.height_px <= kern::kMaxHeightPx, "height_px out of [1, 4096]");
+  need(p.disparities >= 1 && p.disparities <= kern::kMaxDisparities, "disparities out of [1, 256]");
+  need(p.cost == kern::kCostCensus || p.cost == kern::kCostSad, "unknown cost");
+  need(p.window_w % 2 == 1 && p.window_h % 2 == 1 && p.window_w >= 1 && p.window_h >= 1 &&
+           p.window_w <= kern::kMaxWindow && p.window_h <= kern::kMaxWindow,
+       "window sides must be odd, 1 to 9");
+  need(p.cost != kern::kCostCensus || kern::census_bits(p.census, p.window_w, p.window_h) <= kern::kMaxCensusBits,
+       "census window needs at most 64 bits");
+  need(p.path_mask != 0 && (p.path_mask & ~kern::kAllPaths) == 0, "path set empty or unknown");
+  need(p.p1 >= 0 && p.p1 < p.p2, "need 0 <= p1 < p2");
+  need(p.median == 0 || p.median == 1 || p.median == 3 || p.median == 5 || p.median == 7,
+       "median must be 0, 3, 5 or 7");
+  need(p.lr_tolerance >= 0, "lr_tolerance must be >= 0");
+  need(p.uniqueness_pct >= 0 && p.uniqueness_pct <= kern::kMaxUniquenessPct, "uniqueness_pct must be in [0, 100]");
+  need(p.p2_adaptive >= 0 && p.p2_adaptive <= kern::kMaxP2Adaptive, "p2_adaptive must be in [0, 255]");
+  need(p.min_disparity >= 0 && p.min_disparity <= kern::kMaxMinDisparity, "min_disparity must be in [0, 256]");
+  need(p.aggregation == kern::kAggregationSgm || p.aggregation == kern::kAggregationMgm,
+       "aggregation must be sgm or mgm");
+  need(p.aggregation != kern::kAggregationMgm || kern::mgm_paths_supported(p.path_mask),
+       "mgm needs forward paths or all eight");
+  need(p.subpixel_bits >= 0 && p.subpixel_bits <= kern::kMaxSubpixelBits, "subpixel_bits must be in [0, 4]");
+  need(kern::aggregate_bits(p) <= 31, "aggregate wider than 31 bits");
+  return e;
+}
+
+namespace {
+void check(const kern::StereoParams& p) {
+  const auto e = param_errors(p);
+  if (!e.empty()) throw std::invalid_argument("fast engine: " + e.front());
+}
+}  // namespace
+
+const char* simd_level() {
+  return isa().name;
+}
+
+std::vector<std::string> supported_simd_levels() {
+  std::vector<std::string> v{"baseline"};
+  if (cpu_has_avx2()) v.emplace_back("avx2");
+  if (cpu_has_avx512()) v.emplace_back("avx512");
+  return v;
+}
+
+void set_simd_level(const std::string& name) {
+  if (name == "baseline")
+    isa_slot().store(&detail::isa_baseline());
+  else if (name == "avx2" && cpu_has_avx2())
+    isa_slot().store(&detail::isa_avx2());
+  else if (name == "avx512" && cpu_has_avx512())
+    isa_slot().store(&detail::isa_avx512());
+  else
+    throw std::invalid_argument("SIMD level '" + name + "' is unknown or not supported by this CPU");
+}
+
+std::string cost_key(const kern::StereoParams& p) {
+  return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) +
+         (p.cost == kern::kCostCensus ? " census " + std::to_string(p.census) : std::string()) + " window " +
+         std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities) +
+         " min " + std::to_string(p.min_disparity);
+}
+
+std::string aggregate_key(const kern::StereoParams& p) {
+  return cost_key(p) + " paths " + std::to_string(p.path_mask) + " agg " + std::to_string(p.aggregation) + " p1 " +
+         std::to_string(p.p1) + " p2 " + std::to_string(p.p2) + " adaptive " + std::to_string(p.p2_adaptive);
+}
+
+Engine::Engine() : impl_(std::make_unique<Impl>()) {}
+Engine::~Engine() = default;
+
+std::vector<uint16_t> Engine::run(const uint8_t* left, const uint8_t* right, const kern::StereoParams& p) {
+  check(p);
+  DirectCosts src(p, left, right);
+  return needs_wide_sums(p) ? impl_->run_rows<uint32_t>(src, left, p) : impl_->run_rows<uint16_t>(src, left, p);
+}
+
+void Engine::record_costs(const uint8_t* left, const uint8_t* right, const kern::StereoParams& p, CostVolume& out) {
+  check(p);
+  DirectCosts src(p, left, right);
+  const std::size_t row_len = sz(int64_t(p.width_px) * detail::cost_stride(p.disparities));
+  out.key = cost_key(p);
+  out.width_px = p.width_px;
+  out.height_px = p.height_px;
+  out.disparities = p.disparities;
+  out.cost.resize(row_len * sz(p.height_px));
+  for (int y = 0; y < p.height_px; ++y) std::memcpy(out.cost.data() + row_len * sz(y), src.row(y), row_len * 2);
+  out.left.assign(left, left + sz(int64_t(p.width_px) * p.height_px));
+}
+
+std::vector<uint16_t> Engine::run_from_costs(const CostVolume& costs, const kern::StereoParams& p) {
+  check(p);
+  if (costs.key != cost_key(p))
+    throw std::invalid_argument("run_from_costs: the costs are of '" + costs.key + "', the design needs '" +
+                                cost_key(p) + "'");
+  StoredCosts src(costs);
+  return needs_wide_sums(p) ? impl_->run_rows<uint32_t>(src, costs.left.data(), p)
+                            : impl_->run_rows<uint16_t>(src, costs.left.data(), p);
+}
+
+void Engine::record_aggregate(const CostVolume& costs, const kern::StereoParams& p, AggregateVolume& out) {
+  check(p);
+  if (costs.key != cost_key(p))
+    throw std::invalid_argument("record_aggregate: the costs are of '" + costs.key + "', the design needs '" +
+                                cost_key(p) + "'");
+  StoredCosts src(costs);
+  const std::size_t row_len = sz(int64_t(p.width_px) * lanes_for(p));
+  out.key = aggregate_key(p);
+  out.width_px = p.width_px;
+  out.height_px = p.height_px;
+  out.disparities = p.disparities;
+  out.wide = needs_wide_sums(p);
+  if (out.wide) {
+    out.sum16.clear();
+    out.sum32.resize(row_len * sz(p.height_px));
+    impl_->aggregate<uint32_t>(src, costs.left.data(), p, [&](int y, const uint32_t* s) {
+      std::memcpy(out.sum32.data() + row_len * sz(y), s, row_len * 4);
+    });
+  } else {
+    out.sum32.clear();
+    out.sum16.resize(row_len * sz(p.height_px));
+    impl_->aggregate<uint16_t>(src, costs.left.data(), p, [&](int y, const uint16_t* s) {
+      std::memcpy(out.sum16.data() + row_len * sz(y), s, row_len * 2);
+    });
+  }
+}
+
+std::vector<uint16_t> Engine::run_from_aggregate(const AggregateVolume& agg, const kern::StereoParams& p) {
+  check(p);
+  if (agg.key != aggregate_key(p))
+    throw std::invalid_argument("run_from_aggregate: the sums are of '" + agg.key + "', the design needs '" +
+                                aggregate_key(p) + "'");
+  const int W = p.width_px;
+  const std::size_t row_len = sz(int64_t(W) * lanes_for(p));
+  std::vector<uint16_t> codes(sz(int64_t(W) * p.height_px));
+  for (int y = 0; y < p.height_px; ++y) {
+    if (agg.wide)
+      impl_->select<uint32_t>(agg.sum32.data() + row_len * sz(y), p, codes.data() + sz(int64_t(y) * W));
+    else
+      impl_->select<uint16_t>(agg.sum16.data() + row_len * sz(y), p, codes.data() + sz(int64_t(y) * W));
+  }
+  impl_->median(codes, p);
+  return codes;
+}
+
+}  // namespace parallax::fast

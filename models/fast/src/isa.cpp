@@ -1,0 +1,451 @@
+// The fast engine's hot loops (isa.hpp), written as plain loops over disparities that the
+// compiler vectorises for the level this file is built for. Built three times with
+// PARALLAX_FAST_ISA_NAME / PARALLAX_FAST_ISA_FN set (models/fast/CMakeLists.txt). No standard
+// library: see isa.hpp. Every function computes docs/algorithm.md exactly; the equivalence tests
+// compare it with the golden model at every level.
+#include "isa.hpp"
+
+namespace parallax::fast::detail {
+namespace {
+
+template <class T>
+inline T tmin(T a, T b) {
+  return b < a ? b : a;
+}
+template <class T>
+inline T tmax(T a, T b) {
+  return a < b ? b : a;
+}
+inline int clampi(int v, int lo, int hi) {
+  return v < lo ? lo : (v > hi ? hi : v);
+}
+inline int absi(int v) {
+  return v < 0 ? -v : v;
+}
+template <class T>
+inline T type_max() {
+  return static_cast<T>(~T(0));
+}
+
+// ---- census -----------------------------------------------------------------------------
+
+void census_image(const uint8_t* img, int W, int H, int ww, int wh, int kind, uint64_t* codes) {
+  const int rw = ww / 2, rh = wh / 2, taps = ww * wh, centre = taps / 2;
+  // One row padded by rw replicated pixels each side, per window row.
+  uint8_t pad[9][4096 + 16];
+  for (int y = 0; y < H; ++y) {
+    for (int j = 0; j < wh; ++j) {
+      const uint8_t* src = img + static_cast<int64_t>(clampi(y + j - rh, 0, H - 1)) * W;
+      for (int x = -rw; x < W + rw; ++x) pad[j][x + rw] = src[clampi(x, 0, W - 1)];
+    }
+    uint64_t* out = codes + static_cast<int64_t>(y) * W;
+    for (int x = 0; x < W; ++x) out[x] = 0;
+    const uint8_t* c = pad[rh] + rw;
+    for (int k = 0; k < taps; ++k) {
+      const int j = k / ww, i = k % ww - rw;  // j: window row 0..wh-1
+      const bool used = kind == 2 ? k < centre : (kind == 1 ? (k % 2 == 0 && k != centre) : k != centre);
+      if (!used) continue;
+      const uint8_t* a = pad[j] + rw + i;
+      const uint8_t* b = kind == 2 ? pad[wh - 1 - j] + rw - i : c;  // mirror tap or the centre
+      for (int x = 0; x < W; ++x) out[x] = (out[x] << 1) | static_cast<uint64_t>(a[x] < b[x] ? 1 : 0);
+    }
+  }
+}
+
+// Bit count by shifts and masks only (vectorises at every level; a 64-bit multiply would not).
+inline uint32_t popcount32(uint32_t v) {
+  v = v - ((v >> 1) & 0x55555555u);
+  v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+  v = (v + (v >> 4)) & 0x0F0F0F0Fu;
+  v = v + (v >> 8);
+  v = v + (v >> 16);
+  return v & 0x3Fu;
+}
+inline uint64_t popcount64(uint64_t v) {
+  v = v - ((v >> 1) & 0x5555555555555555ull);
+  v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
+  v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  v = v + (v >> 8);
+  v = v + (v >> 16);
+  v = v + (v >> 32);
+  return v & 0x7Full;
+}
+inline uint16_t bit_count(uint32_t v) {
+  return static_cast<uint16_t>(popcount32(v));
+}
+inline uint16_t bit_count(uint64_t v) {
+  return static_cast<uint16_t>(popcount64(v));
+}
+
+// C(x, d) = popcount(CL(x) ^ CR(x - m - d)), cost_max where x - m - d < 0. The right row is
+// reversed into scratch (rev[t] = CR(W - 1 - t)) so that the disparities read it forwards.
+template <class Code>
+void cost_census(const CostRow& r, const Code* left, const Code* right, Code* rev) {
+  const int W = r.width_px, D = r.disparities, m = r.min_disparity, stride = cost_stride(D);
+  for (int t = 0; t < W; ++t) rev[t] = right[W - 1 - t];
+  for (int x = 0; x < W; ++x) {
+    uint16_t* __restrict out = r.out + static_cast<int64_t>(x) * stride;
+    const int valid = clampi(x - m + 1, 0, D);  // d < valid has a right pixel
+    const Code cl = left[x];
+    const Code* __restrict cr = rev + (W - 1 - x + m);
+    if (valid == D) {
+      for (int d = 0; d < D; ++d) out[d] = bit_count(static_cast<Code>(cl ^ cr[d]));
+    } else {
+      for (int d = 0; d < valid; ++d) out[d] = bit_count(static_cast<Code>(cl ^ cr[d]));
+      for (int d = valid; d < D; ++d) out[d] = r.cost_max;
+    }
+    for (int d = D; d < stride; ++d) out[d] = kCostPad;
+  }
+}
+void cost_census32(const CostRow& r, const uint32_t* left, const uint32_t* right, uint32_t* scratch) {
+  cost_census<uint32_t>(r, left, right, scratch);
+}
+void cost_census64(const CostRow& r, const uint64_t* left, const uint64_t* right, uint64_t* scratch) {
+  cost_census<uint64_t>(r, left, right, scratch);
+}
+
+// ---- SAD ----------------------------------------------------------------------------------
+
+// Column sums col(u, d) = sum_j |L(clampx(u), yj) - R(clampx(u - m - d), yj)| for
+// u in [-rw, W + rw), then the box over u. The right rows are read through a reversed, clamped
+// copy g[t] = R(clampx(vmax - t)), vmax = W - 1 + rw, so that d reads forwards.
+void cost_sad(const CostRow& r, const uint8_t* const* lrows, const uint8_t* const* rrows, int ww, int wh,
+              uint16_t* col) {
+  const int W = r.width_px, D = r.disparities, m = r.min_disparity, rw = ww / 2;
+  const int vmax = W - 1 + rw, vmin = -rw - m - (D - 1), span = vmax - vmin + 1;
+  const int cols = W + 2 * rw;
+  for (int64_t i = 0; i < static_cast<int64_t>(cols) * D; ++i) col[i] = 0;
+  uint8_t g[4096 + 2 * 9 + 2 * 256 + 16];
+  for (int j = 0; j < wh; ++j) {
+    for (int t = 0; t < span; ++t) g[t] = rrows[j][clampi(vmax - t, 0, W - 1)];
+    for (int u = -rw; u < W + rw; ++u) {
+      const int lv = lrows[j][clampi(u, 0, W - 1)];
+      const uint8_t* gr = g + (vmax - u + m);
+      uint16_t* c = col + static_cast<int64_t>(u + rw) * D;
+      for (int d = 0; d < D; ++d) c[d] = static_cast<uint16_t>(c[d] + absi(lv - static_cast<int>(gr[d])));
+    }
+  }
+  const int stride = cost_stride(D);
+  uint16_t* out0 = r.out;
+  for (int d = 0; d < D; ++d) out0[d] = 0;
+  for (int i = 0; i < ww; ++i) {
+    const uint16_t* c = col + static_cast<int64_t>(i) * D;
+    for (int d = 0; d < D; ++d) out0[d] = static_cast<uint16_t>(out0[d] + c[d]);
+  }
+  for (int x = 1; x < W; ++x) {
+    const uint16_t* prev = r.out + static_cast<int64_t>(x - 1) * stride;
+    const uint16_t* add = col + static_cast<int64_t>(x - 1 + ww) * D;
+    const uint16_t* sub = col + static_cast<int64_t>(x - 1) * D;
+    uint16_t* out = r.out + static_cast<int64_t>(x) * stride;
+    for (int d = 0; d < D; ++d) out[d] = static_cast<uint16_t>(prev[d] + add[d] - sub[d]);
+  }
+  for (int x = 0; x < W; ++x) {
+    uint16_t* out = r.out + static_cast<int64_t>(x) * stride;
+    for (int d = clampi(x - m + 1, 0, D); d < D; ++d) out[d] = r.cost_max;
+    for (int d = D; d < stride; ++d) out[d] = kCostPad;
+  }
+}
+
+// ---- aggregation --------------------------------------------------------------------------
+
+// The SGM step from a predecessor's padded path costs lq (lq[0] and lq[N + 1] are guards that
+// never win): L(d) = C(d) + min(Lq(d), Lq(d -+ 1) + P1, Mq + P2) - Mq over N lanes. Writes
+// out[1..N], adds weight * L into sum (Acc) or sets it, returns min_d L.
+template <class T, bool Acc, bool Twice>
+inline T sgm_step(const uint16_t* __restrict c, const T* __restrict lq, T mq, T p1, T p2, T* __restrict out,
+                  T* __restrict sum, int N) {
+  const T mp2 = static_cast<T>(mq + p2);
+  T mn = type_max<T>();
+  for (int d = 0; d < N; ++d) {
+    T v = tmin<T>(lq[d + 1], static_cast<T>(tmin<T>(lq[d], lq[d + 2]) + p1));
+    v = tmin<T>(v, mp2);
+    const T l = static_cast<T>(c[d] + static_cast<T>(v - mq));
+    out[d + 1] = l;
+    mn = tmin<T>(mn, l);
+    const T w = Twice ? static_cast<T>(l + l) : l;
+    sum[d] = Acc ? static_cast<T>(sum[d] + w) : w;
+  }
+  return mn;
+}
+
+// A path start: L = C.
+template <class T, bool Acc, bool Twice>
+inline T start_step(const uint16_t* __restrict c, T* __restrict out, T* __restrict sum, int N) {
+  T mn = type_max<T>();
+  for (int d = 0; d < N; ++d) {
+    const T l = static_cast<T>(c[d]);
+    out[d + 1] = l;
+    mn = tmin<T>(mn, l);
+    const T w = Twice ? static_cast<T>(l + l) : l;
+    sum[d] = Acc ? static_cast<T>(sum[d] + w) : w;
+  }
+  return mn;
+}
+
+// The MGM step from two predecessors (both inside): L = C + floor((u_q + u_q2) / 2).
+template <class T, bool Acc, bool Twice>
+inline T mgm_step(const uint16_t* __restrict c, const T* __restrict la, T ma, T pa2, const T* __restrict lb, T mb,
+                  T pb2, T p1, T* __restrict out, T* __restrict sum, int N) {
+  const T ea = static_cast<T>(ma + pa2), eb = static_cast<T>(mb + pb2);
+  T mn = type_max<T>();
+  for (int d = 0; d < N; ++d) {
+    T va = tmin<T>(la[d + 1], static_cast<T>(tmin<T>(la[d], la[d + 2]) + p1));
+    va = tmin<T>(va, ea);
+    T vb = tmin<T>(lb[d + 1], static_cast<T>(tmin<T>(lb[d], lb[d + 2]) + p1));
+    vb = tmin<T>(vb, eb);
+    const T u = static_cast<T>(static_cast<T>(static_cast<T>(va - ma) + static_cast<T>(vb - mb)) >> 1);
+    const T l = static_cast<T>(c[d] + u);
+    out[d + 1] = l;
+    mn = tmin<T>(mn, l);
+    const T w = Twice ? static_cast<T>(l + l) : l;
+    sum[d] = Acc ? static_cast<T>(sum[d] + w) : w;
+  }
+  return mn;
+}
+
+inline int adaptive(int p1, int p2, int a, int ip, int iq) {
+  const int lowered = p2 - ((a * absi(ip - iq)) >> 4);
+  return lowered > p1 + 1 ? lowered : p1 + 1;
+}
+
+// One recursion over one stream row.
+template <class T, bool Acc, bool Twice>
+void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
+  const int W = r.width_px, N = r.lanes, dir = r.dir, P = N + 2, cs = r.cost_stride;
+  const T p1 = static_cast<T>(r.p1), guard = static_cast<T>(type_max<T>() - r.p1);
+  const bool adapt = r.p2_adaptive > 0;
+  T* sum_base = static_cast<T*>(r.sum);
+  T* cur = static_cast<T*>(rc.cur);
+  const T* prev = static_cast<const T*>(rc.prev);
+  T* cur_min = static_cast<T*>(rc.cur_min);
+  const T* prev_min = static_cast<const T*>(rc.prev_min);
+  const bool has_up = !r.first_row;
+  for (int i = 0; i < W; ++i) {
+    const int x = dir > 0 ? i : W - 1 - i;
+    const uint16_t* c = r.cost + static_cast<int64_t>(x) * cs;
+    T* out = cur + static_cast<int64_t>(x) * P;
+    T* sum = sum_base + static_cast<int64_t>(x) * N;
+    // Predecessors in stream terms: x - dir comes before x in the stream, x + dir after it.
+    const bool has_before = i > 0, has_after = i < W - 1;
+    int qx = -1;  // column of the (first) predecessor
+    bool up = false;
+    int q2x = -1;  // MGM: second predecessor's column, always on the previous row
+    bool q2ok = false, qok = false;
+    switch (rc.kind) {
+      case kSgm0:
+        qok = has_before;
+        qx = x - dir;
+        break;
+      case kSgm45:
+        qok = has_before && has_up;
+        qx = x - dir;
+        up = true;
+        break;
+      case kSgm90:
+        qok = has_up;
+        qx = x;
+        up = true;
+        break;
+      case kSgm135:
+        qok = has_after && has_up;
+        qx = x + dir;
+        up = true;
+        break;
+      case kMgmPixel:
+        qok = has_before;
+        qx = x - dir;
+        q2ok = has_up;
+        q2x = x;
+        break;
+      default:
+        qok = has_before && has_up;
+        qx = x - dir;
+        up = true;
+        q2ok = has_after && has_up;
+        q2x = x + dir;
+        break;
+    }
+    T mn;
+    if (rc.kind < kMgmPixel || !q2ok) {
+      if (!qok) {
+        mn = start_step<T, Acc, Twice>(c, out, sum, N);
+      } else {
+        const T* lq = (up ? prev : cur) + static_cast<int64_t>(qx) * P;
+        const T mq = (up ? prev_min : cur_min)[qx];
+        int p2 = r.p2;
+        if (adapt) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], (up ? r.prev_intensity : r.intensity)[qx]);
+        mn = sgm_step<T, Acc, Twice>(c, lq, mq, p1, static_cast<T>(p2), out, sum, N);
+      }
+    } else if (!qok) {  // MGM, the second predecessor alone
+      const T* lq = prev + static_cast<int64_t>(q2x) * P;
+      int p2 = r.p2;
+      if (adapt) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[q2x]);
+      mn = sgm_step<T, Acc, Twice>(c, lq, prev_min[q2x], p1, static_cast<T>(p2), out, sum, N);
+    } else {
+      const T* la = (up ? prev : cur) + static_cast<int64_t>(qx) * P;
+      const T ma = (up ? prev_min : cur_min)[qx];
+      const T* lb = prev + static_cast<int64_t>(q2x) * P;
+      int pa2 = r.p2, pb2 = r.p2;
+      if (adapt) {
+        pa2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], (up ? r.prev_intensity : r.intensity)[qx]);
+        pb2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[q2x]);
+      }
+      mn = mgm_step<T, Acc, Twice>(c, la, ma, static_cast<T>(pa2), lb, prev_min[q2x], static_cast<T>(pb2), p1, out, sum,
+                                   N);
+    }
+    cur_min[x] = mn;
+    out[0] = guard;
+    out[N + 1] = guard;
+  }
+}
+
+template <class T>
+void aggregate_row(const AggregateRow& r) {
+  for (int k = 0; k < r.recursions; ++k) {
+    const bool acc = r.accumulate || k > 0, twice = r.rec[k].weight == 2;
+    if (acc && twice)
+      aggregate_recursion<T, true, true>(r, r.rec[k]);
+    else if (acc)
+      aggregate_recursion<T, true, false>(r, r.rec[k]);
+    else if (twice)
+      aggregate_recursion<T, false, true>(r, r.rec[k]);
+    else
+      aggregate_recursion<T, false, false>(r, r.rec[k]);
+  }
+}
+
+// ---- winner takes all, uniqueness, sub-pixel, left-right check ----------------------------
+
+// Keys (S << 9) | d: the minimum key is the smallest d of the minimum cost.
+template <class T>
+struct KeyOf;
+template <>
+struct KeyOf<uint16_t> {
+  using type = uint32_t;
+};
+template <>
+struct KeyOf<uint32_t> {
+  using type = uint64_t;
+};
+
+template <class T>
+void select_row(const SelectRow& r) {
+  using K = typename KeyOf<T>::type;
+  const int W = r.width_px, D = r.disparities, N = r.lanes, m = r.min_disparity, f = r.subpixel_bits;
+  const T* S = static_cast<const T*>(r.sum);
+  T* rbest = static_cast<T*>(r.right_best);
+  const int rlen = W + N + m + 1;
+  if (r.lr_check) {
+    for (int k = 0; k < rlen; ++k) {
+      rbest[k] = type_max<T>();
+      r.right_code[k] = 0;
+    }
+  }
+  for (int x = 0; x < W; ++x) {
+    const T* __restrict s = S + static_cast<int64_t>(x) * N;
+    K best = type_max<K>();
+    for (int d = 0; d < N; ++d) {
+      const K key = d < D ? static_cast<K>((static_cast<K>(s[d]) << 9) | static_cast<K>(d)) : type_max<K>();
+      best = tmin<K>(best, key);
+    }
+    const int dl = static_cast<int>(best & 511u);
+    const T sl = s[dl];
+    if (r.lr_check) {
+      // dR(xr) over d with xr = x - m - d: right_best is indexed t = W - 1 - xr = W - 1 - x + m + d
+      // (t >= W: xr < 0, never read). Strict < keeps the smallest d (x increases with d).
+      T* __restrict rb = rbest + (W - 1 - x + m);
+      uint16_t* __restrict rc = r.right_code + (W - 1 - x + m);
+      for (int d = 0; d < N; ++d) {
+        const bool better = d < D && s[d] < rb[d];
+        rb[d] = better ? s[d] : rb[d];
+        rc[d] = better ? static_cast<uint16_t>(d) : rc[d];
+      }
+    }
+    bool valid = m + dl <= x;
+    if (valid && r.uniqueness_pct > 0) {
+      T second = type_max<T>();
+      for (int d = 0; d < dl - 1; ++d) second = tmin<T>(second, s[d]);
+      for (int d = dl + 2; d < D; ++d) second = tmin<T>(second, s[d]);
+      if (dl - 1 > 0 || dl + 2 < D)
+        valid = !(static_cast<uint64_t>(second) * 100u < static_cast<uint64_t>(100 + r.uniqueness_pct) * sl);
+    }
+    int off = 0;
+    if (valid && f > 0 && dl > 0 && dl < D - 1) {
+      const uint64_t a = s[dl - 1] - sl, b = s[dl + 1] - sl;
+      if (a + b > 0) {
+        const uint64_t diff = a > b ? a - b : b - a;
+        const uint64_t t = (diff << f) / (a + b);
+        const int mag = static_cast<int>((t + 1) >> 1);
+        off = a > b ? mag : -mag;
+      }
+    }
+    r.left_code[x] = valid ? dl : -1;
+    r.offset[x] = off;
+  }
+  const uint16_t invalid = static_cast<uint16_t>(D << f);
+  for (int x = 0; x < W; ++x) {
+    const int dl = r.left_code[x];
+    bool valid = dl >= 0;
+    if (valid && r.lr_check) {
+      const int xr = x - m - dl;
+      const int dr = r.right_code[W - 1 - xr];
+      valid = absi(dl - dr) <= r.lr_tolerance;
+    }
+    r.out[x] = valid ? static_cast<uint16_t>((dl << f) + r.offset[x]) : invalid;
+  }
+}
+
+void add16(uint16_t* sum, const uint16_t* add, int64_t n) {
+  for (int64_t i = 0; i < n; ++i) sum[i] = static_cast<uint16_t>(sum[i] + add[i]);
+}
+void add32(uint32_t* sum, const uint32_t* add, int64_t n) {
+  for (int64_t i = 0; i < n; ++i) sum[i] += add[i];
+}
+
+// ---- median -------------------------------------------------------------------------------
+
+void median_row(const uint16_t* const* rows, int W, int k, const int16_t* pairs, int pair_count, int rank,
+                uint16_t* taps, uint16_t* out) {
+  const int rk = k / 2;
+  uint16_t pad[4096 + 8];
+  for (int j = 0; j < k; ++j) {
+    for (int x = -rk; x < W + rk; ++x) pad[x + rk] = rows[j][clampi(x, 0, W - 1)];
+    for (int i = 0; i < k; ++i) {
+      uint16_t* t = taps + static_cast<int64_t>(j * k + i) * W;
+      const uint16_t* src = pad + i;  // pad[x + i] = code(clampx(x + i - rk))
+      for (int x = 0; x < W; ++x) t[x] = src[x];
+    }
+  }
+  for (int p = 0; p < pair_count; ++p) {
+    uint16_t* a = taps + static_cast<int64_t>(pairs[2 * p]) * W;
+    uint16_t* b = taps + static_cast<int64_t>(pairs[2 * p + 1]) * W;
+    for (int x = 0; x < W; ++x) {
+      const uint16_t lo = tmin<uint16_t>(a[x], b[x]), hi = tmax<uint16_t>(a[x], b[x]);
+      a[x] = lo;
+      b[x] = hi;
+    }
+  }
+  const uint16_t* res = taps + static_cast<int64_t>(rank) * W;
+  for (int x = 0; x < W; ++x) out[x] = res[x];
+}
+
+const IsaTable kTable = {PARALLAX_FAST_ISA_NAME,
+                         census_image,
+                         cost_census32,
+                         cost_census64,
+                         cost_sad,
+                         aggregate_row<uint16_t>,
+                         aggregate_row<uint32_t>,
+                         select_row<uint16_t>,
+                         select_row<uint32_t>,
+                         add16,
+                         add32,
+                         median_row};
+
+}  // namespace
+
+const IsaTable& PARALLAX_FAST_ISA_FN() {
+  return kTable;
+}
+
+}  // namespace parallax::fast::detail

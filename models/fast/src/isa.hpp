@@ -1,0 +1,107 @@
+// The fast engine's hot loops, compiled once per x86-64 level (isa.cpp is built three times:
+// baseline x86-64, x86-64-v3 = AVX2, x86-64-v4 = AVX-512) and chosen at run time by the CPU's
+// features (dispatch.cpp). The tables hold plain functions over raw pointers: the per-level
+// translation units include no standard-library header, so that no inline function compiled for
+// one level can be picked by the linker for another (the one-definition-rule trap of per-file
+// target flags).
+//
+// Layouts: images and codes row-major (y * W + x). Cost rows are [W][S] with the stride
+// S = cost_stride(D) (D rounded up to 32) and the lanes d >= D set to kCostPad; path-cost and
+// aggregate rows are [W][lanes], lanes either D or S. With lanes = S every loop runs whole
+// vectors: a padding lane's path cost stays in [kCostPad, kCostPad + P2], above every real path
+// cost (<= cost_max + P2) and high enough never to win as a neighbour (the 16-bit engine uses
+// padding when cost_max + 2 P2 + P1 < kCostPad, engine.cpp). A path-cost row keeps two guard
+// entries per pixel ([W][lanes + 2], lane d at d + 1) so that the d - 1 and d + 1 neighbours need
+// no test.
+#pragma once
+
+#include <stdint.h>
+
+namespace parallax::fast::detail {
+
+constexpr uint16_t kCostPad = 0x8000;
+constexpr int cost_stride(int disparities) {
+  return (disparities + 31) / 32 * 32;
+}
+
+// The recursions one raster pass can hold (docs/algorithm.md §3, in stream coordinates: the
+// backward pass runs the same kinds with the directions mirrored). SGM: one per path; MGM: the
+// 0/90 and 45/135 pairs are one recursion each.
+enum RecursionKind : int { kSgm0 = 0, kSgm45 = 1, kSgm90 = 2, kSgm135 = 3, kMgmPixel = 4, kMgmRow = 5 };
+
+struct Recursion {
+  int kind = 0;              // RecursionKind
+  int weight = 1;            // paths that add this recursion (MGM pairs: 1 or 2)
+  void* prev = nullptr;      // previous stream row's path costs, [W][D + 2] of the pass's type
+  void* cur = nullptr;       // this row's
+  void* prev_min = nullptr;  // per pixel minimum over d of prev, [W]
+  void* cur_min = nullptr;
+};
+
+// One stream row of one pass. Pixels are addressed by their image column x; the stream runs
+// x = 0..W-1 (dir +1) or W-1..0 (dir -1), and "the previous pixel" is x - dir.
+struct AggregateRow {
+  int width_px = 0;
+  int disparities = 0;
+  int lanes = 0;        // D or cost_stride(D)
+  int cost_stride = 0;  // of cost rows
+  int dir = 1;
+  bool first_row = true;               // no previous stream row (its predecessors are outside the image)
+  const uint16_t* cost = nullptr;      // [W][cost_stride]
+  const uint8_t* intensity = nullptr;  // this row's left intensities (adaptive P2), or null
+  const uint8_t* prev_intensity = nullptr;
+  int p1 = 0, p2 = 0, p2_adaptive = 0;
+  int recursions = 0;
+  Recursion rec[4];
+  bool accumulate = false;  // S += (else S =)
+  void* sum = nullptr;      // [W][lanes] of the pass's type
+};
+
+struct SelectRow {
+  int width_px = 0, disparities = 0, lanes = 0, min_disparity = 0, subpixel_bits = 0;
+  bool lr_check = false;
+  int lr_tolerance = 0, uniqueness_pct = 0;
+  const void* sum = nullptr;       // [W][lanes]
+  void* right_best = nullptr;      // scratch [W + lanes + m + 1] of the type
+  uint16_t* right_code = nullptr;  // scratch, same length
+  int32_t* left_code = nullptr;    // scratch [W]: dL, or -1 when invalid before the LR check
+  int32_t* offset = nullptr;       // scratch [W]: sub-pixel offsets
+  uint16_t* out = nullptr;         // [W] codes (docs §5)
+};
+
+struct CostRow {
+  int width_px = 0, disparities = 0, min_disparity = 0;
+  uint16_t cost_max = 0;
+  uint16_t* out = nullptr;  // [W][cost_stride(D)], padding lanes kCostPad
+};
+
+struct IsaTable {
+  const char* name;
+  // Census codes of a whole image (docs §2), kind = kern::CensusKind.
+  void (*census)(const uint8_t* img, int width_px, int height_px, int window_w, int window_h, int kind,
+                 uint64_t* codes);
+  // One cost row from census codes of that row (left) and of the right image's row.
+  void (*cost_census32)(const CostRow& r, const uint32_t* left, const uint32_t* right, uint32_t* scratch);
+  void (*cost_census64)(const CostRow& r, const uint64_t* left, const uint64_t* right, uint64_t* scratch);
+  // One SAD cost row y: rows[j] = the image rows clampy(y + j - rh), j < window_h, of both images.
+  // scratch: (W + 2 rw) * D uint16 column sums.
+  void (*cost_sad)(const CostRow& r, const uint8_t* const* left_rows, const uint8_t* const* right_rows, int window_w,
+                   int window_h, uint16_t* scratch);
+  void (*aggregate16)(const AggregateRow& r);
+  void (*aggregate32)(const AggregateRow& r);
+  void (*select16)(const SelectRow& r);
+  void (*select32)(const SelectRow& r);
+  // sum[i] += add[i], i < n
+  void (*add16)(uint16_t* sum, const uint16_t* add, int64_t n);
+  void (*add32)(uint32_t* sum, const uint32_t* add, int64_t n);
+  // k x k median of one output row by a comparator network over the window (a list of
+  // (i, j) tap pairs, min to i): taps = scratch [k * k][W]; rows[j] = code rows clampy(y + j - k/2).
+  void (*median_row)(const uint16_t* const* rows, int width_px, int k, const int16_t* pairs, int pair_count, int rank,
+                     uint16_t* taps, uint16_t* out);
+};
+
+const IsaTable& isa_baseline();
+const IsaTable& isa_avx2();
+const IsaTable& isa_avx512();
+
+}  // namespace parallax::fast::detail
