@@ -266,6 +266,18 @@ void call_aggregate<uint32_t>(const AggregateRow& a) {
 }
 }  // namespace
 
+namespace {
+// Padding lanes of finished sums at the type's maximum (what the WTA expects, isa.hpp).
+template <class T>
+void clear_padding(T* sum, int width_px, int disparities, int lanes) {
+  if (lanes == disparities) return;
+  for (int x = 0; x < width_px; ++x) {
+    T* s = sum + sz(int64_t(x) * lanes);
+    for (int d = disparities; d < lanes; ++d) s[d] = static_cast<T>(~T(0));
+  }
+}
+}  // namespace
+
 template <class T, class Sink>
 void Engine::Impl::aggregate(CostRows& src, const uint8_t* left, const kern::StereoParams& p, Sink&& sink) {
   const int W = p.width_px, H = p.height_px, N = lanes_for(p);
@@ -314,7 +326,10 @@ void Engine::Impl::aggregate(CostRows& src, const uint8_t* left, const kern::Ste
       h.rec[0].prev_min = w.mins[4][1].data();
       call_aggregate<T>(h);
     }
-    if (!two_pass) sink(y, static_cast<const T*>(sum));
+    if (!two_pass) {
+      clear_padding<T>(sum, W, p.disparities, N);
+      sink(y, static_cast<const T*>(sum));
+    }
   }
   if (!two_pass) return;
   for (int y = H - 1; y >= 0; --y) {
@@ -328,6 +343,7 @@ void Engine::Impl::aggregate(CostRows& src, const uint8_t* left, const kern::Ste
     a.sum = sum;
     fill_recursions(a, bwd, w, y & 1);
     call_aggregate<T>(a);
+    clear_padding<T>(sum, W, p.disparities, N);
     sink(y, static_cast<const T*>(sum));
   }
 }

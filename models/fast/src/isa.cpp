@@ -151,9 +151,10 @@ void cost_sad(const CostRow& r, const uint8_t* const* lrows, const uint8_t* cons
 // The SGM step from a predecessor's padded path costs lq (lq[0] and lq[N + 1] are guards that
 // never win): L(d) = C(d) + min(Lq(d), Lq(d -+ 1) + P1, Mq + P2) - Mq over N lanes. Writes
 // out[1..N], adds weight * L into sum (Acc) or sets it, returns min_d L.
-template <class T, bool Acc, bool Twice>
+template <class T, bool Acc, bool Twice, int NC>
 inline T sgm_step(const uint16_t* __restrict c, const T* __restrict lq, T mq, T p1, T p2, T* __restrict out,
-                  T* __restrict sum, int N) {
+                  T* __restrict sum, int n) {
+  const int N = NC > 0 ? NC : n;
   const T mp2 = static_cast<T>(mq + p2);
   T mn = type_max<T>();
   for (int d = 0; d < N; ++d) {
@@ -169,8 +170,9 @@ inline T sgm_step(const uint16_t* __restrict c, const T* __restrict lq, T mq, T 
 }
 
 // A path start: L = C.
-template <class T, bool Acc, bool Twice>
-inline T start_step(const uint16_t* __restrict c, T* __restrict out, T* __restrict sum, int N) {
+template <class T, bool Acc, bool Twice, int NC>
+inline T start_step(const uint16_t* __restrict c, T* __restrict out, T* __restrict sum, int n) {
+  const int N = NC > 0 ? NC : n;
   T mn = type_max<T>();
   for (int d = 0; d < N; ++d) {
     const T l = static_cast<T>(c[d]);
@@ -183,9 +185,10 @@ inline T start_step(const uint16_t* __restrict c, T* __restrict out, T* __restri
 }
 
 // The MGM step from two predecessors (both inside): L = C + floor((u_q + u_q2) / 2).
-template <class T, bool Acc, bool Twice>
+template <class T, bool Acc, bool Twice, int NC>
 inline T mgm_step(const uint16_t* __restrict c, const T* __restrict la, T ma, T pa2, const T* __restrict lb, T mb,
-                  T pb2, T p1, T* __restrict out, T* __restrict sum, int N) {
+                  T pb2, T p1, T* __restrict out, T* __restrict sum, int n) {
+  const int N = NC > 0 ? NC : n;
   const T ea = static_cast<T>(ma + pa2), eb = static_cast<T>(mb + pb2);
   T mn = type_max<T>();
   for (int d = 0; d < N; ++d) {
@@ -209,9 +212,9 @@ inline int adaptive(int p1, int p2, int a, int ip, int iq) {
 }
 
 // One recursion over one stream row.
-template <class T, bool Acc, bool Twice>
+template <class T, bool Acc, bool Twice, int NC>
 void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
-  const int W = r.width_px, N = r.lanes, dir = r.dir, P = N + 2, cs = r.cost_stride;
+  const int W = r.width_px, N = NC > 0 ? NC : r.lanes, dir = r.dir, P = N + 2, cs = r.cost_stride;
   const T p1 = static_cast<T>(r.p1), guard = static_cast<T>(type_max<T>() - r.p1);
   const bool adapt = r.p2_adaptive > 0;
   T* sum_base = static_cast<T*>(r.sum);
@@ -268,19 +271,19 @@ void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
     T mn;
     if (rc.kind < kMgmPixel || !q2ok) {
       if (!qok) {
-        mn = start_step<T, Acc, Twice>(c, out, sum, N);
+        mn = start_step<T, Acc, Twice, NC>(c, out, sum, N);
       } else {
         const T* lq = (up ? prev : cur) + static_cast<int64_t>(qx) * P;
         const T mq = (up ? prev_min : cur_min)[qx];
         int p2 = r.p2;
         if (adapt) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], (up ? r.prev_intensity : r.intensity)[qx]);
-        mn = sgm_step<T, Acc, Twice>(c, lq, mq, p1, static_cast<T>(p2), out, sum, N);
+        mn = sgm_step<T, Acc, Twice, NC>(c, lq, mq, p1, static_cast<T>(p2), out, sum, N);
       }
     } else if (!qok) {  // MGM, the second predecessor alone
       const T* lq = prev + static_cast<int64_t>(q2x) * P;
       int p2 = r.p2;
       if (adapt) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[q2x]);
-      mn = sgm_step<T, Acc, Twice>(c, lq, prev_min[q2x], p1, static_cast<T>(p2), out, sum, N);
+      mn = sgm_step<T, Acc, Twice, NC>(c, lq, prev_min[q2x], p1, static_cast<T>(p2), out, sum, N);
     } else {
       const T* la = (up ? prev : cur) + static_cast<int64_t>(qx) * P;
       const T ma = (up ? prev_min : cur_min)[qx];
@@ -290,8 +293,8 @@ void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
         pa2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], (up ? r.prev_intensity : r.intensity)[qx]);
         pb2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[q2x]);
       }
-      mn = mgm_step<T, Acc, Twice>(c, la, ma, static_cast<T>(pa2), lb, prev_min[q2x], static_cast<T>(pb2), p1, out, sum,
-                                   N);
+      mn = mgm_step<T, Acc, Twice, NC>(c, la, ma, static_cast<T>(pa2), lb, prev_min[q2x], static_cast<T>(pb2), p1, out,
+                                       sum, N);
     }
     cur_min[x] = mn;
     out[0] = guard;
@@ -299,38 +302,89 @@ void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
   }
 }
 
-template <class T>
-void aggregate_row(const AggregateRow& r) {
+template <class T, int NC>
+void aggregate_row_n(const AggregateRow& r) {
   for (int k = 0; k < r.recursions; ++k) {
     const bool acc = r.accumulate || k > 0, twice = r.rec[k].weight == 2;
     if (acc && twice)
-      aggregate_recursion<T, true, true>(r, r.rec[k]);
+      aggregate_recursion<T, true, true, NC>(r, r.rec[k]);
     else if (acc)
-      aggregate_recursion<T, true, false>(r, r.rec[k]);
+      aggregate_recursion<T, true, false, NC>(r, r.rec[k]);
     else if (twice)
-      aggregate_recursion<T, false, true>(r, r.rec[k]);
+      aggregate_recursion<T, false, true, NC>(r, r.rec[k]);
     else
-      aggregate_recursion<T, false, false>(r, r.rec[k]);
+      aggregate_recursion<T, false, false, NC>(r, r.rec[k]);
+  }
+}
+
+// Common lane counts as constants (whole vectors, no loop remainders), any other at run time.
+template <class T>
+void aggregate_row(const AggregateRow& r) {
+  switch (r.lanes) {
+    case 32:
+      aggregate_row_n<T, 32>(r);
+      break;
+    case 64:
+      aggregate_row_n<T, 64>(r);
+      break;
+    case 96:
+      aggregate_row_n<T, 96>(r);
+      break;
+    case 128:
+      aggregate_row_n<T, 128>(r);
+      break;
+    case 256:
+      aggregate_row_n<T, 256>(r);
+      break;
+    default:
+      aggregate_row_n<T, 0>(r);
+      break;
   }
 }
 
 // ---- winner takes all, uniqueness, sub-pixel, left-right check ----------------------------
 
-// Keys (S << 9) | d: the minimum key is the smallest d of the minimum cost.
 template <class T>
-struct KeyOf;
-template <>
-struct KeyOf<uint16_t> {
-  using type = uint32_t;
+inline T lane_min(const T* __restrict s, int n) {
+  T v = type_max<T>();
+  for (int d = 0; d < n; ++d) v = tmin<T>(v, s[d]);
+  return v;
+}
+// 0, 1, 2, ...: the lane numbers as data, so that the search below is a vector min. Constant
+// initialised (constexpr): a dynamic initialiser here would run this file's instructions at
+// program start, on every CPU.
+struct LaneNumbers {
+  uint16_t v[288] = {};
+  constexpr LaneNumbers() {
+    for (int i = 0; i < 288; ++i) v[i] = static_cast<uint16_t>(i);
+  }
 };
-template <>
-struct KeyOf<uint32_t> {
-  using type = uint64_t;
-};
+constexpr LaneNumbers kLanes{};
+
+template <class T>
+inline int first_lane_of(const T* __restrict s, int n, T value) {
+  const uint16_t* __restrict lane = kLanes.v;
+  uint16_t first = 0xFFFF;
+  for (int d = 0; d < n; ++d) {
+    const uint16_t hit = static_cast<uint16_t>(-static_cast<int>(s[d] == value));  // all ones when equal
+    first = tmin<uint16_t>(first, static_cast<uint16_t>((lane[d] & hit) | static_cast<uint16_t>(~hit)));
+  }
+  return first;
+}
+// Candidates of one left pixel for the right disparities it may decide: rb[d] / rc[d] belong to
+// the right pixel x - m - d. A padding lane (the type's maximum) is never better.
+template <class T>
+inline void right_update(const T* __restrict s, T* __restrict rb, uint16_t* __restrict rc, int n) {
+  const uint16_t* __restrict lane = kLanes.v;
+  for (int d = 0; d < n; ++d) {
+    const uint16_t better = static_cast<uint16_t>(-static_cast<int>(s[d] < rb[d]));  // all ones when better
+    rb[d] = tmin<T>(s[d], rb[d]);
+    rc[d] = static_cast<uint16_t>((lane[d] & better) | (rc[d] & static_cast<uint16_t>(~better)));
+  }
+}
 
 template <class T>
 void select_row(const SelectRow& r) {
-  using K = typename KeyOf<T>::type;
   const int W = r.width_px, D = r.disparities, N = r.lanes, m = r.min_disparity, f = r.subpixel_bits;
   const T* S = static_cast<const T*>(r.sum);
   T* rbest = static_cast<T*>(r.right_best);
@@ -343,23 +397,14 @@ void select_row(const SelectRow& r) {
   }
   for (int x = 0; x < W; ++x) {
     const T* __restrict s = S + static_cast<int64_t>(x) * N;
-    K best = type_max<K>();
-    for (int d = 0; d < N; ++d) {
-      const K key = d < D ? static_cast<K>((static_cast<K>(s[d]) << 9) | static_cast<K>(d)) : type_max<K>();
-      best = tmin<K>(best, key);
-    }
-    const int dl = static_cast<int>(best & 511u);
-    const T sl = s[dl];
+    // The minimum, then the smallest d holding it (padding lanes hold the type's maximum and
+    // come after every real lane, so they never decide either).
+    const T sl = lane_min<T>(s, N);
+    const int dl = first_lane_of<T>(s, N, sl);
     if (r.lr_check) {
       // dR(xr) over d with xr = x - m - d: right_best is indexed t = W - 1 - xr = W - 1 - x + m + d
       // (t >= W: xr < 0, never read). Strict < keeps the smallest d (x increases with d).
-      T* __restrict rb = rbest + (W - 1 - x + m);
-      uint16_t* __restrict rc = r.right_code + (W - 1 - x + m);
-      for (int d = 0; d < N; ++d) {
-        const bool better = d < D && s[d] < rb[d];
-        rb[d] = better ? s[d] : rb[d];
-        rc[d] = better ? static_cast<uint16_t>(d) : rc[d];
-      }
+      right_update<T>(s, rbest + (W - 1 - x + m), r.right_code + (W - 1 - x + m), N);
     }
     bool valid = m + dl <= x;
     if (valid && r.uniqueness_pct > 0) {
