@@ -209,6 +209,8 @@ const std::vector<Case>& cases() {
       {"run left directory", "run --config $C --left $T/folder --right $T/small.png --out $T/o.png", "folder"},
       // --- eval / score / baseline / avoid / crop-dataset
       {"eval dataset missing", "eval --config $C --dataset $T/nowhere", "nowhere"},
+      {"eval unknown engine", "eval --config $C --dataset $D --engine gpu", "--engine"},
+      {"sweep unknown engine", "sweep --base $C --grid p1=4,8 --dataset $D --db $T/e.db --engine hls", "--engine"},
       {"eval dataset is a file", "eval --config $C --dataset $T/text.txt", "text.txt"},
       {"eval dataset unknown layout", "eval --config $C --dataset $T/folder", "folder"},
       {"eval frames malformed", "eval --config $C --dataset $D --frames abc", "abc"},
