@@ -87,8 +87,7 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
   // kernels fired one by one.
   const std::vector<std::string> levels = fast::supported_simd_levels();
   for (auto it = levels.rbegin(); it != levels.rend(); ++it) {
-    const std::string level = *it;
-    add("parallax func " + cfg.name + " (fast, " + level + ")", [&cfg, &left, &right, level] {
+    add("parallax func " + cfg.name + " (fast, " + *it + ")", [&cfg, &left, &right, level = *it] {
       fast::set_simd_level(level);
       static sim::FuncPipeline pipe;  // one per child process; reused across iterations
       sim::FuncOptions o;
