@@ -144,13 +144,20 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
   const RoiSize roi = roi_for(group.front()->config);
   // Designs of one aggregate (they differ only after the aggregation) next to each other, so that
   // each aggregate is computed once per frame and replayed into the rest (fast engine).
+  // Within an aggregate, designs with the same WTA knobs next to each other (a median-only
+  // difference then reruns the median alone).
   std::vector<std::size_t> order(group.size());
-  std::vector<std::string> agg_key(group.size());
+  std::vector<std::string> agg_key(group.size()), wta_key(group.size());
   for (std::size_t k = 0; k < group.size(); ++k) {
     order[k] = k;
-    agg_key[k] = sim::aggregate_sharing_key(group[k]->config.stereo_params(roi.width_px, roi.height_px));
+    const kern::StereoParams p = group[k]->config.stereo_params(roi.width_px, roi.height_px);
+    agg_key[k] = sim::aggregate_sharing_key(p);
+    wta_key[k] = std::to_string(int(p.lr_check)) + "/" + std::to_string(p.lr_tolerance) + "/" +
+                 std::to_string(p.uniqueness_pct) + "/" + std::to_string(p.subpixel_bits);
   }
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return agg_key[a] < agg_key[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return agg_key[a] != agg_key[b] ? agg_key[a] < agg_key[b] : wta_key[a] < wta_key[b];
+  });
   for (const auto& ref : refs) {
     const Frame f = load_frame(ref);
     const Roi r = resolve_roi(roi, f.left.cols, f.left.rows);

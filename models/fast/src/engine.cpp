@@ -477,6 +477,11 @@ std::string aggregate_key(const kern::StereoParams& p) {
          std::to_string(p.p1) + " p2 " + std::to_string(p.p2) + " adaptive " + std::to_string(p.p2_adaptive);
 }
 
+std::string selection_key(const kern::StereoParams& p) {
+  return aggregate_key(p) + " lr " + std::to_string(int(p.lr_check)) + "/" + std::to_string(p.lr_tolerance) + " u " +
+         std::to_string(p.uniqueness_pct) + " f " + std::to_string(p.subpixel_bits);
+}
+
 Engine::Engine() : impl_(std::make_unique<Impl>()) {}
 Engine::~Engine() = default;
 
@@ -517,6 +522,7 @@ void Engine::record_aggregate(const CostVolume& costs, const kern::StereoParams&
   StoredCosts src(costs);
   const std::size_t row_len = sz(int64_t(p.width_px) * lanes_for(p));
   out.key = aggregate_key(p);
+  out.selected_key.clear();
   out.width_px = p.width_px;
   out.height_px = p.height_px;
   out.disparities = p.disparities;
@@ -536,20 +542,25 @@ void Engine::record_aggregate(const CostVolume& costs, const kern::StereoParams&
   }
 }
 
-std::vector<uint16_t> Engine::run_from_aggregate(const AggregateVolume& agg, const kern::StereoParams& p) {
+std::vector<uint16_t> Engine::run_from_aggregate(AggregateVolume& agg, const kern::StereoParams& p) {
   check(p);
   if (agg.key != aggregate_key(p))
     throw std::invalid_argument("run_from_aggregate: the sums are of '" + agg.key + "', the design needs '" +
                                 aggregate_key(p) + "'");
   const int W = p.width_px;
-  const std::size_t row_len = sz(int64_t(W) * lanes_for(p));
-  std::vector<uint16_t> codes(sz(int64_t(W) * p.height_px));
-  for (int y = 0; y < p.height_px; ++y) {
-    if (agg.wide)
-      impl_->select<uint32_t>(agg.sum32.data() + row_len * sz(y), p, codes.data() + sz(int64_t(y) * W));
-    else
-      impl_->select<uint16_t>(agg.sum16.data() + row_len * sz(y), p, codes.data() + sz(int64_t(y) * W));
+  const std::string sel = selection_key(p);
+  if (agg.selected_key != sel) {
+    const std::size_t row_len = sz(int64_t(W) * lanes_for(p));
+    agg.selected.resize(sz(int64_t(W) * p.height_px));
+    for (int y = 0; y < p.height_px; ++y) {
+      if (agg.wide)
+        impl_->select<uint32_t>(agg.sum32.data() + row_len * sz(y), p, agg.selected.data() + sz(int64_t(y) * W));
+      else
+        impl_->select<uint16_t>(agg.sum16.data() + row_len * sz(y), p, agg.selected.data() + sz(int64_t(y) * W));
+    }
+    agg.selected_key = sel;
   }
+  std::vector<uint16_t> codes = agg.selected;
   impl_->median(codes, p);
   return codes;
 }

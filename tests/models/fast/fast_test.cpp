@@ -109,6 +109,12 @@ TEST(FastEngine, TwoHundredFiftySixDisparitiesAgainstTheGoldenModel) {
       later.subpixel_bits = 0;
       later.lr_tolerance = 2;
       EXPECT_EQ(e.run_from_aggregate(agg, later), ref::compute_disparity(l, r, later)) << level;
+      kern::StereoParams median_only = later;  // the codes before the median are kept: the median alone
+      median_only.median = 7;
+      EXPECT_EQ(agg.selected_key, fast::selection_key(later));
+      EXPECT_EQ(e.run_from_aggregate(agg, median_only), ref::compute_disparity(l, r, median_only)) << level;
+      median_only.median = 0;
+      EXPECT_EQ(e.run_from_aggregate(agg, median_only), ref::compute_disparity(l, r, median_only)) << level;
     }
     fast::set_simd_level(fast::supported_simd_levels().back());
   }

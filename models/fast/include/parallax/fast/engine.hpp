@@ -49,14 +49,22 @@ struct CostVolume {
   std::vector<uint8_t> left;
 };
 
+// aggregate_key plus the WTA's knobs (LR check and tolerance, uniqueness, sub-pixel bits):
+// designs with equal keys have the same codes before the median.
+std::string selection_key(const kern::StereoParams& p);
+
 // A frame's aggregate volume [H][W][lanes], 16- or 32-bit (the narrowest that cannot overflow);
-// lanes is D or D rounded up to 32, as the design's engine runs it.
+// lanes is D or D rounded up to 32, as the design's engine runs it. It also keeps the codes
+// before the median of the last design run from it (selection_key), so that a design differing
+// only in the median runs the median alone.
 struct AggregateVolume {
   std::string key;
   int width_px = 0, height_px = 0, disparities = 0;
   bool wide = false;
   std::vector<uint16_t> sum16;
   std::vector<uint32_t> sum32;
+  std::string selected_key;
+  std::vector<uint16_t> selected;
 };
 
 // Reusable: keeps its row buffers between frames. Not thread-safe; one per thread.
@@ -77,7 +85,7 @@ class Engine {
 
   void record_aggregate(const CostVolume& costs, const kern::StereoParams& p, AggregateVolume& out);
   // Throws std::invalid_argument when the volume's key is not aggregate_key(p).
-  std::vector<uint16_t> run_from_aggregate(const AggregateVolume& agg, const kern::StereoParams& p);
+  std::vector<uint16_t> run_from_aggregate(AggregateVolume& agg, const kern::StereoParams& p);
 
   struct Impl;
 
