@@ -73,36 +73,14 @@ FuncEngine resolve_engine(const FuncOptions& opt) {
   return opt.engine == FuncEngine::automatic ? default_func_engine() : opt.engine;
 }
 
+// The contract's limits (shared with the fast engine) and the kernels' own: PU divides D, and
+// adaptive P2 in one pass (the two-pass frame buffer does not carry the intensities).
 std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
-  std::vector<std::string> e;
-  auto need = [&](bool ok, const char* msg) {
-    if (!ok) e.emplace_back(msg);
-  };
-  need(p.width_px >= 1 && p.width_px <= kern::kMaxWidthPx, "width_px out of [1, 4096]");
-  need(p.height_px >= 1 && p.height_px <= kern::kMaxHeightPx, "height_px out of [1, 4096]");
-  need(p.disparities >= 1 && p.disparities <= kern::kMaxDisparities, "disparities out of [1, 256]");
-  need(p.parallel_units >= 1 && p.disparities % (p.parallel_units > 0 ? p.parallel_units : 1) == 0,
-       "parallel_units must divide disparities");
-  need(p.window_w % 2 == 1 && p.window_h % 2 == 1 && p.window_w <= kern::kMaxWindow && p.window_h <= kern::kMaxWindow,
-       "window sides must be odd and at most 9");
-  need(p.cost != kern::kCostCensus || kern::census_bits(p.census, p.window_w, p.window_h) <= kern::kMaxCensusBits,
-       "census window needs w*h-1 <= 64");
-  need(p.cost == kern::kCostCensus || p.cost == kern::kCostSad, "unknown cost");
-  need(p.path_mask != 0 && (p.path_mask & ~kern::kAllPaths) == 0, "path set empty or unknown");
-  need(p.p1 >= 0 && p.p1 < p.p2, "need 0 <= p1 < p2");
-  need(p.median == 0 || p.median == 1 || p.median == 3 || p.median == 5 || p.median == 7,
-       "median must be 0, 3, 5 or 7");
-  need(p.lr_tolerance >= 0, "lr_tolerance must be >= 0");
-  need(p.uniqueness_pct >= 0 && p.uniqueness_pct <= kern::kMaxUniquenessPct, "uniqueness_pct must be in [0, 100]");
-  need(p.p2_adaptive >= 0 && p.p2_adaptive <= kern::kMaxP2Adaptive, "p2_adaptive must be in [0, 255]");
-  need(p.p2_adaptive == 0 || !kern::two_pass_paths(p.path_mask), "p2_adaptive needs a one-pass design (paths <= 5)");
-  need(p.min_disparity >= 0 && p.min_disparity <= kern::kMaxMinDisparity, "min_disparity must be in [0, 256]");
-  need(p.aggregation == kern::kAggregationSgm || p.aggregation == kern::kAggregationMgm,
-       "aggregation must be sgm or mgm");
-  need(p.subpixel_bits >= 0 && p.subpixel_bits <= kern::kMaxSubpixelBits, "subpixel_bits must be in [0, 4]");
-  need(p.aggregation != kern::kAggregationMgm || kern::mgm_paths_supported(p.path_mask),
-       "mgm needs forward paths or all eight (the one-pass 180-degree path has no second predecessor)");
-  need(kern::aggregate_bits(p) <= 31, "aggregate wider than 31 bits");
+  std::vector<std::string> e = fast::param_errors(p);
+  if (p.parallel_units < 1 || p.disparities % (p.parallel_units > 0 ? p.parallel_units : 1) != 0)
+    e.emplace_back("parallel_units must divide disparities");
+  if (p.p2_adaptive != 0 && kern::two_pass_paths(p.path_mask))
+    e.emplace_back("p2_adaptive needs a one-pass design (paths <= 5)");
   return e;
 }
 
