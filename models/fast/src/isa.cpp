@@ -440,13 +440,6 @@ void select_row(const SelectRow& r) {
   }
 }
 
-void add16(uint16_t* sum, const uint16_t* add, int64_t n) {
-  for (int64_t i = 0; i < n; ++i) sum[i] = static_cast<uint16_t>(sum[i] + add[i]);
-}
-void add32(uint32_t* sum, const uint32_t* add, int64_t n) {
-  for (int64_t i = 0; i < n; ++i) sum[i] += add[i];
-}
-
 // ---- median -------------------------------------------------------------------------------
 
 void median_row(const uint16_t* const* rows, int W, int k, const int16_t* pairs, int pair_count, int rank,
@@ -483,8 +476,6 @@ const IsaTable kTable = {PARALLAX_FAST_ISA_NAME,
                          aggregate_row<uint32_t>,
                          select_row<uint16_t>,
                          select_row<uint32_t>,
-                         add16,
-                         add32,
                          median_row};
 
 }  // namespace

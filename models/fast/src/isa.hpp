@@ -91,9 +91,6 @@ struct IsaTable {
   void (*aggregate32)(const AggregateRow& r);
   void (*select16)(const SelectRow& r);
   void (*select32)(const SelectRow& r);
-  // sum[i] += add[i], i < n
-  void (*add16)(uint16_t* sum, const uint16_t* add, int64_t n);
-  void (*add32)(uint32_t* sum, const uint32_t* add, int64_t n);
   // k x k median of one output row by a comparator network over the window (a list of
   // (i, j) tap pairs, min to i): taps = scratch [k * k][W]; rows[j] = code rows clampy(y + j - k/2).
   void (*median_row)(const uint16_t* const* rows, int width_px, int k, const int16_t* pairs, int pair_count, int rank,
