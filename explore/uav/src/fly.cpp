@@ -190,6 +190,7 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
   r.reached_goal = r.outcome == Outcome::goal;
   r.collided = r.outcome == Outcome::collision;
   r.flips = planner.flips();
+  r.recoveries = planner.recoveries();
   return r;
 }
 

@@ -237,15 +237,19 @@ class Clearance {
   // distance to the goal line (the world beyond is unknown); infinity where no path exists. A
   // navigation function (a local planner's "navfn"): descending it leads round dead ends that a
   // direction search from the vehicle cannot see out of.
-  void solve_cost_to_goal(double goal_z_m, double limit_m, double bound_half_width_m, double unseen_factor) {
+  // far_limit_m: the clearance kept farther than near_m from near_xz (a vehicle inside an
+  // obstacle's margin may leave it at limit_m, but not take a gap narrower than far_limit_m on).
+  void solve_cost_to_goal(double goal_z_m, double limit_m, double bound_half_width_m, double unseen_factor,
+                          const Eigen::Vector2d& near_xz, double near_m, double far_limit_m) {
     constexpr float kInf = std::numeric_limits<float>::infinity();
     cost_.assign(dist_.size(), kInf);
     using Item = std::pair<float, int32_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
     auto passable = [&](int i, int j) {
-      const double x = (ix0_ + i + 0.5) * cell_;
+      const double x = (ix0_ + i + 0.5) * cell_, z = (iz0_ + j + 0.5) * cell_;
+      const double need_m = std::hypot(x - near_xz.x(), z - near_xz.y()) <= near_m ? limit_m : far_limit_m;
       return std::fabs(x) <= bound_half_width_m &&
-             occupied_dist_[std::size_t(j) * std::size_t(n_) + std::size_t(i)] >= limit_m;
+             occupied_dist_[std::size_t(j) * std::size_t(n_) + std::size_t(i)] >= need_m;
     };
     for (int j = 0; j < n_; ++j)
       for (int i = 0; i < n_; ++i) {
@@ -360,7 +364,12 @@ Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   const double goal_bearing = std::atan2(p_.goal_xz.x() - pos.x(), p_.goal_xz.y() - pos.z());
   // A path may come no nearer an obstacle than safety_m, or than the vehicle is now when nearer.
   const double limit = std::min(p_.safety_m, clear.distance(pos.x(), pos.z()) - 0.5 * cell);
-  clear.solve_cost_to_goal(p_.goal_xz.y(), limit, p_.bound_half_width_m - p_.safety_m + cell, p_.unseen_cost);
+  // Recovering from a stop: the route keeps the full safety distance beyond the vehicle's own
+  // surroundings (no gap the rollouts will not fly), and the candidates cover the whole circle.
+  const bool recovering = recovery_;
+  const Eigen::Vector2d here(pos.x(), pos.z());
+  clear.solve_cost_to_goal(p_.goal_xz.y(), limit, p_.bound_half_width_m - p_.safety_m + cell, p_.unseen_cost, here,
+                           p_.safety_m + p_.recovery_near_m, recovering ? p_.safety_m : limit);
   const double cost_here = clear.cost_to_goal(pos.x(), pos.z());
   const bool routed = std::isfinite(cost_here);
   // How fast a course descends the cost to the goal (1: straight at it along the shortest path),
@@ -427,9 +436,9 @@ Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   };
   struct Choice {
     double heading = 0, free_m = 0, speed = -1, score = -1e18;
-  } best, widest;
+  } best, widest, flyable;
   widest.free_m = -1;
-  const int n = int(std::round(p_.span_deg / p_.step_deg));
+  const int n = int(std::round((recovering ? 180.0 : p_.span_deg) / p_.step_deg));
   for (int k = -n; k <= n; ++k) {
     Choice c;
     c.heading = wrap_angle(path_bearing + k * p_.step_deg * M_PI / 180.0);
@@ -438,6 +447,7 @@ Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
     c.score = score(c.heading, c.free_m, c.speed);
     if (c.score > best.score) best = c;
     if (c.speed >= 0 && c.free_m > widest.free_m) widest = c;
+    if (c.speed >= 0.2 * p_.cruise_mps && c.score > flyable.score) flyable = c;
   }
   // Hysteresis: keep the current direction unless another is clearly better.
   if (has_heading_) {
@@ -460,6 +470,7 @@ Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   plan.yaw_rad = go.heading;
   plan.heading_rad = go.heading;
   plan.free_m = go.free_m;
+  recover(plan, s, flyable.speed > 0 ? flyable.heading : 0, flyable.speed, flyable.free_m);
   const double off = wrap_angle(plan.heading_rad - goal_bearing);
   const int side = off > 10 * M_PI / 180 ? 1 : off < -10 * M_PI / 180 ? -1 : 0;
   if (side != 0) {
@@ -469,6 +480,42 @@ Plan Planner::plan(const LocalMap& map, const VehicleState& s) {
   heading_ = plan.heading_rad;
   has_heading_ = true;
   return plan;
+}
+
+void Planner::recover(Plan& plan, const VehicleState& s, double flyable_heading, double flyable_mps,
+                      double flyable_free_m) {
+  const Eigen::Vector2d here(s.position_m.x(), s.position_m.z());
+  stuck_plans_ = plan.braking && s.velocity_mps.norm() < p_.still_mps ? stuck_plans_ + 1 : 0;
+  if (!recovery_ && stuck_plans_ >= p_.stuck_plans) {
+    recovery_ = true;
+    recovery_from_xz_ = here;
+    scan_steps_ = 0;
+    scan_yaw_ = s.yaw_rad;
+    ++recoveries_;
+  }
+  if (!recovery_) return;
+  if (!plan.braking) {
+    if ((here - recovery_from_xz_).norm() > p_.recovery_m) recovery_ = false;
+    return;
+  }
+  // Still stopped: turn on the spot a step at a time (what the cameras then see enters the map),
+  // and after a whole turn fly the best direction that can be flown at all, away from the goal if
+  // need be; with none, turn again.
+  const int full_turn = int(std::ceil(360.0 / p_.scan_step_deg));
+  if (scan_steps_ < full_turn) {
+    if (std::fabs(wrap_angle(s.yaw_rad - scan_yaw_)) < 5.0 * M_PI / 180.0) {
+      scan_yaw_ = wrap_angle(scan_yaw_ + p_.scan_step_deg * M_PI / 180.0);
+      ++scan_steps_;
+    }
+    plan.yaw_rad = scan_yaw_;
+  } else if (flyable_mps > 0) {
+    plan.braking = false;
+    plan.velocity_mps = Eigen::Vector3d(std::sin(flyable_heading), 0, std::cos(flyable_heading)) * flyable_mps;
+    plan.yaw_rad = plan.heading_rad = flyable_heading;
+    plan.free_m = flyable_free_m;
+  } else {
+    scan_steps_ = 0;
+  }
 }
 
 }  // namespace parallax::explore

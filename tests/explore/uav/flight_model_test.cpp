@@ -245,6 +245,52 @@ TEST(Planner, LeavesADeadEndByThePathToTheGoal) {
   EXPECT_GT(plan.velocity_mps.norm(), 0.5);
 }
 
+// A stop the direction search cannot end: seen free only in a narrow lane behind the vehicle, the
+// goal ahead through unseen cells. The vehicle stops, and after stuck_plans plans turns on the spot
+// a scan step at a time (a whole turn; the map here learns nothing from it), then flies the lane
+// away from the goal, never into an unseen cell.
+TEST(Planner, RecoversFromAStopByTurningThenFlyingAway) {
+  LocalMap map;
+  for (int k = 0; k <= 12; ++k) map.clear_disk(0.0, -double(k), 1.2);
+  PlannerParams pp;
+  pp.goal_xz = Eigen::Vector2d(0, 40);
+  Planner planner(pp);
+  VehicleState st;
+  st.position_m = Eigen::Vector3d(0, -1.6, 0);
+  constexpr double kFrameS = 0.0345;
+  std::vector<double> scan_yaws_deg;
+  int first_move = -1;
+  for (int k = 0; k < 600 && first_move < 0; ++k) {
+    const Plan plan = planner.plan(map, st);
+    if (k < pp.stuck_plans - 1) {  // the stuck_plans-th stop starts the recovery
+      EXPECT_TRUE(plan.braking) << k;
+      EXPECT_EQ(planner.recoveries(), 0);
+    }
+    if (plan.velocity_mps.norm() > 0) {
+      first_move = k;
+      EXPECT_LT(plan.velocity_mps.z(), -0.5 * plan.velocity_mps.norm());  // down the lane, away from the goal
+    } else {
+      const double yaw_deg = plan.yaw_rad * 180.0 / M_PI;
+      if (scan_yaws_deg.empty() || std::fabs(wrap_angle((yaw_deg - scan_yaws_deg.back()) * M_PI / 180.0)) > 1e-6)
+        scan_yaws_deg.push_back(yaw_deg);
+    }
+    for (int i = 0; i < 7; ++i) step_vehicle(st, plan.velocity_mps, plan.yaw_rad, pp.vehicle, kFrameS / 7);
+  }
+  ASSERT_GT(first_move, pp.stuck_plans);
+  EXPECT_EQ(planner.recoveries(), 1);
+  // The look ahead (yaw 0), then a whole turn in 60 degree steps.
+  ASSERT_EQ(scan_yaws_deg.size(), 7u);
+  for (std::size_t i = 1; i < scan_yaws_deg.size(); ++i)
+    EXPECT_NEAR(std::fabs(wrap_angle((scan_yaws_deg[i] - scan_yaws_deg[i - 1]) * M_PI / 180.0)), M_PI / 3, 0.02) << i;
+  // Flown on: out down the lane, always in seen cells.
+  for (int k = 0; k < 150; ++k) {
+    const Plan plan = planner.plan(map, st);
+    for (int i = 0; i < 7; ++i) step_vehicle(st, plan.velocity_mps, plan.yaw_rad, pp.vehicle, kFrameS / 7);
+    ASSERT_NE(map.at(st.position_m.x(), st.position_m.z()), LocalMap::Cell::unknown) << k;
+  }
+  EXPECT_LT(st.position_m.z(), -1.0);
+}
+
 // A vehicle that braked into the bounds' margin may leave it, not go deeper.
 TEST(Planner, LeavesTheBoundsMargin) {
   LocalMap map;

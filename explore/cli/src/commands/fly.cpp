@@ -36,7 +36,7 @@ struct FlyOptions {
 
 // The flights of seeds first..first+N-1 at one speed, summed.
 struct FlightTally {
-  int seeds = 0, goal = 0, collisions = 0, out_of_bounds = 0, timeouts = 0, frames = 0, flips = 0;
+  int seeds = 0, goal = 0, collisions = 0, out_of_bounds = 0, timeouts = 0, frames = 0, flips = 0, recoveries = 0;
   double min_clear = 1e9, ratio = 0, time = 0, simulated_s = 0, render_s = 0, perception_s = 0;
   json per_seed = json::array();
 
@@ -55,6 +55,7 @@ struct FlightTally {
             {"time_to_goal_s", mean_goal(time)},
             {"goal_speed_mps", goal ? goal_z_m / mean_goal(time) : 0.0},
             {"flips_per_flight", double(flips) / std::max(1, seeds)},
+            {"recoveries_per_flight", double(recoveries) / std::max(1, seeds)},
             {"render_ms_per_frame", frames ? 1000.0 * render_s / frames : 0.0},
             {"render_vs_real_time", simulated_s > 0 ? render_s / simulated_s : 0.0},
             {"per_seed", per_seed}};
@@ -126,6 +127,7 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
     g.min_clear = std::min(g.min_clear, r.min_clearance_m);
     g.frames += r.frames;
     g.flips += r.flips;
+    g.recoveries += r.recoveries;
     g.simulated_s += r.time_s;
     g.render_s += r.render_wall_s;
     g.perception_s += r.perception_wall_s;
@@ -140,6 +142,7 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
                           {"time_s", r.time_s},
                           {"path_length_m", r.path_length_m},
                           {"flips", r.flips},
+                          {"recoveries", r.recoveries},
                           {"frames", r.frames}});
   }
   return g;
@@ -149,10 +152,10 @@ void print_tally(const char* label, const FlightTally& g, double goal_z_m) {
   const auto ok = wilson_interval_pct(g.goal, g.seeds), hit = wilson_interval_pct(g.collisions, g.seeds);
   std::printf(
       "  %-8s success %3.0f%% [%.0f-%.0f%%]  collisions %d [%.0f-%.0f%%]  out of bounds %d  timeouts %d  "
-      "goal speed %.2f m/s  path ratio %.3f  min clearance %.2f m  flips %.1f/flight\n",
+      "goal speed %.2f m/s  path ratio %.3f  min clearance %.2f m  flips %.1f  recoveries %.2f per flight\n",
       label, 100.0 * g.goal / std::max(1, g.seeds), ok.first, ok.second, g.collisions, hit.first, hit.second,
       g.out_of_bounds, g.timeouts, g.goal ? goal_z_m / g.mean_goal(g.time) : 0.0, g.mean_goal(g.ratio), g.min_clear,
-      double(g.flips) / std::max(1, g.seeds));
+      double(g.flips) / std::max(1, g.seeds), double(g.recoveries) / std::max(1, g.seeds));
 }
 
 int run_fly(const FlyOptions& o, const Invocation&) {

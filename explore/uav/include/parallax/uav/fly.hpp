@@ -67,6 +67,7 @@ struct FlightResult {
   bool reached_goal = false, collided = false;
   double min_clearance_m = 1e9, path_length_m = 0, time_s = 0;
   int frames = 0, flips = 0;
+  int recoveries = 0;                       // stops long enough to start the planner's recovery (Planner::recoveries)
   std::vector<Eigen::Vector3d> trajectory;  // sampled every frame
   std::vector<CameraPose> poses;            // the left camera's at every frame
   std::vector<SentSetpoint> setpoints;

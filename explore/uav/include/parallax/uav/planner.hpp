@@ -94,7 +94,17 @@ struct PlannerParams {
   double rollout_s = 2.0;        // each candidate flown this long through the vehicle model
   double unseen_cost = 1.0;      // a path's cost per metre through unseen cells (x seen ones)
   double lookahead_m = 3.0;      // a course's descent of the cost to the goal is taken over this
-  VehicleParams vehicle;         // the model the rollouts use (the vehicle's own)
+  // Recovery from a stop (braking, slower than still_mps, for stuck_plans plans in a row, ~1 s at
+  // the seed design's 29 Hz): the route then keeps safety_m beyond recovery_near_m of the vehicle's
+  // surroundings, candidates cover the whole circle, and a vehicle still stopped turns on the spot
+  // by scan_step_deg at a time (to see what its map lacks), then flies the best flyable direction
+  // even away from the goal; recovery ends recovery_m from where it began.
+  int stuck_plans = 30;
+  double still_mps = 0.3;
+  double recovery_near_m = 0.5;
+  double scan_step_deg = 60.0;
+  double recovery_m = 3.0;
+  VehicleParams vehicle;  // the model the rollouts use (the vehicle's own)
   double bound_half_width_m = 1e9;
   Eigen::Vector2d goal_xz{0, 60};
 };
@@ -112,13 +122,21 @@ class Planner {
   Plan plan(const LocalMap& map, const VehicleState& s);
   // How often the chosen direction swapped sides of the goal's bearing (by more than 10 degrees).
   int flips() const { return flips_; }
+  // How often the vehicle stopped long enough to start a recovery.
+  int recoveries() const { return recoveries_; }
   // The free distance along a heading from a point: where the path first comes within safety_m
   // of an occupied cell (or nearer than it starts), enters an unseen cell, or enters the bounds'
   // margin (or goes deeper into it); capped at horizon_m.
   double free_distance(const LocalMap& map, const Eigen::Vector3d& from, double heading_rad) const;
 
  private:
+  // The recovery from a stop (PlannerParams): the plan's braking, yaw and setpoint while it lasts.
+  void recover(Plan& plan, const VehicleState& s, double flyable_heading, double flyable_mps, double flyable_free_m);
   PlannerParams p_;
+  bool recovery_ = false;
+  Eigen::Vector2d recovery_from_xz_{0, 0};
+  int stuck_plans_ = 0, scan_steps_ = 0, recoveries_ = 0;
+  double scan_yaw_ = 0;
   double heading_ = 0;
   bool has_heading_ = false;
   int side_ = 0, flips_ = 0;
