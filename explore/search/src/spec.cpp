@@ -122,6 +122,13 @@ SweepSpec parse_sweep_fields(const std::string& text, const std::string& source)
       if (f["seeds"]) s.flight_seeds = f["seeds"].as<int>();
       if (f["speed_mps"]) s.flight_speed_mps = f["speed_mps"].as<double>();
       if (f["size_px"]) s.flight_size_px = f["size_px"].as<int>();
+      if (s.flight_seeds < 1 || s.flight_seeds > 10000)
+        throw InputError(source + ": flight: 'seeds' must be 1..10000, not " + std::to_string(s.flight_seeds));
+      if (!(s.flight_speed_mps >= 0.1 && s.flight_speed_mps <= 50.0))
+        throw InputError(source + ": flight: 'speed_mps' must be 0.1..50");
+      if (s.flight_size_px != 0 && (s.flight_size_px < 64 || s.flight_size_px > 4096))
+        throw InputError(source + ": flight: 'size_px' must be 0 (the design's own) or 64..4096, not " +
+                         std::to_string(s.flight_size_px));
     }
   } catch (const YAML::Exception&) {
     throw InputError(source + ": a scalar field has the wrong type (samples and seed are integers)");

@@ -101,6 +101,7 @@ class BadInput : public ::testing::Test {
     write(t / "sweep_gt.yaml", "base: $C\ngt: all\n");
     write(t / "sweep_constraint.yaml", "base: $C\nconstraints: {max_lut: 5000}\n");
     write(t / "sweep_flight.yaml", "base: $C\nflight: {scenario: forest.yaml, speed: 3}\n");
+    write(t / "sweep_flight_size.yaml", "base: $C\nflight: {scenario: forest, size_px: 20}\n");
     write(t / "sweep_seqkey.yaml", "base: $C\n[1]: 2\n");
     write(t / "scenario_kind.yaml", "kind: jungle\n");
     write(t / "scenario_nokind.yaml", "name: x\n");
@@ -262,6 +263,9 @@ const std::vector<Case>& cases() {
       {"sweep gt", "sweep $T/sweep_gt.yaml --dataset $D --db $T/s.db", "gt"},
       {"sweep unknown constraint", "sweep $T/sweep_constraint.yaml --dataset $D --db $T/s.db", "max_lut"},
       {"sweep unknown flight field", "sweep $T/sweep_flight.yaml --dataset $D --db $T/s.db", "speed"},
+      {"sweep flight size", "sweep $T/sweep_flight_size.yaml --dataset $D --db $T/s.db", "size_px"},
+      {"sweep --flight-size", "sweep --base $C --flight forest --flight-size 20 --dataset $D --db $T/s.db",
+       "--flight-size"},
       {"sweep grid value", "sweep --base $C --grid p2=abc,def --dataset $D --db $T/s.db", "abc"},
       {"sweep grid axis", "sweep --base $C --grid bogus=1,2 --dataset $D --db $T/s.db", "bogus"},
       {"sweep grid form", "sweep --base $C --grid p2 --dataset $D --db $T/s.db", "--grid"},

@@ -356,6 +356,7 @@ TEST(SweepRun, FlightScoresBecomeMetrics) {
   s.flight_scenario = std::string(PARALLAX_CONFIG_DIR) + "/scenarios/single-pole.yaml";
   s.flight_seeds = 1;
   s.flight_speed_mps = 4.0;
+  s.flight_size_px = 160;  // quick: the default is the design's own 640 px
   s.objectives = {{"flight_success_rate", true}, {"flight_min_clearance_m", true}};
   ResultStore store((d / "f.db").string());
   explore::SweepRunOptions ro;
@@ -371,6 +372,8 @@ TEST(SweepRun, FlightScoresBecomeMetrics) {
   const SweepSpec t = explore::parse_sweep(explore::sweep_to_yaml(s), "round trip");
   EXPECT_EQ(t.flight_scenario, s.flight_scenario);
   EXPECT_EQ(t.flight_seeds, 1);
+  EXPECT_EQ(t.flight_size_px, 160);
+  EXPECT_EQ(SweepSpec{}.flight_size_px, 0);  // by default a design flies at its own size
 }
 
 // NSGA-II: seeded, only new designs cost an evaluation, and it finds the front of a small space

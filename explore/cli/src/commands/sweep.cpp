@@ -31,6 +31,8 @@ struct SweepOptions {
   std::string spec, base, dataset, frames, gt, db, strategy, name, flight, shard;
   std::vector<std::string> grid;
   int jobs = 0, samples = 0, generations = 0;
+  int flight_seeds = 0, flight_size_px = -1;  // 0 / -1: the file's, else the defaults
+  double flight_speed_mps = 0;
   uint32_t seed = 0;
   bool avoidance = false, yes = false, mpi = false, no_sharing = false;
 };
@@ -57,6 +59,9 @@ SweepSpec sweep_spec(const SweepOptions& o) {
   if (!o.name.empty()) spec.name = o.name;
   if (o.avoidance) spec.avoidance = true;
   if (!o.flight.empty()) spec.flight_scenario = o.flight;
+  if (o.flight_seeds > 0) spec.flight_seeds = o.flight_seeds;
+  if (o.flight_speed_mps > 0) spec.flight_speed_mps = o.flight_speed_mps;
+  if (o.flight_size_px >= 0) spec.flight_size_px = o.flight_size_px;
   return spec;
 }
 
@@ -180,7 +185,18 @@ Command add_sweep(CLI::App& app) {
   sweepc->add_option("--seed", o->seed, "Seed of random / lhs");
   sweepc->add_option("--name", o->name, "Sweep name in the store (default: the file's, else 'sweep')");
   sweepc->add_option("--flight", o->flight,
-                     "Also fly every design through this scenario, 3 seeds at 5 m/s; " + scenario_option_help());
+                     "Also fly every design through this scenario (3 seeds at 5 m/s at the design's own size unless "
+                     "told); " +
+                         scenario_option_help());
+  sweepc->add_option("--flight-seeds", o->flight_seeds, "Flights per design (seeds 1..N; default: the file's, else 3)")
+      ->check(InRange(1, 10000));
+  sweepc->add_option("--flight-speed-mps", o->flight_speed_mps, "Flight cruise speed (default: the file's, else 5)")
+      ->check(InRange(0.1, 50.0));
+  sweepc
+      ->add_option("--flight-size", o->flight_size_px,
+                   "Fly with the rig scaled to this image width (0: the design's own region of interest, the "
+                   "default; e.g. 160 for a quick look, with the design's timing and range at that size)")
+      ->check(CLI::Range(0, 0) | InRange(64, 4096));
   sweepc->add_flag("--avoidance", o->avoidance,
                    "Also score the avoidance stage on every design (obstacle_precision, ...)");
   sweepc->add_flag("--yes", o->yes,

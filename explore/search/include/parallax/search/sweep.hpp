@@ -45,7 +45,7 @@ struct SweepSpec {
   std::string flight_scenario;
   int flight_seeds = 3;
   double flight_speed_mps = 5.0;
-  int flight_size_px = 160;
+  int flight_size_px = 0;  // the rig scaled to this width; 0: the design's own window (FlightParams::width_px)
   std::string gt = "noc";
   // Peers measured on the same frames and crops and stored beside the designs (status peer:
   // ResultStore::peers), with the base design itself as the seed: opencv-hh4, opencv-sgbm.
