@@ -245,12 +245,16 @@ class Clearance {
     cost_.assign(dist_.size(), kInf);
     using Item = std::pair<float, int32_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-    auto passable = [&](int i, int j) {
-      const double x = (ix0_ + i + 0.5) * cell_, z = (iz0_ + j + 0.5) * cell_;
-      const double need_m = std::hypot(x - near_xz.x(), z - near_xz.y()) <= near_m ? limit_m : far_limit_m;
-      return std::fabs(x) <= bound_half_width_m &&
-             occupied_dist_[std::size_t(j) * std::size_t(n_) + std::size_t(i)] >= need_m;
-    };
+    // Which cells may be entered, once per solve (the search visits each cell's neighbours).
+    std::vector<uint8_t> open_cell(dist_.size());
+    for (int j = 0; j < n_; ++j)
+      for (int i = 0; i < n_; ++i) {
+        const double x = (ix0_ + i + 0.5) * cell_, z = (iz0_ + j + 0.5) * cell_;
+        const double need_m = std::hypot(x - near_xz.x(), z - near_xz.y()) <= near_m ? limit_m : far_limit_m;
+        const std::size_t k = std::size_t(j) * std::size_t(n_) + std::size_t(i);
+        open_cell[k] = std::fabs(x) <= bound_half_width_m && occupied_dist_[k] >= need_m ? 1 : 0;
+      }
+    auto passable = [&](int i, int j) { return open_cell[std::size_t(j) * std::size_t(n_) + std::size_t(i)] != 0; };
     for (int j = 0; j < n_; ++j)
       for (int i = 0; i < n_; ++i) {
         const double z = (iz0_ + j + 0.5) * cell_;
