@@ -198,8 +198,9 @@ double ground_shade(uint32_t seed, double x, double z, double footprint) {
 }
 
 // The grey level of primitive `id` hit at o + t d; `pixel_angle` is the angle one pixel subtends.
+// `box_axis` is hit_box's entry axis for this ray when id is a box (-2: compute it here).
 double shade(const Scene& sc, const Ids& ids, int id, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t,
-             double pixel_angle) {
+             double pixel_angle, int box_axis = -2) {
   if (id == 0) return kSkyGrey;
   const Eigen::Vector3d p = o + t * d;
   auto footprint = [&](const Eigen::Vector3d& n) { return surface_footprint(n, d, t, pixel_angle); };
@@ -215,8 +216,8 @@ double shade(const Scene& sc, const Ids& ids, int id, const Eigen::Vector3d& o, 
   if (id < ids.branches) {
     const int k = id - ids.boxes;
     const Box& b = sc.boxes[std::size_t(k)];
-    int axis = 0;
-    hit_box(b, o, d, axis);
+    int axis = box_axis;
+    if (axis == -2) hit_box(b, o, d, axis);
     Eigen::Vector3d n = Eigen::Vector3d::Zero();
     n[std::max(axis, 0)] = 1.0;
     const double u = axis == 0 ? p.z() : p.x(), v = axis == 1 ? p.z() : p.y();
@@ -268,6 +269,7 @@ cv::Rect screen_box(const Rig& rig, int w, int h, const Eigen::Matrix3d& axes, c
 struct Buffers {
   std::vector<double> t;
   std::vector<int> id;
+  std::vector<int8_t> box_axis;  // hit_box's entry axis where id is a box
 };
 
 class Caster {
@@ -280,10 +282,8 @@ class Caster {
            axes_.col(2);
   }
 
-  // The nearest hit of o + t d among the primitives whose screen boxes (for this camera) hold
-  // pixel (u, v); all of them when boxes is empty.
-  std::pair<double, int> nearest(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const std::vector<cv::Rect>* boxes,
-                                 int u, int v) const {
+  // The nearest hit of o + t d among all primitives (for rays off the pixel grid: lenses).
+  std::pair<double, int> nearest(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {
     double best = hit_ground(o, d);
     int id = std::isfinite(best) ? 1 : 0;
     auto consider = [&](int pid, double t) {
@@ -292,16 +292,52 @@ class Caster {
         id = pid;
       }
     };
-    auto inside = [&](int pid) { return boxes == nullptr || (*boxes)[std::size_t(pid)].contains({u, v}); };
     for (std::size_t k = 0; k < sc_.cylinders.size(); ++k)
-      if (inside(ids_.cylinders + int(k))) consider(ids_.cylinders + int(k), hit_cylinder(sc_.cylinders[k], o, d));
+      consider(ids_.cylinders + int(k), hit_cylinder(sc_.cylinders[k], o, d));
     for (std::size_t k = 0; k < sc_.boxes.size(); ++k) {
       int axis = 0;
-      if (inside(ids_.boxes + int(k))) consider(ids_.boxes + int(k), hit_box(sc_.boxes[k], o, d, axis));
+      consider(ids_.boxes + int(k), hit_box(sc_.boxes[k], o, d, axis));
     }
     for (std::size_t k = 0; k < sc_.branches.size(); ++k)
-      if (inside(ids_.branches + int(k))) consider(ids_.branches + int(k), hit_branch(sc_.branches[k], o, d));
+      consider(ids_.branches + int(k), hit_branch(sc_.branches[k], o, d));
     return {best, id};
+  }
+
+  // The nearest hit of o + t d among the ids in `row` (ascending, the order nearest() visits them
+  // in, so ties resolve alike) whose screen boxes hold column u: `row` lists the ids whose boxes
+  // cover the pixel's image row (row_candidates).
+  // `best_axis` receives the entry axis of the winning box.
+  std::pair<double, int> nearest_in_row(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                                        const std::vector<cv::Rect>& boxes, const std::vector<int>& row, int u,
+                                        int& best_axis) const {
+    double best = hit_ground(o, d);
+    int id = std::isfinite(best) ? 1 : 0;
+    best_axis = -2;
+    for (const int pid : row) {
+      const cv::Rect& r = boxes[std::size_t(pid)];
+      if (u < r.x || u >= r.x + r.width) continue;
+      int axis = 0;
+      const double t = pid < ids_.boxes      ? hit_cylinder(sc_.cylinders[std::size_t(pid - ids_.cylinders)], o, d)
+                       : pid < ids_.branches ? hit_box(sc_.boxes[std::size_t(pid - ids_.boxes)], o, d, axis)
+                                             : hit_branch(sc_.branches[std::size_t(pid - ids_.branches)], o, d);
+      if (t < best) {
+        best = t;
+        id = pid;
+        best_axis = axis;
+      }
+    }
+    return {best, id};
+  }
+
+  // For each image row, the ids (ascending) whose screen boxes cover it.
+  std::vector<std::vector<int>> row_candidates(const std::vector<cv::Rect>& boxes) const {
+    std::vector<std::vector<int>> rows(static_cast<std::size_t>(h_));
+    for (std::size_t pid = 0; pid < boxes.size(); ++pid) {
+      const cv::Rect& r = boxes[pid];
+      if (r.width <= 0 || r.height <= 0) continue;
+      for (int v = r.y; v < r.y + r.height; ++v) rows[std::size_t(v)].push_back(int(pid));
+    }
+    return rows;
   }
 
   // Screen boxes of every primitive (index = id) for a camera at `cam`.
@@ -333,6 +369,7 @@ class Caster {
     Buffers b;
     b.t.assign(std::size_t(w_) * std::size_t(h_), kInf);
     b.id.assign(b.t.size(), 0);
+    b.box_axis.assign(b.t.size(), int8_t(-2));
     // No roll: a ray's y component, so its ground hit's depth, depends on the row alone.
     for (int v = 0; v < h_; ++v) {
       const double t = hit_ground(cam, direction(rig_.cx_px, v));
@@ -345,22 +382,24 @@ class Caster {
       for (int v = r.y; v < r.y + r.height; ++v)
         for (int u = r.x; u < r.x + r.width; ++u) {
           const std::size_t i = std::size_t(v) * std::size_t(w_) + std::size_t(u);
-          const double t = hit(direction(u, v));
+          int axis = -2;
+          const double t = hit(direction(u, v), axis);
           if (t < b.t[i]) {
             b.t[i] = t;
             b.id[i] = pid;
+            b.box_axis[i] = int8_t(axis);
           }
         }
     };
     for (std::size_t k = 0; k < sc_.cylinders.size(); ++k)
-      raster(ids_.cylinders + int(k), [&](const Eigen::Vector3d& d) { return hit_cylinder(sc_.cylinders[k], cam, d); });
+      raster(ids_.cylinders + int(k),
+             [&](const Eigen::Vector3d& d, int&) { return hit_cylinder(sc_.cylinders[k], cam, d); });
     for (std::size_t k = 0; k < sc_.boxes.size(); ++k)
-      raster(ids_.boxes + int(k), [&](const Eigen::Vector3d& d) {
-        int axis = 0;
-        return hit_box(sc_.boxes[k], cam, d, axis);
-      });
+      raster(ids_.boxes + int(k),
+             [&](const Eigen::Vector3d& d, int& axis) { return hit_box(sc_.boxes[k], cam, d, axis); });
     for (std::size_t k = 0; k < sc_.branches.size(); ++k)
-      raster(ids_.branches + int(k), [&](const Eigen::Vector3d& d) { return hit_branch(sc_.branches[k], cam, d); });
+      raster(ids_.branches + int(k),
+             [&](const Eigen::Vector3d& d, int&) { return hit_branch(sc_.branches[k], cam, d); });
     return b;
   }
 
@@ -375,6 +414,7 @@ class Caster {
       const double t = hit_ground(cam, d);
       if (std::isfinite(t)) row_footprint[std::size_t(v)] = ground_footprint(d, t, pixel_angle);
     }
+    const std::vector<std::vector<int>> rows = row_candidates(boxes);
     for (int v = 0; v < h_; ++v)
       for (int u = 0; u < w_; ++u) {
         const std::size_t i = std::size_t(v) * std::size_t(w_) + std::size_t(u);
@@ -389,12 +429,13 @@ class Caster {
           g = ground_shade(sc_.texture_seed, cam.x() + b.t[i] * d.x(), cam.z() + b.t[i] * d.z(),
                            row_footprint[std::size_t(v)]);
         } else if (!edge) {
-          g = shade(sc_, ids_, id, cam, direction(u, v), b.t[i], pixel_angle);
+          g = shade(sc_, ids_, id, cam, direction(u, v), b.t[i], pixel_angle, b.box_axis[i]);
         } else {
           for (int s = 0; s < 4; ++s) {
             const Eigen::Vector3d d = direction(u + ((s & 1) ? 0.25 : -0.25), v + ((s & 2) ? 0.25 : -0.25));
-            const auto [t, sid] = nearest(cam, d, &boxes, u, v);
-            g += 0.25 * shade(sc_, ids_, sid, cam, d, t, pixel_angle);
+            int axis = -2;
+            const auto [t, sid] = nearest_in_row(cam, d, boxes, rows[std::size_t(v)], u, axis);
+            g += 0.25 * shade(sc_, ids_, sid, cam, d, t, pixel_angle, axis);
           }
         }
         img.at<uint8_t>(v, u) = uint8_t(std::lround(std::clamp(g, 0.0, 255.0)));
@@ -478,7 +519,7 @@ StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const Eigen::V
       const Eigen::Vector3d dir(x, y, 1.0);
       for (int side = 0; side < 2; ++side) {
         const Eigen::Vector3d& o = side == 0 ? cam : right_cam;
-        const auto [t, id] = caster.nearest(o, dir, nullptr, u, v);
+        const auto [t, id] = caster.nearest(o, dir);
         (side == 0 ? f.left : f.right).at<uint8_t>(v, u) =
             uint8_t(std::lround(std::clamp(shade(sc, caster.ids(), id, o, dir, t, pixel_angle), 0.0, 255.0)));
       }
