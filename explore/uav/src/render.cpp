@@ -87,6 +87,14 @@ double noise(uint32_t seed, double u, double v, double footprint) {
   return std::clamp(127.5 + (sum / norm - 0.5) * 246.0, 25.0, 230.0);
 }
 
+// std::lround(std::clamp(g, 0, 255)) without the library call: for g >= 0.5, g + 0.5 is exact
+// or rounds within [n, n + 1) of the true sum's integer part n (the sum cannot reach the next
+// integer), so its truncation is lround's half-away-from-zero rounding; below 0.5 both give 0.
+uint8_t round_grey(double g) {
+  const double c = std::clamp(g, 0.0, 255.0);
+  return c < 0.5 ? uint8_t(0) : uint8_t(int(c + 0.5));
+}
+
 // atan2 to within 1e-5 rad (a minimax polynomial on [0, 1] and the octant's symmetries): texture
 // coordinates need no more.
 double fast_atan2(double y, double x) {
@@ -438,7 +446,7 @@ class Caster {
             g += 0.25 * shade(sc_, ids_, sid, cam, d, t, pixel_angle, axis);
           }
         }
-        img.at<uint8_t>(v, u) = uint8_t(std::lround(std::clamp(g, 0.0, 255.0)));
+        img.at<uint8_t>(v, u) = round_grey(g);
       }
     return img;
   }
@@ -521,7 +529,7 @@ StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const Eigen::V
         const Eigen::Vector3d& o = side == 0 ? cam : right_cam;
         const auto [t, id] = caster.nearest(o, dir);
         (side == 0 ? f.left : f.right).at<uint8_t>(v, u) =
-            uint8_t(std::lround(std::clamp(shade(sc, caster.ids(), id, o, dir, t, pixel_angle), 0.0, 255.0)));
+            round_grey(shade(sc, caster.ids(), id, o, dir, t, pixel_angle));
       }
     }
   return f;
@@ -548,7 +556,7 @@ void apply_sensor(StereoFrame& f, const Imaging& im, std::mt19937& rng) {
         if ((i & 1) == 0) bits = uint32_t(rng());
         g += im.noise_grey * double(gauss[(i & 1) ? (bits >> 16) : (bits & 0xFFFF)]);
       }
-      m->data[i] = uint8_t(std::lround(std::clamp(g, 0.0, 255.0)));
+      m->data[i] = round_grey(g);
     }
   }
 }
