@@ -92,6 +92,8 @@ double noise(uint32_t seed, double u, double v, double footprint) {
 // integer), so its truncation is lround's half-away-from-zero rounding; below 0.5 both give 0.
 uint8_t round_grey(double g) {
   const double c = std::clamp(g, 0.0, 255.0);
+  // The check's failing case (just below 0.5) is the branch that returns 0.
+  // NOLINTNEXTLINE(bugprone-incorrect-roundings)
   return c < 0.5 ? uint8_t(0) : uint8_t(int(c + 0.5));
 }
 
