@@ -54,6 +54,8 @@ double noise(uint32_t seed, double u, double v, double footprint) {
   constexpr int kOctaves = 4;
   constexpr double kFalloff = 0.75;  // each octave's amplitude against the next coarser one's
   double sum = 0, norm = 0, amp = 1.0, freq = 4.0;
+  // Unrolled: amp, freq and norm become constants.
+#pragma GCC unroll 4
   for (uint32_t o = 0; o < kOctaves; ++o, norm += amp, amp *= kFalloff, freq *= 2.0) {
     const double w = octave_weight(footprint, freq);
     if (w <= 0) {
@@ -151,26 +153,27 @@ double hit_cylinder(const Cylinder& c, const Eigen::Vector3d& o, const Eigen::Ve
   return y < -c.height_m || y > 0 ? kInf : t;
 }
 
-// Slab test; `axis` is the axis of the entry face.
+// Slab test; `axis` is the axis of the entry face. The three slabs are intersected without early
+// exits (the entry distance only grows and the exit distance only shrinks, so an empty interval at
+// any step is an empty one at the end): the six divisions are independent.
 double hit_box(const Box& b, const Eigen::Vector3d& o, const Eigen::Vector3d& d, int& axis) {
   const double lo[3] = {b.x0_m, -b.height_m, b.z0_m}, hi[3] = {b.x1_m, 0.0, b.z1_m};
   double t0 = 0, t1 = kInf;
+  bool outside = false;
   axis = -1;
   for (int i = 0; i < 3; ++i) {
-    if (std::fabs(d[i]) < 1e-12) {
-      if (o[i] < lo[i] || o[i] > hi[i]) return kInf;
-      continue;
-    }
-    double ta = (lo[i] - o[i]) / d[i], tb = (hi[i] - o[i]) / d[i];
-    if (ta > tb) std::swap(ta, tb);
-    if (ta > t0) {
-      t0 = ta;
+    // A ray parallel to the slab misses it from outside and is unbounded by it from inside.
+    const bool parallel = std::fabs(d[i]) < 1e-12;
+    outside = outside || (parallel && (o[i] < lo[i] || o[i] > hi[i]));
+    const double ta = (lo[i] - o[i]) / d[i], tb = (hi[i] - o[i]) / d[i];
+    const double enter = parallel ? -kInf : std::min(ta, tb), leave = parallel ? kInf : std::max(ta, tb);
+    if (enter > t0) {
+      t0 = enter;
       axis = i;
     }
-    t1 = std::min(t1, tb);
-    if (t0 > t1) return kInf;
+    t1 = std::min(t1, leave);
   }
-  return axis < 0 || t0 <= 0 ? kInf : t0;
+  return outside || t0 > t1 || axis < 0 || t0 <= 0 ? kInf : t0;
 }
 
 Eigen::Vector3d branch_axis(const Branch& br) {
@@ -228,10 +231,10 @@ double shade(const Scene& sc, const Ids& ids, int id, const Eigen::Vector3d& o, 
     const Box& b = sc.boxes[std::size_t(k)];
     int axis = box_axis;
     if (axis == -2) hit_box(b, o, d, axis);
-    Eigen::Vector3d n = Eigen::Vector3d::Zero();
-    n[std::max(axis, 0)] = 1.0;
+    // The face's normal is the unit vector of its axis: n . d is d[axis] exactly.
     const double u = axis == 0 ? p.z() : p.x(), v = axis == 1 ? p.z() : p.y();
-    return paint(sc, b.surface, sc.texture_seed + 977 + uint32_t(k), u, v, footprint(n), 0.7, axis == 0 ? 1 : 0);
+    const double foot = pixel_angle * t / std::sqrt(std::max(0.02, std::fabs(d[std::max(axis, 0)])));
+    return paint(sc, b.surface, sc.texture_seed + 977 + uint32_t(k), u, v, foot, 0.7, axis == 0 ? 1 : 0);
   }
   const int k = id - ids.branches;
   const Branch& br = sc.branches[std::size_t(k)];
@@ -552,13 +555,15 @@ void apply_sensor(StereoFrame& f, const Imaging& im, std::mt19937& rng) {
     const double gain = right ? im.right_gain : 1.0, offset = right ? im.right_offset_grey : 0.0;
     if (im.noise_grey <= 0 && gain == 1.0 && offset == 0.0) continue;
     uint32_t bits = 0;
-    for (int i = 0; i < int(m->total()); ++i) {
-      double g = gain * m->data[i] + offset;
+    uint8_t* px = m->data;
+    const int n = int(m->total());
+    for (int i = 0; i < n; ++i) {
+      double g = gain * px[i] + offset;
       if (im.noise_grey > 0) {
         if ((i & 1) == 0) bits = uint32_t(rng());
         g += im.noise_grey * double(gauss[(i & 1) ? (bits >> 16) : (bits & 0xFFFF)]);
       }
-      m->data[i] = round_grey(g);
+      px[i] = round_grey(g);
     }
   }
 }
