@@ -94,9 +94,11 @@ double noise(uint32_t seed, double u, double v, double footprint) {
 // integer), so its truncation is lround's half-away-from-zero rounding; below 0.5 both give 0.
 uint8_t round_grey(double g) {
   const double c = std::clamp(g, 0.0, 255.0);
-  // The check's failing case (just below 0.5) is the branch that returns 0.
+  // The check's failing case (just below 0.5) is the select that gives 0. The sum is converted
+  // first, so a loop of these is a select, not a branch, and vectorises.
   // NOLINTNEXTLINE(bugprone-incorrect-roundings)
-  return c < 0.5 ? uint8_t(0) : uint8_t(int(c + 0.5));
+  const int r = int(c + 0.5);
+  return c < 0.5 ? uint8_t(0) : uint8_t(r);
 }
 // std::lround(x) for |x| < 2^62 by the same argument, mirrored for negative x.
 long round_half_away(double x) {
@@ -190,17 +192,34 @@ Eigen::Vector3d branch_root(const Branch& br) {
   return {br.x_m, -br.height_m, br.z_m};
 }
 
-// A finite cylinder around the branch's axis (its caps are too small to matter).
-double hit_branch(const Branch& br, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
-  const Eigen::Vector3d ax = branch_axis(br), w = o - branch_root(br);
-  const Eigen::Vector3d dd = d - d.dot(ax) * ax, ww = w - w.dot(ax) * ax;
-  const double a = dd.squaredNorm(), b = 2 * dd.dot(ww), c = ww.squaredNorm() - br.radius_m * br.radius_m;
+// What a branch's ray test needs of the ray's origin o alone: the axis, o from the root, and its
+// part across the axis.
+struct BranchFromOrigin {
+  Eigen::Vector3d ax, w, ww;
+  double c;
+  BranchFromOrigin(const Branch& br, const Eigen::Vector3d& o)
+      : ax(branch_axis(br)),
+        w(o - branch_root(br)),
+        ww(w - w.dot(ax) * ax),
+        c(ww.squaredNorm() - br.radius_m * br.radius_m) {}
+};
+
+// A finite cylinder around the branch's axis (its caps are too small to matter), for rays from the
+// origin `from` was made for.
+double hit_branch(const Branch& br, const BranchFromOrigin& from, const Eigen::Vector3d& d) {
+  const Eigen::Vector3d& ax = from.ax;
+  const Eigen::Vector3d& w = from.w;
+  const Eigen::Vector3d dd = d - d.dot(ax) * ax;
+  const double a = dd.squaredNorm(), b = 2 * dd.dot(from.ww), c = from.c;
   const double disc = b * b - 4 * a * c;
   if (a < 1e-12 || disc < 0) return kInf;
   const double t = (-b - std::sqrt(disc)) / (2 * a);
   if (t <= 0) return kInf;
   const double s = (w + t * d).dot(ax);
   return s < 0 || s > br.length_m ? kInf : t;
+}
+double hit_branch(const Branch& br, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  return hit_branch(br, BranchFromOrigin(br, o), d);
 }
 
 // The pixel's footprint on a surface of normal n (unit) hit at depth t along d (camera z = 1): the
@@ -425,9 +444,11 @@ class Caster {
     for (std::size_t k = 0; k < sc_.boxes.size(); ++k)
       raster(ids_.boxes + int(k),
              [&](const Eigen::Vector3d& d, int& axis) { return hit_box(sc_.boxes[k], cam, d, axis); });
-    for (std::size_t k = 0; k < sc_.branches.size(); ++k)
+    for (std::size_t k = 0; k < sc_.branches.size(); ++k) {
+      const BranchFromOrigin from(sc_.branches[k], cam);
       raster(ids_.branches + int(k),
-             [&](const Eigen::Vector3d& d, int&) { return hit_branch(sc_.branches[k], cam, d); });
+             [&](const Eigen::Vector3d& d, int&) { return hit_branch(sc_.branches[k], from, d); });
+    }
   }
 
   // Grey levels: one shading per pixel; with antialias, pixels whose id differs from a
@@ -512,11 +533,18 @@ StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const CameraPo
   f.valid_mask = cv::Mat::zeros(h, w, CV_8U);
   f.noc_mask = cv::Mat::zeros(h, w, CV_8U);
   const double fb = rig.focal_px * rig.baseline_m;
+  // Both cameras' disparities first (t is the depth: the direction's camera z is 1), in a loop
+  // that vectorises.
+  thread_local std::vector<double> disp_l, disp_r;
+  disp_l.resize(bl.t.size());
+  disp_r.resize(br.t.size());
+  for (std::size_t i = 0; i < bl.t.size(); ++i) disp_l[i] = fb / bl.t[i];
+  for (std::size_t i = 0; i < br.t.size(); ++i) disp_r[i] = fb / br.t[i];
   for (int v = 0; v < h; ++v)
     for (int u = 0; u < w; ++u) {
       const std::size_t i = std::size_t(v) * std::size_t(w) + std::size_t(u);
       if (bl.id[i] == 0) continue;
-      const double disp = fb / bl.t[i];  // t is the depth: the direction's camera z is 1
+      const double disp = disp_l[i];
       if (disp >= 255.0) continue;
       f.disparity_px.at<float>(v, u) = float(disp);
       f.valid_mask.at<uint8_t>(v, u) = 255;
@@ -524,7 +552,7 @@ StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const CameraPo
       const int ur = int(round_half_away(double(u) - disp));
       if (ur < 0 || ur >= w) continue;
       const std::size_t j = std::size_t(v) * std::size_t(w) + std::size_t(ur);
-      if (br.id[j] != 0 && std::fabs(fb / br.t[j] - disp) <= 1.0) f.noc_mask.at<uint8_t>(v, u) = 255;
+      if (br.id[j] != 0 && std::fabs(disp_r[j] - disp) <= 1.0) f.noc_mask.at<uint8_t>(v, u) = 255;
     }
   return f;
 }
@@ -573,17 +601,26 @@ void apply_sensor(StereoFrame& f, const Imaging& im, std::mt19937& rng) {
     const bool right = m == &f.right;
     const double gain = right ? im.right_gain : 1.0, offset = right ? im.right_offset_grey : 0.0;
     if (im.noise_grey <= 0 && gain == 1.0 && offset == 0.0) continue;
-    uint32_t bits = 0;
     uint8_t* px = m->data;
     const int n = int(m->total());
-    for (int i = 0; i < n; ++i) {
-      double g = gain * px[i] + offset;
-      if (im.noise_grey > 0) {
-        if ((i & 1) == 0) bits = uint32_t(rng());
-        g += im.noise_grey * double(gauss[(i & 1) ? (bits >> 16) : (bits & 0xFFFF)]);
-      }
-      px[i] = round_grey(g);
+    const double noise = im.noise_grey;
+    if (noise <= 0) {
+      for (int i = 0; i < n; ++i) px[i] = round_grey(gain * px[i] + offset);
+      continue;
     }
+    // One draw per pixel pair, in pixel order: its low half for the even pixel, its high half for
+    // the odd one. The draws and table reads first, then a loop that vectorises.
+    thread_local std::vector<uint32_t> draws;
+    thread_local std::vector<float> normal;
+    draws.resize(std::size_t(n + 1) / 2);
+    normal.resize(std::size_t(n) + 1);
+    for (std::size_t k = 0; k < draws.size(); ++k) {
+      const uint32_t b = uint32_t(rng());
+      normal[2 * k] = gauss[b & 0xFFFF];
+      normal[2 * k + 1] = gauss[b >> 16];
+    }
+    const float* z = normal.data();
+    for (int i = 0; i < n; ++i) px[i] = round_grey(gain * px[i] + offset + noise * double(z[i]));
   }
 }
 
