@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "parallax/config/config.hpp"
 #include "parallax/eval/dataset.hpp"
@@ -164,6 +165,59 @@ TEST(Scene, ClearanceAndKittiExport) {
   const Dataset ds = open_dataset(dir);
   EXPECT_EQ(list_frames(ds, GtKind::noc, "").size(), 2u);
   EXPECT_EQ(list_frames(ds, GtKind::occ, "").size(), 2u);
+}
+
+// The flights' figures in docs/flight.md were measured on these exact frames: a change of the
+// renderer that alters a single bit (of the grey images, the disparity or the masks) changes the
+// flights and must come with the figures measured again. Every shipped scenario at its own size
+// and at 320 px, at poses off the flight axis with yaw and pitch, through the sensor model, and one
+// frame through distorting lenses; FNV-1a over the bytes. GCC 12 at -O3 with FMA (the project's
+// native builds, AMD and Intel alike; also -march=x86-64-v3/v4) gives the first digest, builds
+// without FMA contraction (-march=x86-64, or -O1/-O2 as in the debug preset) the second.
+TEST(Scene, RenderedFramesAreThoseTheFlightsWereMeasuredOn) {
+  auto fnv = [](uint64_t h, const cv::Mat& m) {
+    const cv::Mat c = m.isContinuous() ? m : m.clone();
+    for (std::size_t i = 0; i < c.total() * c.elemSize(); ++i) h = (h ^ c.data[i]) * 1099511628211ull;
+    return h;
+  };
+  // {with FMA at -O3, without FMA contraction}: only the stripes' sine differs between the two.
+  const std::vector<std::pair<std::string, std::pair<uint64_t, uint64_t>>> expected = {
+      {"forest", {0x19346bbd091a4759ull, 0x19346bbd091a4759ull}},
+      {"corridor", {0x127912bc765ab5a7ull, 0x127912bc765ab5a7ull}},
+      {"wall-gap", {0x2828008a9cbd8badull, 0x2828008a9cbd8badull}},
+      {"wall-gap-plain", {0xf13bf20324ae58acull, 0xf13bf20324ae58acull}},
+      {"corridor-stripes", {0x47457384f354e514ull, 0x00b2db14523484d3ull}},
+      {"single-pole", {0x26bf445e37e9c064ull, 0x26bf445e37e9c064ull}}};
+  for (const auto& [name, digests] : expected) {
+    const Scenario s = load_scenario(name);
+    const Scene scene = generate_scene(s, 1);
+    uint64_t h = 1469598103934665603ull;
+    for (const int size : {0, 320}) {
+      const RigSpec spec = scaled_rig(s.rig, size);
+      const Rig rig = rig_of(spec, spec.width_px, spec.height_px);
+      std::mt19937 rng(31u + uint32_t(size));
+      // Poses as constants (x, height offset, z in metres; yaw, pitch in radians): no arithmetic
+      // that a compiler could contract differently in another build.
+      const double poses[3][5] = {
+          {1.3, 0.2, 0.5, 0.31, -0.08}, {-0.7, -0.25, 6.2, -0.45, 0.12}, {0.2, 0.0, 11.8, 0.05, 0.0}};
+      for (const auto& q : poses) {
+        CameraPose pose;
+        pose.position_m = Eigen::Vector3d(q[0], q[1] - s.rig.altitude_m, q[2]);
+        pose.yaw_rad = q[3];
+        pose.pitch_rad = q[4];
+        StereoFrame f = render(scene, rig, spec.width_px, spec.height_px, pose, s.imaging.antialias);
+        apply_sensor(f, s.imaging, rng);
+        for (const cv::Mat* m : {&f.left, &f.right, &f.disparity_px, &f.valid_mask, &f.noc_mask}) h = fnv(h, *m);
+      }
+      if (size == 320) {
+        const StereoFrame f = render(scene, rig, spec.width_px, spec.height_px, Eigen::Vector3d(0, -1.6, 3), -0.1);
+        for (const cv::Mat* m : {&f.left, &f.right}) h = fnv(h, *m);
+      }
+    }
+    EXPECT_TRUE(h == digests.first || h == digests.second)
+        << name << ": the rendered frames changed (digest 0x" << std::hex << h
+        << "); the flights of docs/flight.md were measured on the previous frames";
+  }
 }
 
 // Distorting lenses: the design reads worse images unless its rectify stage undoes the distortion
