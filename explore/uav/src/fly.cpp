@@ -135,7 +135,8 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
       pose.yaw_rad = st.yaw_rad;
       pose.pitch_rad = st.pitch_rad + sc.rig.mount_pitch_deg * M_PI / 180.0;
       const auto t0 = clock::now();
-      StereoFrame f = render(scene, setup.rig, setup.width_px, setup.height_px, pose, sc.imaging.antialias);
+      // The oracle reads the left image (the map's texture test) and the exact disparity only.
+      StereoFrame f = render(scene, setup.rig, setup.width_px, setup.height_px, pose, sc.imaging.antialias, !fp.oracle);
       apply_sensor(f, sc.imaging, rng);
       const auto t1 = clock::now();
       InFlight in{t + setup.reaction_s, {}, {}, f.left, pose};

@@ -517,7 +517,8 @@ Eigen::Matrix3d camera_axes(const CameraPose& pose) {
   return m;
 }
 
-StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const CameraPose& pose, bool antialias) {
+StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const CameraPose& pose, bool antialias,
+                   bool right_grey) {
   const Eigen::Matrix3d axes = camera_axes(pose);
   const Caster caster(sc, rig, w, h, axes);
   const Eigen::Vector3d cam_l = pose.position_m, cam_r = pose.position_m + rig.baseline_m * axes.col(0);
@@ -528,7 +529,7 @@ StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const CameraPo
   caster.trace(cam_r, boxes_r, br);
   StereoFrame f;
   f.left = caster.grey(cam_l, bl, boxes_l, antialias);
-  f.right = caster.grey(cam_r, br, boxes_r, antialias);
+  if (right_grey) f.right = caster.grey(cam_r, br, boxes_r, antialias);
   f.disparity_px = cv::Mat::zeros(h, w, CV_32F);
   f.valid_mask = cv::Mat::zeros(h, w, CV_8U);
   f.noc_mask = cv::Mat::zeros(h, w, CV_8U);
@@ -601,9 +602,13 @@ void apply_sensor(StereoFrame& f, const Imaging& im, std::mt19937& rng) {
     const bool right = m == &f.right;
     const double gain = right ? im.right_gain : 1.0, offset = right ? im.right_offset_grey : 0.0;
     if (im.noise_grey <= 0 && gain == 1.0 && offset == 0.0) continue;
-    uint8_t* px = m->data;
-    const int n = int(m->total());
+    const int n = int(f.left.total());  // both images are of the left's size
     const double noise = im.noise_grey;
+    if (m->empty()) {  // not rendered: its share of draws is taken and dropped
+      if (noise > 0) rng.discard((static_cast<unsigned long long>(n) + 1) / 2);
+      continue;
+    }
+    uint8_t* px = m->data;
     if (noise <= 0) {
       for (int i = 0; i < n; ++i) px[i] = round_grey(gain * px[i] + offset);
       continue;

@@ -220,6 +220,28 @@ TEST(Scene, RenderedFramesAreThoseTheFlightsWereMeasuredOn) {
   }
 }
 
+// The oracle's frames: no right grey image, the same left image and truth, and the sensor's
+// generator left where two images would leave it (so the next frame's noise is the same).
+TEST(Scene, LeftOnlyFramesKeepTheSensorsGenerator) {
+  const Scenario s = load_scenario("forest");
+  const Scene scene = generate_scene(s, 3);
+  const Rig rig = rig_of(s.rig, s.rig.width_px, s.rig.height_px);
+  CameraPose pose;
+  pose.position_m = Eigen::Vector3d(0.4, -s.rig.altitude_m, 4.0);
+  pose.yaw_rad = 0.2;
+  std::mt19937 both(11), left_only(11);
+  StereoFrame a = render(scene, rig, s.rig.width_px, s.rig.height_px, pose, true);
+  StereoFrame b = render(scene, rig, s.rig.width_px, s.rig.height_px, pose, true, false);
+  EXPECT_TRUE(b.right.empty());
+  apply_sensor(a, s.imaging, both);
+  apply_sensor(b, s.imaging, left_only);
+  EXPECT_EQ(cv::norm(a.left, b.left, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a.disparity_px, b.disparity_px, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a.noc_mask, b.noc_mask, cv::NORM_INF), 0.0);
+  EXPECT_TRUE(both == left_only);
+  EXPECT_EQ(both(), left_only());
+}
+
 // Distorting lenses: the design reads worse images unless its rectify stage undoes the distortion
 // with the maps the scene wrote; then it scores nearly as on the undistorted scene.
 TEST(Scene, DistortedScenesExerciseTheRectifyStage) {

@@ -123,10 +123,14 @@ Eigen::Matrix3d camera_axes(const CameraPose& pose);
 StereoFrame render(const Scene& scene, const Rig& rig, int width_px, int height_px, const Eigen::Vector3d& camera_m,
                    double radial_k1 = 0.0);
 // Renders the rig at a pose (yaw, pitch) with the imaging's anti-aliasing; gain and noise are the
-// sensor's (apply_sensor).
+// sensor's (apply_sensor). right_grey = false leaves `right` empty (the truth still covers both
+// cameras): for a consumer of the left image and the exact disparity alone, such as the oracle
+// flight.
 StereoFrame render(const Scene& scene, const Rig& rig, int width_px, int height_px, const CameraPose& pose,
-                   bool antialias);
+                   bool antialias, bool right_grey = true);
 // The sensor on rendered images: the right camera's gain and offset, then read noise from `rng`.
+// An empty right image takes its share of `rng` all the same, so the generator leaves in the
+// state it would with both images (the frames after it get the same noise).
 void apply_sensor(StereoFrame& frame, const Imaging& imaging, std::mt19937& rng);
 // The remap tables (for every rectified pixel, its source position in the distorted image) of
 // such lenses, as cv::initUndistortRectifyMap writes them; saved as OpenCV YAML with map_x/map_y,
