@@ -602,9 +602,10 @@ void apply_sensor(StereoFrame& f, const Imaging& im, std::mt19937& rng) {
     const bool right = m == &f.right;
     const double gain = right ? im.right_gain : 1.0, offset = right ? im.right_offset_grey : 0.0;
     if (im.noise_grey <= 0 && gain == 1.0 && offset == 0.0) continue;
-    const int n = int(f.left.total());  // both images are of the left's size
+    // An image not rendered (empty) is of the left's size: its share of draws is taken and dropped.
+    const int n = int(m->empty() ? f.left.total() : m->total());
     const double noise = im.noise_grey;
-    if (m->empty()) {  // not rendered: its share of draws is taken and dropped
+    if (m->empty()) {
       if (noise > 0) rng.discard((static_cast<unsigned long long>(n) + 1) / 2);
       continue;
     }
