@@ -136,7 +136,8 @@ FlightResult fly(const config::PipelineConfig& cfg, const Scenario& sc, const Sc
       pose.pitch_rad = st.pitch_rad + sc.rig.mount_pitch_deg * M_PI / 180.0;
       const auto t0 = clock::now();
       // The oracle reads the left image (the map's texture test) and the exact disparity only.
-      StereoFrame f = render(scene, setup.rig, setup.width_px, setup.height_px, pose, sc.imaging.antialias, !fp.oracle);
+      StereoFrame f = render(scene, setup.rig, setup.width_px, setup.height_px, pose, sc.imaging.antialias,
+                             fp.oracle ? GreyImages::left_only : GreyImages::both);
       apply_sensor(f, sc.imaging, rng);
       const auto t1 = clock::now();
       InFlight in{t + setup.reaction_s, {}, {}, f.left, pose};

@@ -518,7 +518,7 @@ Eigen::Matrix3d camera_axes(const CameraPose& pose) {
 }
 
 StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const CameraPose& pose, bool antialias,
-                   bool right_grey) {
+                   GreyImages grey) {
   const Eigen::Matrix3d axes = camera_axes(pose);
   const Caster caster(sc, rig, w, h, axes);
   const Eigen::Vector3d cam_l = pose.position_m, cam_r = pose.position_m + rig.baseline_m * axes.col(0);
@@ -529,7 +529,7 @@ StereoFrame render(const Scene& sc, const Rig& rig, int w, int h, const CameraPo
   caster.trace(cam_r, boxes_r, br);
   StereoFrame f;
   f.left = caster.grey(cam_l, bl, boxes_l, antialias);
-  if (right_grey) f.right = caster.grey(cam_r, br, boxes_r, antialias);
+  if (grey == GreyImages::both) f.right = caster.grey(cam_r, br, boxes_r, antialias);
   f.disparity_px = cv::Mat::zeros(h, w, CV_32F);
   f.valid_mask = cv::Mat::zeros(h, w, CV_8U);
   f.noc_mask = cv::Mat::zeros(h, w, CV_8U);

@@ -233,7 +233,7 @@ TEST(Scene, LeftOnlyFramesKeepTheSensorsGenerator) {
   pose.yaw_rad = 0.2;
   std::mt19937 both(11), left_only(11);
   StereoFrame a = render(scene, rig, s.rig.width_px, s.rig.height_px, pose, true);
-  StereoFrame b = render(scene, rig, s.rig.width_px, s.rig.height_px, pose, true, false);
+  StereoFrame b = render(scene, rig, s.rig.width_px, s.rig.height_px, pose, true, GreyImages::left_only);
   EXPECT_TRUE(b.right.empty());
   apply_sensor(a, s.imaging, both);
   apply_sensor(b, s.imaging, left_only);

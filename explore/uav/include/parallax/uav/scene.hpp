@@ -122,12 +122,14 @@ Eigen::Matrix3d camera_axes(const CameraPose& pose);
 // rectification_maps() recovers.
 StereoFrame render(const Scene& scene, const Rig& rig, int width_px, int height_px, const Eigen::Vector3d& camera_m,
                    double radial_k1 = 0.0);
+// Which grey images render() draws: both, or the left alone (`right` left empty; the truth still
+// covers both cameras), for a consumer of the left image and the exact disparity only, such as
+// the oracle flight.
+enum class GreyImages { both, left_only };
 // Renders the rig at a pose (yaw, pitch) with the imaging's anti-aliasing; gain and noise are the
-// sensor's (apply_sensor). right_grey = false leaves `right` empty (the truth still covers both
-// cameras): for a consumer of the left image and the exact disparity alone, such as the oracle
-// flight.
+// sensor's (apply_sensor).
 StereoFrame render(const Scene& scene, const Rig& rig, int width_px, int height_px, const CameraPose& pose,
-                   bool antialias, bool right_grey = true);
+                   bool antialias, GreyImages grey = GreyImages::both);
 // The sensor on rendered images: the right camera's gain and offset, then read noise from `rng`.
 // An empty right image takes its share of `rng` all the same, so the generator leaves in the
 // state it would with both images (the frames after it get the same noise).
