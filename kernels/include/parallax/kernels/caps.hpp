@@ -3,6 +3,7 @@
 // the HLS export instantiates the kernels with the exact values of one design.
 #pragma once
 
+#include "parallax/kernels/access.hpp"
 #include "parallax/kernels/params.hpp"
 
 namespace parallax {
@@ -19,9 +20,18 @@ namespace kern {
 // PU = LANES, so the kernels use these constants instead of the runtime values and synthesis
 // sees compile-time lane addresses and trip counts. Software instantiations (FIXED = false) take
 // D and PU at run time within the capacities.
+// COUNT: the kernels' arrays count their accesses per bank and firing (access.hpp; the
+// simulator's counting run and the exported C simulation, never synthesis); software
+// instantiations then also run their lane loops to PU exactly (no SIMD rounding), as the
+// hardware's unrolled copies do.
 template <int MAX_W, int MAX_D, int LANES, int WINDOW_ROWS = kMaxWindow, int MEDIAN_ROWS = kMaxMedian,
-          unsigned KIND_MASK = 0xFu, bool FIXED = false, int MAX_MIN_D = (FIXED ? 0 : kMaxMinDisparity)>
+          unsigned KIND_MASK = 0xFu, bool FIXED = false, int MAX_MIN_D = (FIXED ? 0 : kMaxMinDisparity),
+          bool COUNT = false>
 struct Caps {
+  static constexpr bool count_accesses = COUNT;
+  // A member array T[N0][N1]... of a kernel instantiated with these capacities.
+  template <class T, int... N>
+  using array = typename ArrayOf<COUNT, T, N...>::type;
   static constexpr int max_width_px = MAX_W;
   static constexpr int max_disparities = MAX_D;
   static constexpr int lanes = LANES;
@@ -41,7 +51,7 @@ struct Caps {
   // The same where the iterations past `runtime` are don't-care: software instantiations round
   // up to whole SIMD vectors of 16 lanes (no scalar remainder), within `cap`.
   static constexpr int simd_trip(int runtime, int cap) {
-    return FIXED ? cap : ((runtime + 15) / 16 * 16 < cap ? (runtime + 15) / 16 * 16 : cap);
+    return FIXED ? cap : COUNT ? runtime : ((runtime + 15) / 16 * 16 < cap ? (runtime + 15) / 16 * 16 : cap);
   }
   static_assert(!FIXED || MAX_D % LANES == 0, "a fixed design's PU divides its D");
 };

@@ -30,7 +30,7 @@ namespace kern {
 // reversed rows, row_reverse.hpp): no row memory, so one column of capacity.
 template <class C>
 using PixelPathCaps = Caps<1, C::max_disparities, C::lanes, C::window_rows, C::median_rows, 1u << kKindPixel, C::fixed,
-                           C::max_min_disparity>;
+                           C::max_min_disparity, C::count_accesses>;
 
 struct AggPlan {
   bool read_cost;     // one cost token

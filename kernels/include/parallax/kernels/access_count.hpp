@@ -1,0 +1,464 @@
+// The access-counting build of the kernels' arrays (access.hpp; issue 41). Never synthesised:
+// C++14 with the standard library, used by the simulator's counting run and the exported
+// project's C simulation.
+//
+// Counted<T, N...> stands for T[N0][N1]...: indexing records, at the first subscript, where in
+// the source the access is written (AccessIndex captures the file and line of the subscript);
+// reading or assigning the element records a read or a write of its bank. The tally keeps, per
+// access site (the place times its execution count k within the firing, i.e. the k-th unrolled
+// copy), the set of banks it reached; per firing, the sorted list of sites that executed. The
+// report (access_report()) sums, per distinct list, each bank's reads and writes with every site
+// counted on every bank it ever reached, and keeps the largest sum of any firing.
+#pragma once
+
+#include <stdint.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace parallax {
+namespace kern {
+
+// One subscript and where it is written: a kernel's `mem[i]` converts i to AccessIndex, whose
+// default arguments take the subscript's own file and line.
+struct AccessIndex {
+  long i;
+  const char* file;
+  int line;
+  // NOLINTNEXTLINE(google-explicit-constructor): the conversion is the point (see above)
+  AccessIndex(long v, const char* f = __builtin_FILE(), int l = __builtin_LINE()) : i(v), file(f), line(l) {}
+};
+
+// What the report says of one memory of one stage (access_report()).
+struct MemoryAccesses {
+  std::string stage;
+  std::string name;
+  std::string kind;  // registers, ram_1p, ram_2p, ram_s2p, ram_t2p, default (counted as ram_t2p)
+  int banks = 1;
+  int read_ports = 0, write_ports = 0;  // per bank; 0 = unlimited (registers)
+  bool shared_ports = false;            // the ports serve reads and writes alike (ram_1p, ram_t2p, default)
+  int64_t firings = 0;                  // firings in which the memory was accessed
+  int max_reads_per_bank_per_firing = 0;
+  int max_writes_per_bank_per_firing = 0;
+  int runtime_banked_sites = 0;            // sites that reached more than one bank
+  int max_banks_per_site = 1;              // the widest such site: its mux (read) or demux (write) fan-in
+  std::vector<std::string> runtime_sites;  // "file:line copy k reads|writes N banks"
+  int ii_forced = 1;                       // the smallest II the counts fit the ports at
+  std::string error;                       // e.g. one array accessed from two stages
+};
+
+// The smallest II at which `reads` and `writes` per bank and firing fit a bank's ports.
+inline int access_ii_forced(int storage, int reads, int writes) {
+  const auto ceil_div = [](int a, int b) { return (a + b - 1) / b; };
+  switch (storage) {
+    case kStorageRegisters:
+      return 1;
+    case kStorageRam1p:
+      return std::max(1, reads + writes);
+    case kStorageRam2p:  // one read-or-write port and one read port
+      return std::max(1, std::max(writes, ceil_div(reads + writes, 2)));
+    case kStorageRamS2p:
+      return std::max(1, std::max(reads, writes));
+    default:  // ram_t2p and unbound arrays
+      return std::max(1, ceil_div(reads + writes, 2));
+  }
+}
+
+inline const char* access_storage_name(int storage) {
+  return storage == kStorageRegisters ? "registers"
+         : storage == kStorageRam1p   ? "ram_1p"
+         : storage == kStorageRam2p   ? "ram_2p"
+         : storage == kStorageRamS2p  ? "ram_s2p"
+         : storage == kStorageRamT2p  ? "ram_t2p"
+                                      : "default";
+}
+
+class AccessTally;
+
+// The counting run's state on this thread: the stage firing now (AccessFiring), the firings of
+// every stage, the reports of arrays already destroyed and the arrays alive.
+class AccessRegistry {
+ public:
+  static AccessRegistry& get() {
+    static thread_local AccessRegistry r;
+    return r;
+  }
+  const char* stage() const { return stage_; }
+  uint64_t firing() const { return firing_; }
+  void begin_firing(const char* stage) {
+    stage_ = stage;
+    firing_ = ++serial_;
+    ++firings_[stage];
+  }
+  void end_firing() {
+    stage_ = nullptr;
+    firing_ = 0;
+  }
+  const std::map<std::string, int64_t>& stage_firings() const { return firings_; }
+  void add_live(AccessTally* t) { live_.insert(t); }
+  void remove_live(AccessTally* t) { live_.erase(t); }
+  void add_finished(MemoryAccesses m) { finished_.push_back(std::move(m)); }
+  // Every counted memory so far, one entry per stage and name (several arrays of one name in one
+  // stage, e.g. one per frame of a C simulation, merged by their largest counts).
+  std::vector<MemoryAccesses> report() const;
+  // Forget everything (a new counting run).
+  void reset() {
+    firings_.clear();
+    finished_.clear();
+    live_.clear();
+    stage_ = nullptr;
+    firing_ = 0;
+  }
+
+ private:
+  const char* stage_ = nullptr;
+  uint64_t firing_ = 0, serial_ = 0;
+  std::map<std::string, int64_t> firings_;
+  std::vector<MemoryAccesses> finished_;
+  std::set<AccessTally*> live_;
+};
+
+// One firing of `stage`: the accesses between construction and destruction belong to it.
+class AccessFiring {
+ public:
+  explicit AccessFiring(const char* stage) { AccessRegistry::get().begin_firing(stage); }
+  ~AccessFiring() { AccessRegistry::get().end_firing(); }
+  AccessFiring(const AccessFiring&) = delete;
+  AccessFiring& operator=(const AccessFiring&) = delete;
+};
+
+// The counts of one array (see the top of this file).
+class AccessTally {
+ public:
+  AccessTally(const int* dims, int rank) : rank_(rank) {
+    for (int k = 0; k < rank; ++k) {
+      dims_[k] = dims[k];
+      part_[k] = kPartitionNone;
+      factor_[k] = 1;
+    }
+  }
+  AccessTally(const AccessTally&) = delete;
+  AccessTally& operator=(const AccessTally&) = delete;
+  ~AccessTally() {
+    if (!registered_) return;
+    AccessRegistry& r = AccessRegistry::get();
+    r.remove_live(this);
+    r.add_finished(summary());
+  }
+
+  // dim: 1-based, 0 = every dimension (ARRAY_PARTITION's dim=0).
+  void partition(const char* name, int type, int factor, int dim) {
+    name_ = name;
+    for (int k = 0; k < rank_; ++k)
+      if (dim == 0 || dim == k + 1) {
+        part_[k] = type;
+        factor_[k] = factor < 1 ? 1 : factor;
+      }
+    complete_ = true;
+    for (int k = 0; k < rank_; ++k) complete_ = complete_ && part_[k] == kPartitionComplete;
+  }
+  void bind(int storage) { storage_ = storage; }
+
+  void record(long flat, bool write, const char* file, int line) {
+    AccessRegistry& r = AccessRegistry::get();
+    if (r.firing() == 0) return;  // outside a firing: set-up, not the pipelined loop
+    if (!registered_) {
+      registered_ = true;
+      r.add_live(this);
+      stage_ = r.stage();
+    } else if (stage_ != r.stage() && error_.empty()) {
+      error_ = "accessed from stages " + stage_ + " and " + r.stage();
+    }
+    if (r.firing() != firing_) {
+      close_firing();
+      firing_ = r.firing();
+    }
+    const int base = base_site(file, line, write);
+    BaseSite& b = bases_[std::size_t(base)];
+    if (b.stamp != firing_) {
+      b.stamp = firing_;
+      b.count = 0;
+    }
+    const int copy = b.count++;
+    if (copy >= int(b.sites.size())) {
+      b.sites.push_back(int(sites_.size()));
+      sites_.push_back(Site{base, copy, {}});
+    }
+    const int site = b.sites[std::size_t(copy)];
+    sites_[std::size_t(site)].banks.insert(bank_of(flat));
+    current_.push_back(site);
+  }
+
+  MemoryAccesses summary() {
+    close_firing();
+    MemoryAccesses m;
+    m.stage = stage_;
+    m.name = name_.empty() ? "(unnamed)" : name_;
+    const int storage = complete_ ? kStorageRegisters : storage_;
+    m.kind = access_storage_name(storage);
+    m.banks = banks();
+    m.read_ports = storage == kStorageRegisters ? 0
+                   : storage == kStorageRam2p   ? 2
+                   : storage == kStorageRam1p   ? 1
+                   : storage == kStorageRamS2p  ? 1
+                                                : 2;
+    m.write_ports = storage == kStorageRegisters ? 0
+                    : storage == kStorageRam2p   ? 1
+                    : storage == kStorageRam1p   ? 1
+                    : storage == kStorageRamS2p  ? 1
+                                                 : 2;
+    m.shared_ports =
+        storage == kStorageRam1p || storage == kStorageRamT2p || storage == kStorageDefault || storage == kStorageRam2p;
+    m.error = error_;
+    for (const auto& sig : signatures_) {
+      m.firings += sig.second;
+      std::map<int, int> reads, writes;
+      for (int site : sig.first) {
+        const Site& s = sites_[std::size_t(site)];
+        std::map<int, int>& tally = bases_[std::size_t(s.base)].write ? writes : reads;
+        for (int bank : s.banks) ++tally[bank];
+      }
+      for (const auto& b : reads) m.max_reads_per_bank_per_firing = std::max(m.max_reads_per_bank_per_firing, b.second);
+      for (const auto& b : writes)
+        m.max_writes_per_bank_per_firing = std::max(m.max_writes_per_bank_per_firing, b.second);
+    }
+    for (const Site& s : sites_) {
+      if (s.banks.size() <= 1) continue;
+      ++m.runtime_banked_sites;
+      m.max_banks_per_site = std::max(m.max_banks_per_site, int(s.banks.size()));
+      const BaseSite& b = bases_[std::size_t(s.base)];
+      if (m.runtime_sites.size() < 16)
+        m.runtime_sites.push_back(short_file(b.file) + ":" + std::to_string(b.line) + " copy " +
+                                  std::to_string(s.copy) + (b.write ? " writes " : " reads ") +
+                                  std::to_string(s.banks.size()) + " banks");
+    }
+    m.ii_forced = access_ii_forced(storage, m.max_reads_per_bank_per_firing, m.max_writes_per_bank_per_firing);
+    return m;
+  }
+
+ private:
+  struct BaseSite {
+    const char* file;
+    int line;
+    bool write;
+    uint64_t stamp;
+    int count;
+    std::vector<int> sites;  // by copy
+  };
+  struct Site {
+    int base;
+    int copy;
+    std::set<int> banks;
+  };
+
+  static std::string short_file(const char* f) {
+    const std::string s(f);
+    const std::size_t k = s.rfind("/kernels/");
+    return k == std::string::npos ? s : s.substr(k + 1);
+  }
+
+  int base_site(const char* file, int line, bool write) {
+    const auto key = std::make_pair(std::make_pair(static_cast<const void*>(file), line), write);
+    const auto it = base_index_.find(key);
+    if (it != base_index_.end()) return it->second;
+    const int id = int(bases_.size());
+    bases_.push_back(BaseSite{file, line, write, 0, 0, {}});
+    base_index_.emplace(key, id);
+    return id;
+  }
+
+  // The bank of element `flat` (row-major): per dimension, the partition's bank coordinate.
+  int bank_of(long flat) const {
+    long idx[kMaxRank];
+    for (int k = rank_ - 1; k >= 0; --k) {
+      idx[k] = flat % dims_[k];
+      flat /= dims_[k];
+    }
+    long bank = 0;
+    for (int k = 0; k < rank_; ++k) {
+      int n = 1, c = 0;
+      if (part_[k] == kPartitionComplete) {
+        n = dims_[k];
+        c = int(idx[k]);
+      } else if (part_[k] == kPartitionCyclic) {
+        n = factor_[k];
+        c = int(idx[k] % factor_[k]);
+      } else if (part_[k] == kPartitionBlock) {
+        n = factor_[k];
+        const int size = (dims_[k] + factor_[k] - 1) / factor_[k];
+        c = int(idx[k] / size);
+      }
+      bank = bank * n + c;
+    }
+    return int(bank);
+  }
+  int banks() const {
+    long n = 1;
+    for (int k = 0; k < rank_; ++k)
+      n *= part_[k] == kPartitionComplete ? dims_[k] : part_[k] == kPartitionNone ? 1 : factor_[k];
+    return int(n);
+  }
+
+  void close_firing() {
+    if (current_.empty()) return;
+    std::sort(current_.begin(), current_.end());
+    ++signatures_[current_];
+    current_.clear();
+  }
+
+  static constexpr int kMaxRank = 4;
+  int rank_;
+  int dims_[kMaxRank];
+  int part_[kMaxRank];
+  int factor_[kMaxRank];
+  bool complete_ = false;
+  int storage_ = kStorageDefault;
+  std::string name_, stage_, error_;
+  bool registered_ = false;
+  uint64_t firing_ = 0;
+  std::vector<BaseSite> bases_;
+  std::map<std::pair<std::pair<const void*, int>, bool>, int> base_index_;
+  std::vector<Site> sites_;
+  std::vector<int> current_;
+  std::map<std::vector<int>, int64_t> signatures_;
+};
+
+inline std::vector<MemoryAccesses> AccessRegistry::report() const {
+  std::vector<MemoryAccesses> all = finished_;
+  for (AccessTally* t : live_) all.push_back(t->summary());
+  std::vector<MemoryAccesses> out;
+  for (MemoryAccesses& m : all) {
+    auto it = std::find_if(out.begin(), out.end(),
+                           [&](const MemoryAccesses& o) { return o.stage == m.stage && o.name == m.name; });
+    if (it == out.end()) {
+      out.push_back(std::move(m));
+      continue;
+    }
+    it->firings += m.firings;
+    it->max_reads_per_bank_per_firing = std::max(it->max_reads_per_bank_per_firing, m.max_reads_per_bank_per_firing);
+    it->max_writes_per_bank_per_firing = std::max(it->max_writes_per_bank_per_firing, m.max_writes_per_bank_per_firing);
+    it->runtime_banked_sites = std::max(it->runtime_banked_sites, m.runtime_banked_sites);
+    it->max_banks_per_site = std::max(it->max_banks_per_site, m.max_banks_per_site);
+    it->ii_forced = std::max(it->ii_forced, m.ii_forced);
+    if (it->error.empty()) it->error = m.error;
+  }
+  std::sort(out.begin(), out.end(), [](const MemoryAccesses& a, const MemoryAccesses& b) {
+    return a.stage != b.stage ? a.stage < b.stage : a.name < b.name;
+  });
+  return out;
+}
+
+// A counted stand-in for T[N0][N1]...: the same elements, row-major, and a tally.
+template <class T, int... N>
+class Counted;
+
+namespace access_detail {
+constexpr long product() {
+  return 1;
+}
+template <class... R>
+constexpr long product(int a, R... r) {
+  return long(a) * product(r...);
+}
+}  // namespace access_detail
+
+// A partly subscripted counted array: L of its subscripts given, `flat` their row-major offset.
+template <class A, int L, bool LAST = (L == A::kRank)>
+class CountedRef;
+
+template <class A, int L>
+class CountedRef<A, L, false> {
+ public:
+  CountedRef(A* a, long flat, const char* file, int line) : a_(a), flat_(flat), file_(file), line_(line) {}
+  CountedRef<A, L + 1> operator[](long i) const {
+    return CountedRef<A, L + 1>(a_, flat_ * A::dim(L) + i, file_, line_);
+  }
+
+ private:
+  A* a_;
+  long flat_;
+  const char* file_;
+  int line_;
+};
+
+template <class A, int L>
+class CountedRef<A, L, true> {
+ public:
+  typedef typename A::value_type T;
+  CountedRef(A* a, long flat, const char* file, int line) : a_(a), flat_(flat), file_(file), line_(line) {}
+  // NOLINTNEXTLINE(google-explicit-constructor): reading the element is the conversion
+  operator T() const { return a_->read(flat_, file_, line_); }
+  const CountedRef& operator=(const T& v) const {
+    a_->write(flat_, v, file_, line_);
+    return *this;
+  }
+  const CountedRef& operator=(const CountedRef& o) const { return *this = T(o); }
+  CountedRef(const CountedRef&) = default;
+
+ private:
+  A* a_;
+  long flat_;
+  const char* file_;
+  int line_;
+};
+
+template <class T, int... N>
+class Counted {
+ public:
+  typedef T value_type;
+  static constexpr int kRank = int(sizeof...(N));
+  static constexpr long kSize = access_detail::product(N...);
+  static int dim(int k) {
+    static const int d[] = {N...};
+    return d[k];
+  }
+  Counted() : v_(new T[std::size_t(kSize)]()), tally_(dims(), kRank) {}
+  Counted(const Counted&) = delete;
+  Counted& operator=(const Counted&) = delete;
+
+  CountedRef<Counted, 1> operator[](AccessIndex i) { return CountedRef<Counted, 1>(this, i.i, i.file, i.line); }
+  CountedRef<const Counted, 1> operator[](AccessIndex i) const {
+    return CountedRef<const Counted, 1>(this, i.i, i.file, i.line);
+  }
+
+  T read(long flat, const char* file, int line) const {
+    tally_.record(flat, false, file, line);
+    return v_[flat];
+  }
+  void write(long flat, const T& v, const char* file, int line) const {
+    tally_.record(flat, true, file, line);
+    v_[flat] = v;
+  }
+  AccessTally& tally() const { return tally_; }
+
+ private:
+  static const int* dims() {
+    static const int d[] = {N...};
+    return d;
+  }
+  std::unique_ptr<T[]> v_;  // on the heap: software capacities make large arrays
+  mutable AccessTally tally_;
+};
+
+template <class T, int... N>
+inline void access_partition(Counted<T, N...>& a, const char* name, int type, int factor, int dim) {
+  a.tally().partition(name, type, factor, dim);
+}
+template <class T, int... N>
+inline void access_bind(Counted<T, N...>& a, int storage) {
+  a.tally().bind(storage);
+}
+
+template <class T, int... N>
+struct ArrayOf<true, T, N...> {
+  typedef Counted<T, N...> type;
+};
+
+}  // namespace kern
+}  // namespace parallax
