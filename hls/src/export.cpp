@@ -302,7 +302,7 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
 }
 
 // Storage directives of the line buffers and the path-cost rows, from the resource model's mapping.
-void storage_values(const config::PipelineConfig& c, const res::Inventory& inv, Values& v) {
+void storage_values(const config::PipelineConfig&, const res::Inventory& inv, Values& v) {
   // The row reversals' memories (5 paths, kernels/row_reverse.hpp), bound as the model maps them.
   std::string reverse;
   const struct {
@@ -323,10 +323,6 @@ void storage_values(const config::PipelineConfig& c, const res::Inventory& inv, 
     if (!row) row = find_memory(inv, "aggregate", n);
   v["ROW_IMPL"] = row ? ram_impl(row->per_copy.storage) : "bram";
   v["ROW_MEMORIES"] = std::to_string(row ? std::max(1, row->copies) : 1);
-  v["ROW_RESHAPE"] = c.row_packing > 1
-                         ? "#define PX_HLS_SGM_ROW_RESHAPE \"HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=" +
-                               std::to_string(c.row_packing) + " dim=3\"\n"
-                         : "";
 }
 
 // Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera. Its row

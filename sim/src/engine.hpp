@@ -41,6 +41,17 @@
 
 namespace parallax::sim::detail {
 
+// One firing of a stage in a counting instantiation (kernels/access.hpp): the accesses of the
+// kernel's arrays in between are that firing's. Nothing in the other instantiations.
+template <bool kCount>
+struct FiringScope {
+  explicit FiringScope(const std::string&) {}
+};
+template <>
+struct FiringScope<true> : kern::AccessFiring {
+  explicit FiringScope(const std::string& stage) : kern::AccessFiring(stage.c_str()) {}
+};
+
 template <class Caps, class Word, bool kTimed, bool kData = true>
 class Engine : private PipelineRun<kTimed> {
   using Run = PipelineRun<kTimed>;
@@ -68,6 +79,13 @@ class Engine : private PipelineRun<kTimed> {
     else
       two_pass ? run_two_pass(sad_, left, right, out) : run_one_pass(sad_, left, right, out);
     if (rep_) finish_report();
+  }
+
+  // Counting instantiations (kernels/access.hpp): the path-cost rows mapped as the export maps
+  // them for this row packing and these banks (the configuration's row_packing, row_banks).
+  void set_count_row_layout(int packing, int banks) {
+    count_row_packing_ = packing;
+    count_row_banks_ = banks;
   }
 
   // Func run only (work sharing in sweeps): the matching-cost tokens of one frame, the cost
@@ -210,6 +228,7 @@ class Engine : private PipelineRun<kTimed> {
         if (!pl.read && !pl.write && !pl.prime) break;
         if (!n.attempt({Port{&l, pl.read}, Port{&r, pl.read}}, {Port{&out, pl.write}}, [&] {
               if constexpr (kData) {
+                const FiringScope<Caps::count_accesses> scope(n.name());
                 cost.fire(pl, l, r, out);
               } else {
                 cost.step(pl);
@@ -252,6 +271,7 @@ class Engine : private PipelineRun<kTimed> {
         const bool ok = n.attempt(
             {Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}},
             [&] {
+              const FiringScope<Caps::count_accesses> scope(n.name());
               if constexpr (!kData) {
                 agg.step(pl);
                 c.skip_read();
@@ -288,6 +308,7 @@ class Engine : private PipelineRun<kTimed> {
         if (!pl.read && !pl.write && !pl.prime) break;
         if (!n.attempt({Port{&in, pl.read}}, {Port{&out, pl.write}}, [&] {
               if constexpr (kData) {
+                const FiringScope<Caps::count_accesses> scope(n.name());
                 st.fire(pl, in, out);
               } else {
                 st.step(pl);
@@ -321,6 +342,7 @@ class Engine : private PipelineRun<kTimed> {
         if (!pl.read && !pl.write) break;
         if (!n.attempt({Port{&ci, pl.read}, Port{&si, pl.read}}, {Port{&co, pl.write}, Port{&so, pl.write}}, [&] {
               if constexpr (kData) {
+                const FiringScope<Caps::count_accesses> scope(n.name());
                 row_rev_.fire(pl, ci, si, co, so);
               } else {
                 row_rev_.step(pl);
@@ -478,6 +500,7 @@ class Engine : private PipelineRun<kTimed> {
   std::unique_ptr<BackEnd> one_pass_back_end(Fifo<CostTok>& costs, DisparityCodes& out, int64_t& got) {
     const bool rr = kern::row_reverse_paths(p_.path_mask);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, rr);
+    if constexpr (Caps::count_accesses) agg_.count_row_layout(count_row_packing_, count_row_banks_);
     wta_.configure(p_, rr);
     median_.configure(p_);
     auto be = std::make_unique<BackEnd>();
@@ -562,6 +585,7 @@ class Engine : private PipelineRun<kTimed> {
     const Rate ddr = ddr_rate();
     cost.configure(p_);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
+    if constexpr (Caps::count_accesses) agg_.count_row_layout(count_row_packing_, count_row_banks_);
     std::unique_ptr<FrontEnd> fe = front_end(left, right);
     Fifo<uint8_t>& in_l = *fe->out_l;
     Fifo<uint8_t>& in_r = *fe->out_r;
@@ -586,6 +610,7 @@ class Engine : private PipelineRun<kTimed> {
     if (rep_) rep_->ddr_bytes_written = stored * fl.word_bytes;
     const int64_t pass2_start = n_wr.t_next() + ddr_latency_cycles();
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, true), true, false);
+    if constexpr (Caps::count_accesses) agg_.count_row_layout(count_row_packing_, count_row_banks_);
     wta_.configure(p_, true);
     median_.configure(p_);
     auto back_c = make_fifo<CostTok>("cost_from_ddr", kTokenDepth);
@@ -678,6 +703,7 @@ class Engine : private PipelineRun<kTimed> {
   kern::RowReverseCodes<Caps> code_rev_;
   std::unique_ptr<RectifyStage> rect_l_, rect_r_;
   FrameBufferStages<Caps, Word, kTimed, kData> fb_;
+  int count_row_packing_ = 1, count_row_banks_ = 0;
 };
 
 }  // namespace parallax::sim::detail

@@ -211,16 +211,17 @@ TEST(HlsExport, ProjectCarriesTheDirectivesAndSteps) {
         "cost_loop:", "aggregate_loop:", "wta_lr_loop:", "median_loop:"})
     EXPECT_NE(top.find(s), std::string::npos) << s;
   for (const char* s :
-       {"HLS ARRAY_PARTITION variable=row_", "HLS BIND_STORAGE variable=row_", "HLS BIND_STORAGE variable=mem_",
-        "HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=3 dim=3", "constexpr int kCostBits = 5;",
+       {"#define PX_HLS_SGM_ROW_PACKING 3", "#define PX_HLS_SGM_ROW_BANKS 20", "#define PX_HLS_SGM_ROW_IMPL bram",
+        "HLS BIND_STORAGE variable=mem_", "constexpr int kCostBits = 5;",
         "constexpr int kAggregateBits = 9;", "constexpr int kDepthSum = 30;"})
     EXPECT_NE(cfg.find(s), std::string::npos) << s;
   // The hooks that place the storage directives, and the kernels' own structural directives, are
   // in the kernels the project carries (in the constructors, beside the members).
   const std::string sgm = read_file(out / "src/parallax/kernels/sgm.hpp");
   const std::string lb = read_file(out / "src/parallax/kernels/line_buffer.hpp");
-  EXPECT_NE(sgm.find("PX_PRAGMA(PX_HLS_SGM_ROW_STORAGE)"), std::string::npos);
-  EXPECT_NE(sgm.find("PX_PRAGMA(PX_HLS_SGM_ROW_RESHAPE)"), std::string::npos);
+  EXPECT_NE(sgm.find("PX_BIND_RAM_S2P(row_, PX_HLS_SGM_ROW_IMPL)"), std::string::npos);
+  EXPECT_NE(sgm.find("PX_RESHAPE_CYCLIC(row_, PX_HLS_SGM_ROW_PACKING, 3)"), std::string::npos);
+  EXPECT_NE(sgm.find("PX_PARTITION_CYCLIC(row_, PX_HLS_SGM_ROW_BANKS, 3)"), std::string::npos);
   EXPECT_NE(sgm.find("HLS DEPENDENCE variable=row_ type=inter dependent=false"), std::string::npos);
   EXPECT_NE(lb.find("HLS ARRAY_PARTITION variable=mem_ type=complete dim=1"), std::string::npos);
   EXPECT_NE(lb.find("HLS DEPENDENCE variable=mem_ type=inter dependent=false"), std::string::npos);

@@ -19,7 +19,9 @@
 #include "parallax/eval/input_error.hpp"
 #include "parallax/eval/simulate.hpp"
 #include "parallax/reports/report.hpp"
+#include "parallax/eval/evaluate.hpp"
 #include "parallax/resources/model.hpp"
+#include "parallax/sim/accesses.hpp"
 #include "parallax/sim/schedule.hpp"
 
 namespace parallax::cli {
@@ -31,7 +33,7 @@ using namespace parallax::explore;
 
 struct SimOptions {
   ConfigArgs cfg;
-  std::string left, right, out, vcd, vcd_cycles, write_config, html, device = "XCZU3EG";
+  std::string left, right, out, vcd, vcd_cycles, write_config, html, accesses, device = "XCZU3EG";
   int clock_mhz = 0;
   bool json = false, no_sizing = false, coupled = false, every_firing = false;
   double cal_latency = 0, cal_fps = 0;
@@ -297,6 +299,20 @@ int finish_sim(const SimOptions& o, const Invocation& inv, config::PipelineConfi
   return 0;
 }
 
+// --accesses FILE: the counting run on the same pair (sim/accesses.hpp), csim_accesses.json.
+void write_accesses(const std::string& path, const config::PipelineConfig& cfg, int clock, const cv::Mat& l,
+                    const cv::Mat& r) {
+  std::fprintf(stderr, "parallax: counting every kernel array's accesses per firing (%dx%d)...\n", l.cols, l.rows);
+  sim::AccessRunOptions ao;
+  ao.design = cfg.name;
+  ao.clock_hz = clock * 1e6;
+  ao.rectify = cfg.rectify_params(l.cols, l.rows);
+  ao.row_packing = cfg.row_packing;
+  ao.row_banks = cfg.row_banks;
+  write_text_file(path,
+                  sim::count_accesses_json(to_grey_image(l), to_grey_image(r), cfg.stereo_params(l.cols, l.rows), ao));
+}
+
 int run_sim(const SimOptions& o, const Invocation& inv) {
   config::PipelineConfig cfg = load_config_args(o.cfg);
   const int clock = o.clock_mhz > 0 ? o.clock_mhz : cfg.clock_mhz;
@@ -314,6 +330,7 @@ int run_sim(const SimOptions& o, const Invocation& inv) {
   so.fast_forward = !o.every_firing;
   so.vcd_path = o.vcd;
   SimulationResult result = simulate(cfg, l, r, so);
+  if (!o.accesses.empty()) write_accesses(o.accesses, cfg, clock, l, r);
   if (result.cycle.deadlock) {
     std::fprintf(stderr, "parallax: error: %s\n", result.cycle.deadlock_message.c_str());
     return kExitDeadlock;
@@ -336,6 +353,10 @@ Command add_sim(CLI::App& app) {
   simc->add_option("--clock-mhz", o->clock_mhz, "Processing clock in MHz (default: the config's clock_mhz)")
       ->check(InRange(1, 2000));
   simc->add_flag("--json", o->json, "Print JSON");
+  simc->add_option("--accesses", o->accesses,
+                   "Also count every kernel array's reads and writes per bank and firing on the pair and write the "
+                   "report (csim_accesses.json, docs/hls.md) here")
+      ->check(OutputFile());
   simc->add_flag("--no-sizing", o->no_sizing, "Skip the second run that finds stall-free FIFO depths");
   simc->add_flag("--coupled", o->coupled,
                  "Fire the kernels' datapath inside the schedule at the design's PU (slower; same report and "

@@ -67,6 +67,8 @@ template <class A>
 inline void access_partition(A&, const char*, int, int, int) {}
 template <class A>
 inline void access_bind(A&, int) {}
+template <class A>
+inline void access_reshape(A&, int, int) {}
 
 }  // namespace kern
 }  // namespace parallax
@@ -86,8 +88,16 @@ inline void access_bind(A&, int) {}
 #define PX_PARTITION_BLOCK(VAR, FACTOR, DIM)                                                \
   PX_PRAGMA_TEXT_(HLS ARRAY_PARTITION variable=VAR type=block factor=FACTOR dim=DIM) \
   ::parallax::kern::access_partition(VAR, #VAR, ::parallax::kern::kPartitionBlock, FACTOR, DIM);
+// ARRAY_RESHAPE cyclic: FACTOR consecutive elements of dimension DIM in one word (element i in
+// word i / FACTOR); a later partition of DIM splits the words.
+#define PX_RESHAPE_CYCLIC(VAR, FACTOR, DIM)                                                \
+  PX_PRAGMA_TEXT_(HLS ARRAY_RESHAPE variable=VAR type=cyclic factor=FACTOR dim=DIM) \
+  ::parallax::kern::access_reshape(VAR, FACTOR, DIM);
 #define PX_BIND_RAM_S2P(VAR, IMPL)                                          \
   PX_PRAGMA_TEXT_(HLS BIND_STORAGE variable=VAR type=ram_s2p impl=IMPL) \
+  ::parallax::kern::access_bind(VAR, ::parallax::kern::kStorageRamS2p);
+#define PX_BIND_RAM_S2P_ANY(VAR)                                          \
+  PX_PRAGMA_TEXT_(HLS BIND_STORAGE variable=VAR type=ram_s2p) \
   ::parallax::kern::access_bind(VAR, ::parallax::kern::kStorageRamS2p);
 #define PX_BIND_RAM_T2P(VAR, IMPL)                                          \
   PX_PRAGMA_TEXT_(HLS BIND_STORAGE variable=VAR type=ram_t2p impl=IMPL) \

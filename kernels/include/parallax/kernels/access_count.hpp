@@ -12,6 +12,7 @@
 #pragma once
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include <algorithm>
 #include <map>
@@ -40,7 +41,7 @@ struct MemoryAccesses {
   std::string stage;
   std::string name;
   std::string kind;  // registers, ram_1p, ram_2p, ram_s2p, ram_t2p, default (counted as ram_t2p)
-  int banks = 1;
+  int banks = 1;     // the banks the run reached (of the layout's; the design's, not a software capacity's)
   int read_ports = 0, write_ports = 0;  // per bank; 0 = unlimited (registers)
   bool shared_ports = false;            // the ports serve reads and writes alike (ram_1p, ram_t2p, default)
   int64_t firings = 0;                  // firings in which the memory was accessed
@@ -50,7 +51,6 @@ struct MemoryAccesses {
   int max_banks_per_site = 1;              // the widest such site: its mux (read) or demux (write) fan-in
   std::vector<std::string> runtime_sites;  // "file:line copy k reads|writes N banks"
   int ii_forced = 1;                       // the smallest II the counts fit the ports at
-  std::string error;                       // e.g. one array accessed from two stages
 };
 
 // The smallest II at which `reads` and `writes` per bank and firing fit a bank's ports.
@@ -141,6 +141,7 @@ class AccessTally {
       dims_[k] = dims[k];
       part_[k] = kPartitionNone;
       factor_[k] = 1;
+      reshape_[k] = 1;
     }
   }
   AccessTally(const AccessTally&) = delete;
@@ -164,6 +165,10 @@ class AccessTally {
     for (int k = 0; k < rank_; ++k) complete_ = complete_ && part_[k] == kPartitionComplete;
   }
   void bind(int storage) { storage_ = storage; }
+  // ARRAY_RESHAPE cyclic of dimension dim (1-based): element i in word i / factor.
+  void reshape(int factor, int dim) {
+    if (dim >= 1 && dim <= rank_) reshape_[dim - 1] = factor < 1 ? 1 : factor;
+  }
 
   void record(long flat, bool write, const char* file, int line) {
     AccessRegistry& r = AccessRegistry::get();
@@ -172,8 +177,10 @@ class AccessTally {
       registered_ = true;
       r.add_live(this);
       stage_ = r.stage();
-    } else if (stage_ != r.stage() && error_.empty()) {
-      error_ = "accessed from stages " + stage_ + " and " + r.stage();
+    } else if (stage_ != r.stage()) {  // one kernel object reused by another stage (two passes)
+      r.add_finished(summary());
+      reset_counts();
+      stage_ = r.stage();
     }
     if (r.firing() != firing_) {
       close_firing();
@@ -202,7 +209,9 @@ class AccessTally {
     m.name = name_.empty() ? "(unnamed)" : name_;
     const int storage = complete_ ? kStorageRegisters : storage_;
     m.kind = access_storage_name(storage);
-    m.banks = banks();
+    std::set<int> reached;  // the banks this configuration uses (software capacities are larger)
+    for (const Site& s : sites_) reached.insert(s.banks.begin(), s.banks.end());
+    m.banks = int(reached.size());
     m.read_ports = storage == kStorageRegisters ? 0
                    : storage == kStorageRam2p   ? 2
                    : storage == kStorageRam1p   ? 1
@@ -215,7 +224,6 @@ class AccessTally {
                                                  : 2;
     m.shared_ports =
         storage == kStorageRam1p || storage == kStorageRamT2p || storage == kStorageDefault || storage == kStorageRam2p;
-    m.error = error_;
     for (const auto& sig : signatures_) {
       m.firings += sig.second;
       std::map<int, int> reads, writes;
@@ -282,27 +290,32 @@ class AccessTally {
     }
     long bank = 0;
     for (int k = 0; k < rank_; ++k) {
+      const long word = idx[k] / reshape_[k];  // the partition splits words
+      const int words = (dims_[k] + reshape_[k] - 1) / reshape_[k];
       int n = 1, c = 0;
       if (part_[k] == kPartitionComplete) {
-        n = dims_[k];
-        c = int(idx[k]);
+        n = words;
+        c = int(word);
       } else if (part_[k] == kPartitionCyclic) {
         n = factor_[k];
-        c = int(idx[k] % factor_[k]);
+        c = int(word % factor_[k]);
       } else if (part_[k] == kPartitionBlock) {
         n = factor_[k];
-        const int size = (dims_[k] + factor_[k] - 1) / factor_[k];
-        c = int(idx[k] / size);
+        const int size = (words + factor_[k] - 1) / factor_[k];
+        c = int(word / size);
       }
       bank = bank * n + c;
     }
     return int(bank);
   }
-  int banks() const {
-    long n = 1;
-    for (int k = 0; k < rank_; ++k)
-      n *= part_[k] == kPartitionComplete ? dims_[k] : part_[k] == kPartitionNone ? 1 : factor_[k];
-    return int(n);
+
+  void reset_counts() {
+    firing_ = 0;
+    bases_.clear();
+    base_index_.clear();
+    sites_.clear();
+    current_.clear();
+    signatures_.clear();
   }
 
   void close_firing() {
@@ -317,9 +330,10 @@ class AccessTally {
   int dims_[kMaxRank];
   int part_[kMaxRank];
   int factor_[kMaxRank];
+  int reshape_[kMaxRank];
   bool complete_ = false;
   int storage_ = kStorageDefault;
-  std::string name_, stage_, error_;
+  std::string name_, stage_;
   bool registered_ = false;
   uint64_t firing_ = 0;
   std::vector<BaseSite> bases_;
@@ -346,12 +360,98 @@ inline std::vector<MemoryAccesses> AccessRegistry::report() const {
     it->runtime_banked_sites = std::max(it->runtime_banked_sites, m.runtime_banked_sites);
     it->max_banks_per_site = std::max(it->max_banks_per_site, m.max_banks_per_site);
     it->ii_forced = std::max(it->ii_forced, m.ii_forced);
-    if (it->error.empty()) it->error = m.error;
   }
   std::sort(out.begin(), out.end(), [](const MemoryAccesses& a, const MemoryAccesses& b) {
     return a.stage != b.stage ? a.stage < b.stage : a.name < b.name;
   });
   return out;
+}
+
+// What the report adds to the counts of one stage: the II its pipelined loop declares and the
+// loop-carried recurrences with the delay of their operator chains (the simulator's schedule).
+struct AccessRecurrence {
+  std::string name;
+  std::vector<std::string> operators;  // e.g. "add 8 bits x 2"
+  double delay_ns = 0;
+  double budget_ns = 0;  // the clock period less the uncertainty
+  int distance = 1;
+  int ii_forced = 1;
+};
+struct AccessStage {
+  std::string name;
+  int ii_declared = 1;
+  std::vector<AccessRecurrence> recurrences;
+};
+
+namespace access_detail {
+inline std::string json_string(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c;
+  }
+  return o + "\"";
+}
+inline std::string json_number(double v) {
+  char buf[32];
+  snprintf(buf, sizeof buf, "%.3f", v);
+  return buf;
+}
+}  // namespace access_detail
+
+// csim_accesses.json (issue 41): per stage its declared II, its firings, each counted memory and
+// each recurrence with the II it forces. Stages are those given, then any other that fired.
+inline std::string access_report_json(const std::string& design, const std::vector<AccessStage>& given) {
+  using access_detail::json_number;
+  using access_detail::json_string;
+  const AccessRegistry& reg = AccessRegistry::get();
+  const std::vector<MemoryAccesses> mems = reg.report();
+  std::vector<AccessStage> stages = given;
+  for (const auto& f : reg.stage_firings())
+    if (std::none_of(stages.begin(), stages.end(), [&](const AccessStage& a) { return a.name == f.first; })) {
+      AccessStage a;
+      a.name = f.first;
+      stages.push_back(a);
+    }
+  std::string o = "{\n  \"design\": " + json_string(design) + ",\n  \"stages\": [";
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    const AccessStage& st = stages[k];
+    const auto fit = reg.stage_firings().find(st.name);
+    int forced = 1;
+    std::string m_json, r_json;
+    for (const MemoryAccesses& m : mems) {
+      if (m.stage != st.name) continue;
+      forced = std::max(forced, m.ii_forced);
+      std::string sites;
+      for (std::size_t i = 0; i < m.runtime_sites.size(); ++i)
+        sites += (i ? ", " : "") + json_string(m.runtime_sites[i]);
+      m_json += std::string(m_json.empty() ? "" : ",") + "\n        {\"name\": " + json_string(m.name) +
+                ", \"kind\": " + json_string(m.kind) + ", \"banks\": " + std::to_string(m.banks) +
+                ", \"read_ports\": " + std::to_string(m.read_ports) +
+                ", \"write_ports\": " + std::to_string(m.write_ports) +
+                ", \"shared_ports\": " + (m.shared_ports ? "true" : "false") +
+                ", \"max_reads_per_bank_per_firing\": " + std::to_string(m.max_reads_per_bank_per_firing) +
+                ", \"max_writes_per_bank_per_firing\": " + std::to_string(m.max_writes_per_bank_per_firing) +
+                ", \"runtime_banked_sites\": " + std::to_string(m.runtime_banked_sites) +
+                ", \"max_banks_per_site\": " + std::to_string(m.max_banks_per_site) + ", \"runtime_sites\": [" + sites +
+                "], \"ii_forced\": " + std::to_string(m.ii_forced) + "}";
+    }
+    for (const AccessRecurrence& r : st.recurrences) {
+      forced = std::max(forced, r.ii_forced);
+      std::string ops;
+      for (std::size_t i = 0; i < r.operators.size(); ++i) ops += (i ? ", " : "") + json_string(r.operators[i]);
+      r_json += std::string(r_json.empty() ? "" : ",") + "\n        {\"name\": " + json_string(r.name) +
+                ", \"operators\": [" + ops + "], \"distance\": " + std::to_string(r.distance) +
+                ", \"delay_ns\": " + json_number(r.delay_ns) + ", \"budget_ns\": " + json_number(r.budget_ns) +
+                ", \"ii_forced\": " + std::to_string(r.ii_forced) + "}";
+    }
+    o += std::string(k ? "," : "") + "\n    {\"name\": " + json_string(st.name) +
+         ", \"ii_declared\": " + std::to_string(st.ii_declared) + ", \"ii_forced\": " + std::to_string(forced) +
+         ", \"firings\": " + std::to_string(fit == reg.stage_firings().end() ? 0 : fit->second) +
+         ",\n      \"memories\": [" + m_json + (m_json.empty() ? "" : "\n      ") + "]" +
+         ",\n      \"recurrences\": [" + r_json + (r_json.empty() ? "" : "\n      ") + "]}";
+  }
+  return o + "\n  ]\n}\n";
 }
 
 // A counted stand-in for T[N0][N1]...: the same elements, row-major, and a tally.
@@ -453,6 +553,10 @@ inline void access_partition(Counted<T, N...>& a, const char* name, int type, in
 template <class T, int... N>
 inline void access_bind(Counted<T, N...>& a, int storage) {
   a.tally().bind(storage);
+}
+template <class T, int... N>
+inline void access_reshape(Counted<T, N...>& a, int factor, int dim) {
+  a.tally().reshape(factor, dim);
 }
 
 template <class T, int... N>

@@ -44,6 +44,9 @@ class SgmAggregate {
  public:
   typedef CostLanes<Caps::lanes> CostToken;
   typedef Lanes<Word, Caps::lanes> SumToken;
+  // A member array (raw, or counted when Caps count accesses: access.hpp).
+  template <class T, int... N>
+  using Array = typename Caps::template array<T, N...>;
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
@@ -66,32 +69,33 @@ class SgmAggregate {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=ahead_ type=complete dim=0")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=mq_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=run_min_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=pix_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=lag_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=row_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=row_min_ type=complete dim=1")
+    PX_PARTITION_COMPLETE(pix_, 1)
+    PX_PARTITION_COMPLETE(lag_, 1)
+    PX_PARTITION_COMPLETE(row_, 1)
+    PX_PARTITION_COMPLETE(row_min_, 1)
     PX_PRAGMA("HLS ARRAY_PARTITION variable=ahead2_ type=complete dim=0")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=mq2_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=win_ type=complete dim=0")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=win_head_ type=complete dim=0")
+    PX_PARTITION_COMPLETE(win_, 0)
+    PX_PARTITION_COMPLETE(win_head_, 0)
     PX_PRAGMA("HLS ARRAY_PARTITION variable=win_min_ type=complete dim=1")
-#ifdef PX_HLS_SGM_ROW_RESHAPE
-    PX_PRAGMA(PX_HLS_SGM_ROW_RESHAPE)
+    // The row memories' mapping: the export's (its configuration header: PACKING disparities per
+    // word, the words of a column in BANKS memories, bound to IMPL), else PU lane banks.
+#ifdef PX_HLS_SGM_ROW_BANKS
+#if PX_HLS_SGM_ROW_PACKING > 1
+    PX_RESHAPE_CYCLIC(row_, PX_HLS_SGM_ROW_PACKING, 3)
 #endif
-#ifdef PX_HLS_SGM_ROW_PARTITION
-    PX_PRAGMA(PX_HLS_SGM_ROW_PARTITION)
+    PX_PARTITION_CYCLIC(row_, PX_HLS_SGM_ROW_BANKS, 3)
+    PX_BIND_RAM_S2P(row_, PX_HLS_SGM_ROW_IMPL)
 #else
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=row_ type=cyclic factor=kLanes dim=3")
-#endif
-#ifdef PX_HLS_SGM_ROW_STORAGE
-    PX_PRAGMA(PX_HLS_SGM_ROW_STORAGE)
+    PX_PARTITION_CYCLIC(row_, kLanes, 3)
+    PX_COUNT_BIND(row_, kStorageRamS2p)
 #endif
     PX_PRAGMA("HLS DEPENDENCE variable=row_ type=inter dependent=false")
     PX_PRAGMA("HLS DEPENDENCE variable=row_min_ type=inter dependent=false")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=up_px_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=head_px_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=p2k_ type=complete dim=1")
-    PX_PRAGMA("HLS BIND_STORAGE variable=row_px_ type=ram_s2p")
+    PX_BIND_RAM_S2P_ANY(row_px_)
     PX_PRAGMA("HLS DEPENDENCE variable=row_px_ type=inter dependent=false")
     // Software instantiations read the don't-care lanes past PU (simd_trip): give them values
     // once. (Nothing to do in the export, where every lane is a design lane.)
@@ -638,27 +642,27 @@ class SgmAggregate {
   Word ahead_[kKindCount][kLanes + 2];  // [0]: lane lo - 1; [1, PU]: lanes lo..; [PU + 1]: lane lo + PU
   Word mq_[kKindCount];
   uint32_t run_min_[kKindCount];
-  Word pix_[kMaxD];   // pixel path: the previous pixel's Lr (this pixel's, lanes already done)
-  Word pix_min_ = 0;  // pixel path: the previous pixel's minimum
-  Word lag_[kMaxD];   // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
-  Word mlag_ = 0;     // row-left path: the previous row's minimum of column x - 1
-  Word row_[kRowMemories][kMaxW][kMaxD];  // row kinds (and MGM's pixel kind): previous-row Lr per column
-  Word row_min_[kRowMemories][kMaxW];     // the same kinds: previous-row min_d Lr per column
+  Array<Word, kMaxD> pix_;  // pixel path: the previous pixel's Lr (this pixel's, lanes already done)
+  Word pix_min_ = 0;        // pixel path: the previous pixel's minimum
+  Array<Word, kMaxD> lag_;  // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
+  Word mlag_ = 0;           // row-left path: the previous row's minimum of column x - 1
+  Array<Word, kRowMemories, kMaxW, kMaxD> row_;  // row kinds (and MGM's pixel kind): previous-row Lr per column
+  Array<Word, kRowMemories, kMaxW> row_min_;     // the same kinds: previous-row min_d Lr per column
   // MGM (aggregate_kind_mgm): each datapath's second predecessor lanes and minimum; the row-left
   // datapath's window over its previous row ([0] column x, [1] column x - 1 of the next firing's
   // pixel; lanes of chunks not yet fetched one pixel behind), the row's column 0, and the same
   // for the minima (at the current pixel).
   Word ahead2_[2][kLanes + 2];
   Word mq2_[2];
-  Word win_[2][kMaxD];
-  Word win_head_[kMaxD];
+  Array<Word, 2, kMaxD> win_;
+  Array<Word, kMaxD> win_head_;
   Word win_min_[2];
   Word win_head_min_ = 0;
   Word pad_[kLanes];  // software only: all ones in the don't-care lanes past PU (lane_trip)
   // Adaptive P2 (adapt_p2): this pixel's intensity, the previous pixel's, the previous row's
   // (memory, its columns x - 1 .. x + 1 in registers, its first two columns), and each kind's P2.
   uint8_t cur_px_ = 0, prev_px_ = 0, fetched_px_ = 0;
-  uint8_t row_px_[kMaxW];
+  Array<uint8_t, kMaxW> row_px_;
   uint8_t up_px_[3] = {0, 0, 0};
   uint8_t head_px_[2] = {0, 0};
   Word p2k_[kKindCount];
@@ -670,13 +674,29 @@ class SgmAggregate {
   // `banks` memories, 0: one memory per word, W deep each) and its row minima row_min_[kind - 1]
   // (one memory, W deep); the row-left kind's lag_ (D) and mlag_; every kind's ahead_ (PU),
   // edge_, mq_ and run_min_.
+  // The row memories' mapping for `packing` disparities per word and `banks` memories (0: one per
+  // word): q disparities per word, in `memories` memories of words_per_memory words per column.
+  void row_mapping(int packing, int banks, int& q, int& memories, int& words_per_memory) const {
+    q = packing < 1 ? 1 : (packing > d_ ? d_ : packing);
+    const int words = (d_ + q - 1) / q;
+    memories = banks <= 0 || banks > words ? words : banks;
+    words_per_memory = (words + memories - 1) / memories;
+  }
+  // Counting instantiations (access.hpp): the mapping the export makes of the row memories for
+  // this packing and these banks (its configuration header's PX_HLS_SGM_ROW_*), stated to the
+  // count at run time; nothing in plain instantiations.
+  void count_row_layout(int packing, int banks) {
+    int q = 1, memories = 1, words_per_memory = 1;
+    row_mapping(packing, banks, q, memories, words_per_memory);
+    access_reshape(row_, q, 3);
+    access_partition(row_, "row_", kPartitionCyclic, memories, 3);
+    access_bind(row_, kStorageRamS2p);
+  }
   template <class V>
   void storage(V& v, int packing, int banks) const {
     const int pb = path_bits(p_);
-    const int q = packing < 1 ? 1 : (packing > d_ ? d_ : packing);
-    const int words = (d_ + q - 1) / q;
-    const int memories = banks <= 0 || banks > words ? words : banks;
-    const int words_per_memory = (words + memories - 1) / memories;
+    int q = 1, memories = 1, words_per_memory = 1;
+    row_mapping(packing, banks, q, memories, words_per_memory);
     v.unused("software_lane_pad", pad_);  // read only where !Caps::fixed
     const unsigned dk = datapaths();
   agg_storage_kinds:

@@ -13,9 +13,12 @@
 // word), memories per row kind and RAM. The structural directives (registers, one memory per row
 // kind, lane banks) are the kernels' own.
 #define PX_HLS_LINE_BUFFER_STORAGE "HLS BIND_STORAGE variable=mem_ type=ram_s2p impl=bram"
-#define PX_HLS_SGM_ROW_RESHAPE "HLS ARRAY_RESHAPE variable=row_ type=cyclic factor=3 dim=3"
-#define PX_HLS_SGM_ROW_PARTITION "HLS ARRAY_PARTITION variable=row_ type=cyclic factor=20 dim=3"
-#define PX_HLS_SGM_ROW_STORAGE "HLS BIND_STORAGE variable=row_ type=ram_s2p impl=bram"
+// The path-cost rows (kernels/sgm.hpp writes the ARRAY_RESHAPE, ARRAY_PARTITION and BIND_STORAGE
+// from these, and tells the C simulation's access count the same mapping): PACKING disparities
+// per word, the words of a column in BANKS memories per row kind, each bound to IMPL.
+#define PX_HLS_SGM_ROW_PACKING 3
+#define PX_HLS_SGM_ROW_BANKS 20
+#define PX_HLS_SGM_ROW_IMPL bram
 #define PX_MEDIAN_WIDE_KEYS 0  // the median's rank keys need 32 bits (codes with fractions)
 
 namespace parallax_design {
