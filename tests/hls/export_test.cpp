@@ -212,8 +212,8 @@ TEST(HlsExport, ProjectCarriesTheDirectivesAndSteps) {
     EXPECT_NE(top.find(s), std::string::npos) << s;
   for (const char* s :
        {"#define PX_HLS_SGM_ROW_PACKING 3", "#define PX_HLS_SGM_ROW_BANKS 20", "#define PX_HLS_SGM_ROW_IMPL bram",
-        "HLS BIND_STORAGE variable=mem_", "constexpr int kCostBits = 5;",
-        "constexpr int kAggregateBits = 9;", "constexpr int kDepthSum = 30;"})
+        "HLS BIND_STORAGE variable=mem_", "constexpr int kCostBits = 5;", "constexpr int kAggregateBits = 9;",
+        "constexpr int kDepthSum = 30;"})
     EXPECT_NE(cfg.find(s), std::string::npos) << s;
   // The hooks that place the storage directives, and the kernels' own structural directives, are
   // in the kernels the project carries (in the constructors, beside the members).

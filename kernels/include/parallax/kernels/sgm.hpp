@@ -1,21 +1,18 @@
-// SGM aggregation over up to four streaming path kinds in one raster pass (docs/algorithm.md §3).
-// For every pixel it consumes D/PU cost tokens and emits D/PU aggregate tokens
-// S(p, d) = sum over the active paths of Lr(p, d) [+ F(p, d) from a previous pass].
-// C++14 synthesisable subset.
+// SGM aggregation over up to four streaming path kinds in one raster pass (docs/algorithm.md §3). For every pixel it
+// consumes D/PU cost tokens and emits D/PU aggregate tokens S(p, d) = sum over the active paths of Lr(p, d) [+ F(p, d)
+// from a previous pass]. C++14 synthesisable subset.
 //
-// Path kinds are relative to the stream order, so the same kernel serves the forward pass
-// (kinds = paths 0/45/90/135) and, on a reversed stream, the backward pass of the eight-path
-// variant (kinds = paths 180/225/270/315). Adding a path kind means adding an enumerator, its
-// predecessor rule in predecessor(), and its memory (see docs/kernels.md).
+// Path kinds are relative to the stream order, so the same kernel serves the forward pass (kinds = paths 0/45/90/135)
+// and, on a reversed stream, the backward pass of the eight-path variant (kinds = paths 180/225/270/315). Adding a path
+// kind means adding an enumerator, its predecessor rule in predecessor(), and its memory (see docs/kernels.md).
 //
-// With MGM aggregation (docs/algorithm.md §3) every kind also steps from a second predecessor
-// across its path, and the kinds pair up: the pixel and row-up kinds both step from the previous
-// pixel and the previous row's same column, the row-left and row-right kinds both from the
-// previous row's columns x - 1 and x + 1, so each pair is one recursion (mgm_kinds), computed
-// once in the pixel or row-left kind's state and added once per path (aggregate_kind_mgm). The
-// pixel kind gains a row memory; the row-left kind a window of registers over its row memory
-// (read once per lane bank and firing, at x + 1; columns x and x - 1 are the two reads before it,
-// and a row's column 0 is kept in head registers when written).
+// With MGM aggregation (docs/algorithm.md §3) every kind also steps from a second predecessor across its path, and the
+// kinds pair up: the pixel and row-up kinds both step from the previous pixel and the previous row's same column, the
+// row-left and row-right kinds both from the previous row's columns x - 1 and x + 1, so each pair is one recursion
+// (mgm_kinds), computed once in the pixel or row-left kind's state and added once per path (aggregate_kind_mgm). The
+// pixel kind gains a row memory; the row-left kind a window of registers over its row memory (read once per lane bank
+// and firing, at x + 1; columns x and x - 1 are the two reads before it, and a row's column 0 is kept in head registers
+// when written).
 #pragma once
 
 #include "parallax/kernels/caps.hpp"
@@ -26,8 +23,8 @@
 namespace parallax {
 namespace kern {
 
-// The capacities of an aggregation stage with the pixel kind alone (the 180-degree path on
-// reversed rows, row_reverse.hpp): no row memory, so one column of capacity.
+// The capacities of an aggregation stage with the pixel kind alone (the 180-degree path on reversed rows,
+// row_reverse.hpp): no row memory, so one column of capacity.
 template <class C>
 using PixelPathCaps = Caps<1, C::max_disparities, C::lanes, C::window_rows, C::median_rows, 1u << kKindPixel, C::fixed,
                            C::max_min_disparity, C::count_accesses>;
@@ -50,21 +47,20 @@ class SgmAggregate {
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
-  // One per row kind (kKindRowLeft .. kKindRowRight at kind - 1) and, for MGM, the pixel kind's
-  // (row_memory()).
+  // One per row kind (kKindRowLeft .. kKindRowRight at kind - 1) and, for MGM, the pixel kind's (row_memory()).
   static constexpr int kRowMemories = 4;
   // Whether this instantiation has row kinds (else no row memory of any kind, intensities too).
   static constexpr bool kRowKinds = (Caps::kind_mask & ~(1u << kKindPixel)) != 0;
-  // Whether rows may be as narrow as two pixels (then a row kind's next predecessor column can
-  // be the one being written; see aggregate_kind): software, or a fixed width of 1 or 2.
+  // Whether rows may be as narrow as two pixels (then a row kind's next predecessor column can be the one being
+  // written; see aggregate_kind): software, or a fixed width of 1 or 2.
   static constexpr bool kNarrowRows = !Caps::fixed || Caps::max_width_px <= 2;
   // Larger than any path cost (<= 2^path_bits - 1) and safe to add P1 to in 32 bits.
   static constexpr uint32_t kNone = sizeof(Word) == 2 ? 0xFFFFu : 0x7FFFFFFFu;
 
-  // Registers: everything but the row memories. Row memories: one per row kind, each split into
-  // banks as the export's mapping says (by default PU lane banks: lane i of every chunk in bank
-  // i); one read and one write per bank and firing (simple dual port). A row is read again only
-  // W firings after it was written, so no dependence between iterations on them.
+  // Registers: everything but the row memories. Row memories: one per row kind, each split into banks as the export's
+  // mapping says (by default PU lane banks: lane i of every chunk in bank i); one read and one write per bank and
+  // firing (simple dual port). A row is read again only W firings after it was written, so no dependence between
+  // iterations on them.
   SgmAggregate() {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=ahead_ type=complete dim=0")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=mq_ type=complete dim=1")
@@ -78,8 +74,8 @@ class SgmAggregate {
     PX_PARTITION_COMPLETE(win_, 0)
     PX_PARTITION_COMPLETE(win_head_, 0)
     PX_PRAGMA("HLS ARRAY_PARTITION variable=win_min_ type=complete dim=1")
-    // The row memories' mapping: the export's (its configuration header: PACKING disparities per
-    // word, the words of a column in BANKS memories, bound to IMPL), else PU lane banks.
+    // The row memories' mapping: the export's (its configuration header: PACKING disparities per word, the words of a
+    // column in BANKS memories, bound to IMPL), else PU lane banks.
 #ifdef PX_HLS_SGM_ROW_BANKS
 #if PX_HLS_SGM_ROW_PACKING > 1
     PX_RESHAPE_CYCLIC(row_, PX_HLS_SGM_ROW_PACKING, 3)
@@ -97,8 +93,8 @@ class SgmAggregate {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=p2k_ type=complete dim=1")
     PX_BIND_RAM_S2P_ANY(row_px_)
     PX_PRAGMA("HLS DEPENDENCE variable=row_px_ type=inter dependent=false")
-    // Software instantiations read the don't-care lanes past PU (simd_trip): give them values
-    // once. (Nothing to do in the export, where every lane is a design lane.)
+    // Software instantiations read the don't-care lanes past PU (simd_trip): give them values once. (Nothing to do in
+    // the export, where every lane is a design lane.)
     if (!Caps::fixed) {
     agg_clear_memories:
       for (int d = 0; d < kMaxD; ++d) {
@@ -114,8 +110,8 @@ class SgmAggregate {
     }
   }
 
-  // kinds: StreamPathKind bits (their datapaths within Caps::kind_mask, datapath_kinds());
-  // add_forward: add F from a second input; tee_cost: copy the costs to a second output.
+  // kinds: StreamPathKind bits (their datapaths within Caps::kind_mask, datapath_kinds()); add_forward: add F from a
+  // second input; tee_cost: copy the costs to a second output.
   void configure(const StereoParams& p, unsigned kinds, bool add_forward, bool tee_cost) {
     p_ = p;
     // MGM: a pair's datapath adds its Lr twice when both kinds of the pair are active.
@@ -133,8 +129,8 @@ class SgmAggregate {
     }
     start_frame();
   }
-  // A frame starts with the per-kind registers cleared (they are read, but not used, before the
-  // first firing writes them: the first row and column have no predecessor).
+  // A frame starts with the per-kind registers cleared (they are read, but not used, before the first firing writes
+  // them: the first row and column have no predecessor).
   void start_frame() {
     x_ = 0;
     y_ = 0;
@@ -178,11 +174,10 @@ class SgmAggregate {
     return pl;
   }
 
-  // One firing: the PU lanes [lo, lo + PU) of pixel (x, y) for every active path kind.
-  // Per kind, the predecessor's lanes of this chunk arrived with the previous firing (ahead_),
-  // its lane lo - 1 is held from the chunk before (ahead_[k][0]), and this firing fetches the
-  // predecessor's lanes of the next firing's chunk, whose first is lane lo + PU. So every memory
-  // sees one read and one write per lane bank and firing (docs/kernels.md).
+  // One firing: the PU lanes [lo, lo + PU) of pixel (x, y) for every active path kind. Per kind, the predecessor's
+  // lanes of this chunk arrived with the previous firing (ahead_), its lane lo - 1 is held from the chunk before
+  // (ahead_[k][0]), and this firing fetches the predecessor's lanes of the next firing's chunk, whose first is lane lo
+  // + PU. So every memory sees one read and one write per lane bank and firing (docs/kernels.md).
   template <class CostIn, class FwdIn, class SumOut, class TeeOut>
   void fire(const AggPlan& pl, CostIn& cost_in, FwdIn& fwd_in, SumOut& sum_out, TeeOut& tee_out) {
     (void)pl;
@@ -204,8 +199,8 @@ class SgmAggregate {
         s.v[i] = 0;
       }
     }
-    // One datapath per path kind (kinds outside Caps::kind_mask have none); with MGM one per
-    // pair of kinds, its Lr added once per active kind of the pair.
+    // One datapath per path kind (kinds outside Caps::kind_mask have none); with MGM one per pair of kinds, its Lr
+    // added once per active kind of the pair.
     const unsigned dk = datapaths();
     if (mgm()) {
       if ((Caps::kind_mask & (1u << kKindPixel)) != 0 && (dk & (1u << kKindPixel)) != 0)
@@ -228,16 +223,16 @@ class SgmAggregate {
     advance();
   }
 
-  // The control path of fire(pl) alone (see CostStage::step): the chunk, column and row
-  // counters advance; no path cost is read or written.
+  // The control path of fire(pl) alone (see CostStage::step): the chunk, column and row counters advance; no path cost
+  // is read or written.
   void step(const AggPlan& pl) {
     (void)pl;
     advance();
   }
 
-  // Control-state access for a scheduler that advances periodic rows at once (sim/, never
-  // synthesised): visit(v) calls v(field) on every counter of the control path, by reference;
-  // resync() recomputes the fields derived from them after a visitor wrote them.
+  // Control-state access for a scheduler that advances periodic rows at once (sim/, never synthesised): visit(v) calls
+  // v(field) on every counter of the control path, by reference; resync() recomputes the fields derived from them after
+  // a visitor wrote them.
   template <class V>
   void visit(V& v) {
     v(x_);
@@ -271,28 +266,25 @@ class SgmAggregate {
   unsigned datapaths() const {
     return datapath_kinds(kinds_, p_.aggregation);
   }
-  // Whether a step reads the previous row's intensities (adaptive P2): a row kind, or MGM (whose
-  // pixel kind also steps from the row above).
+  // Whether a step reads the previous row's intensities (adaptive P2): a row kind, or MGM (whose pixel kind also steps
+  // from the row above).
   bool row_intensities() const {
     return (kinds_ & ~(1u << kKindPixel)) != 0 || mgm();
   }
 
  private:
-  // The row memory (row_, row_min_) of kind k: k - 1 for the row kinds, the last for the pixel
-  // kind (MGM only).
+  // The row memory (row_, row_min_) of kind k: k - 1 for the row kinds, the last for the pixel kind (MGM only).
   static int row_memory(int k) {
     return k == kKindPixel ? kRowMemories - 1 : k - 1;
   }
 
-  // MGM (docs/algorithm.md §3): Lr(p, d) = C(p, d) + floor((u_a(d) + u_b(d)) / 2) with
-  // u_q(d) = min(Lr(q, d), Lr(q, d±1) + P1, M_q + P2_q) - M_q for the two predecessors (one when
-  // the other is outside the image, none at a path's start), added into s once, or twice when
-  // both kinds of the pair are active (twice: a shift). K = kKindPixel: the pair pixel / row-up,
-  // sides a = the previous pixel (pix_) and b = the previous row's column x (row memory at x).
-  // K = kKindRowLeft: the pair row-left / row-right, sides a = the previous row's column x - 1
-  // (window) and b = column x + 1 (row memory at x + 1). The lanes' ahead registers follow SGM's
-  // protocol per side (ahead_ side a, ahead2_ side b): this firing fetches the next firing's
-  // chunk of both.
+  // MGM (docs/algorithm.md §3): Lr(p, d) = C(p, d) + floor((u_a(d) + u_b(d)) / 2) with u_q(d) = min(Lr(q, d), Lr(q,
+  // d±1) + P1, M_q + P2_q) - M_q for the two predecessors (one when the other is outside the image, none at a path's
+  // start), added into s once, or twice when both kinds of the pair are active (twice: a shift). K = kKindPixel: the
+  // pair pixel / row-up, sides a = the previous pixel (pix_) and b = the previous row's column x (row memory at x). K =
+  // kKindRowLeft: the pair row-left / row-right, sides a = the previous row's column x - 1 (window) and b = column x +
+  // 1 (row memory at x + 1). The lanes' ahead registers follow SGM's protocol per side (ahead_ side a, ahead2_ side b):
+  // this firing fetches the next firing's chunk of both.
   template <int K>
   PX_INLINE void aggregate_kind_mgm(const CostToken& c, int trip, bool twice, SumToken& s) {
     const int k = K;
@@ -372,9 +364,9 @@ class SgmAggregate {
     const uint32_t run_min = uint32_t(lmin) < prior ? uint32_t(lmin) : prior;
     run_min_[k] = run_min;
 
-    // Store this chunk's Lr: the row memory at x, and the previous pixel (pixel kind) or a row's
-    // column 0 (row-left kind's head). Rows of one or two pixels with one chunk per pixel: a
-    // column fetched above before this firing wrote it takes this firing's Lr.
+    // Store this chunk's Lr: the row memory at x, and the previous pixel (pixel kind) or a row's column 0 (row-left
+    // kind's head). Rows of one or two pixels with one chunk per pixel: a column fetched above before this firing wrote
+    // it takes this firing's Lr.
   agg_mgm_store:
     for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
@@ -410,8 +402,8 @@ class SgmAggregate {
     }
   }
 
-  // One predecessor's step into lane i (pred as ahead_): min(Lr(q, d), Lr(q, d±1) + P1, M + P2)
-  // - M, at most P2 (an unsigned wrap where the predecessor is outside the image, never used).
+  // One predecessor's step into lane i (pred as ahead_): min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M, at most P2 (an
+  // unsigned wrap where the predecessor is outside the image, never used).
   static uint32_t step_from(const Word* pred, int i, Word wp1, Word wm, Word wm_p2) {
     const Word a = pred[i + 1];
     const Word b = sat_add(pred[i], wp1);
@@ -422,11 +414,10 @@ class SgmAggregate {
     return uint32_t(Word(mm - wm));
   }
 
-  // Lr(p, d) = C(p, d) + min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M over the lanes of this
-  // firing for path kind k, added into s; at the start of a path (predecessor outside the
-  // image) Lr(p, d) = C(p, d). Memory contract: row_[m][x] holds the previous row's Lr of column
-  // x until this row's firing at x overwrites it; lag_ holds the previous row's Lr of column
-  // x - 1 (row-left); pix_ holds the previous pixel's Lr until this pixel overwrites it.
+  // Lr(p, d) = C(p, d) + min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M over the lanes of this firing for path kind k,
+  // added into s; at the start of a path (predecessor outside the image) Lr(p, d) = C(p, d). Memory contract:
+  // row_[m][x] holds the previous row's Lr of column x until this row's firing at x overwrites it; lag_ holds the
+  // previous row's Lr of column x - 1 (row-left); pix_ holds the previous pixel's Lr until this pixel overwrites it.
   template <int K>
   PX_INLINE void aggregate_kind(const CostToken& c, int trip, SumToken& s) {
     const int k = K;
@@ -434,8 +425,8 @@ class SgmAggregate {
     const int lo = chunk_ * n;
     const bool first = chunk_ == 0;
     const bool last = chunk_ + 1 == chunks_;
-    // The next firing's position: the next chunk, or chunk 0 of the next pixel (the next row's
-    // first at the end of a row).
+    // The next firing's position: the next chunk, or chunk 0 of the next pixel (the next row's first at the end of a
+    // row).
     const int nlo = last ? 0 : lo + n;
     const int nx = last ? (x_ + 1 == p_.width_px ? 0 : x_ + 1) : x_;
     const int m = k - 1;  // row memory of a row kind
@@ -491,12 +482,11 @@ class SgmAggregate {
     const Word wm = Word(m_prev);
     const uint32_t p2 = p_.p2_adaptive > 0 ? uint32_t(p2k_[k]) : uint32_t(p_.p2);
     const Word wm_p2 = sat_add(wm, Word(p2 > kNone ? kNone : p2));
-    // The lanes' minimum, kept off the recurrence through M: with t_d = min(Lr(q,d),
-    // Lr(q,d±1) + P1), Lr(p,d) = C_d + min(t_d - M, P2), so min_d Lr(p,d) =
-    // min(min_d (C_d + t_d) - M, min_d C_d + P2): both inner minima are independent of M, and
-    // the chain from M to the next M is a subtraction and two compare-selects (docs/kernels.md).
-    // Software instantiations take min_d Lr(p,d) directly, the same value by that identity
-    // (kernels_common_test runs both forms on whole frames): one 16-bit reduction, no widening.
+    // The lanes' minimum, kept off the recurrence through M: with t_d = min(Lr(q,d), Lr(q,d±1) + P1), Lr(p,d) = C_d +
+    // min(t_d - M, P2), so min_d Lr(p,d) = min(min_d (C_d + t_d) - M, min_d C_d + P2): both inner minima are
+    // independent of M, and the chain from M to the next M is a subtraction and two compare-selects (docs/kernels.md).
+    // Software instantiations take min_d Lr(p,d) directly, the same value by that identity (kernels_common_test runs
+    // both forms on whole frames): one 16-bit reduction, no widening.
     uint32_t ct_min = 0xFFFFFFFFu;  // min_d (C_d + t_d)
     uint32_t c_min = 0xFFFFFFFFu;   // min_d C_d
     Word lmin = Word(kNone);
@@ -545,9 +535,9 @@ class SgmAggregate {
         if (last && chunks_ == 1) next[i] = lr[i];  // the next pixel's predecessor is this one
       } else {
         row_[m][x_][lo + i] = lr[i];
-        // Rows of one or two pixels with one chunk per pixel (software instantiations and
-        // exports that narrow): the next firing's predecessor column is the one this firing
-        // writes, fetched above before the write; it takes this firing's Lr instead.
+        // Rows of one or two pixels with one chunk per pixel (software instantiations and exports that narrow): the
+        // next firing's predecessor column is the one this firing writes, fetched above before the write; it takes this
+        // firing's Lr instead.
         if (kNarrowRows && last && chunks_ == 1) {
           if (k == kKindRowUp && nx == x_) next[i] = lr[i];
           if (k == kKindRowRight && nxr == x_) next[i] = lr[i];
@@ -561,8 +551,8 @@ class SgmAggregate {
       else
         row_min_[m][x_] = Word(run_min);
     }
-    // The next firing's predecessor lanes: its lane lo - 1 is this chunk's last (none before
-    // lane 0), its lanes are the ones fetched, and past the last chunk there is no lane.
+    // The next firing's predecessor lanes: its lane lo - 1 is this chunk's last (none before lane 0), its lanes are the
+    // ones fetched, and past the last chunk there is no lane.
     pred[0] = last ? Word(kNone) : pred[n];
   agg_ahead:
     for (int i = 0; i < trip; ++i) {
@@ -572,12 +562,11 @@ class SgmAggregate {
     if (chunk_ + 2 >= chunks_) pred[n + 1] = Word(kNone);
   }
 
-  // Adaptive P2 (docs/algorithm.md §3), at a pixel's first firing: each kind's P2 from the
-  // intensity step between this pixel and that kind's predecessor. The previous row's
-  // intensities of columns x - 1, x, x + 1 are a window of registers (up_px_): it shifts by one
-  // column per pixel, taking column x + 1 fetched by the previous pixel's last firing; a row
-  // starts from the previous row's first two columns (head_px_), so the row memory sees one read
-  // and one write per pixel (keep_intensity).
+  // Adaptive P2 (docs/algorithm.md §3), at a pixel's first firing: each kind's P2 from the intensity step between this
+  // pixel and that kind's predecessor. The previous row's intensities of columns x - 1, x, x + 1 are a window of
+  // registers (up_px_): it shifts by one column per pixel, taking column x + 1 fetched by the previous pixel's last
+  // firing; a row starts from the previous row's first two columns (head_px_), so the row memory sees one read and one
+  // write per pixel (keep_intensity).
   void adapt_p2(uint8_t px) {
     cur_px_ = px;
     if (x_ == 0) {
@@ -594,9 +583,9 @@ class SgmAggregate {
     p2k_[kKindRowUp] = Word(adaptive_p2(p_.p1, p_.p2, a, px, up_px_[1]));
     p2k_[kKindRowRight] = Word(adaptive_p2(p_.p1, p_.p2, a, px, up_px_[2]));
   }
-  // At a pixel's last firing: its intensity becomes the next pixel's predecessor and the next
-  // row's (row memory at x, and the row's first two columns in head_px_); the row memory gives
-  // column x + 2 of the previous row, the next pixel's x + 1.
+  // At a pixel's last firing: its intensity becomes the next pixel's predecessor and the next row's (row memory at x,
+  // and the row's first two columns in head_px_); the row memory gives column x + 2 of the previous row, the next
+  // pixel's x + 1.
   void keep_intensity() {
     prev_px_ = cur_px_;
     if (!kRowKinds && !mgm()) return;
@@ -605,17 +594,15 @@ class SgmAggregate {
     if (x_ < 2) head_px_[x_] = cur_px_;
   }
 
-  // Lane loops run to PU: the compile-time LANES in the export, where PU = LANES. A software
-  // instantiation whose pixel is one chunk (PU = D) runs whole SIMD vectors instead: the lanes
-  // past PU are don't-care (written to the unused rest of a column, masked out of the minimum,
-  // never read as sums).
+  // Lane loops run to PU: the compile-time LANES in the export, where PU = LANES. A software instantiation whose pixel
+  // is one chunk (PU = D) runs whole SIMD vectors instead: the lanes past PU are don't-care (written to the unused rest
+  // of a column, masked out of the minimum, never read as sums).
   int lane_trip() const {
     return chunks_ == 1 ? Caps::simd_trip(lanes_, kLanes < kMaxD ? kLanes : kMaxD) : Caps::trip(lanes_, kLanes);
   }
 
-  // a + b, saturating at kNone (the largest value Lr arithmetic needs). Sums that could exceed
-  // Word saturate, which cannot change a minimum because Lr(q, d) <= 2^path_bits - 1 is always
-  // a candidate and fits.
+  // a + b, saturating at kNone (the largest value Lr arithmetic needs). Sums that could exceed Word saturate, which
+  // cannot change a minimum because Lr(q, d) <= 2^path_bits - 1 is always a candidate and fits.
   static Word sat_add(Word a, Word b) {
     const Word r = Word(a + b);
     return (r < a || r > Word(kNone)) ? Word(kNone) : r;
@@ -637,8 +624,8 @@ class SgmAggregate {
   int d_ = 1, lanes_ = 1, chunks_ = 1;
   int x_ = 0, y_ = 0, chunk_ = 0;
   bool done_ = true;
-  // Per path kind: the predecessor's lanes of this chunk, its lane lo - 1, its minimum M and
-  // the running minimum of this pixel's Lr.
+  // Per path kind: the predecessor's lanes of this chunk, its lane lo - 1, its minimum M and the running minimum of
+  // this pixel's Lr.
   Word ahead_[kKindCount][kLanes + 2];  // [0]: lane lo - 1; [1, PU]: lanes lo..; [PU + 1]: lane lo + PU
   Word mq_[kKindCount];
   uint32_t run_min_[kKindCount];
@@ -648,10 +635,9 @@ class SgmAggregate {
   Word mlag_ = 0;           // row-left path: the previous row's minimum of column x - 1
   Array<Word, kRowMemories, kMaxW, kMaxD> row_;  // row kinds (and MGM's pixel kind): previous-row Lr per column
   Array<Word, kRowMemories, kMaxW> row_min_;     // the same kinds: previous-row min_d Lr per column
-  // MGM (aggregate_kind_mgm): each datapath's second predecessor lanes and minimum; the row-left
-  // datapath's window over its previous row ([0] column x, [1] column x - 1 of the next firing's
-  // pixel; lanes of chunks not yet fetched one pixel behind), the row's column 0, and the same
-  // for the minima (at the current pixel).
+  // MGM (aggregate_kind_mgm): each datapath's second predecessor lanes and minimum; the row-left datapath's window over
+  // its previous row ([0] column x, [1] column x - 1 of the next firing's pixel; lanes of chunks not yet fetched one
+  // pixel behind), the row's column 0, and the same for the minima (at the current pixel).
   Word ahead2_[2][kLanes + 2];
   Word mq2_[2];
   Array<Word, 2, kMaxD> win_;
@@ -659,8 +645,8 @@ class SgmAggregate {
   Word win_min_[2];
   Word win_head_min_ = 0;
   Word pad_[kLanes];  // software only: all ones in the don't-care lanes past PU (lane_trip)
-  // Adaptive P2 (adapt_p2): this pixel's intensity, the previous pixel's, the previous row's
-  // (memory, its columns x - 1 .. x + 1 in registers, its first two columns), and each kind's P2.
+  // Adaptive P2 (adapt_p2): this pixel's intensity, the previous pixel's, the previous row's (memory, its columns x - 1
+  // .. x + 1 in registers, its first two columns), and each kind's P2.
   uint8_t cur_px_ = 0, prev_px_ = 0, fetched_px_ = 0;
   Array<uint8_t, kMaxW> row_px_;
   uint8_t up_px_[3] = {0, 0, 0};
@@ -668,26 +654,21 @@ class SgmAggregate {
   Word p2k_[kKindCount];
 
  public:
-  // Storage descriptor (resources.hpp) of the members above, per active path kind, with the
-  // path-cost width: the pixel path's pix_ (D) and pix_min_; a row kind's row memory
-  // row_[kind - 1] (`packing` disparities per word, the ceil(D / packing) words of a column in
-  // `banks` memories, 0: one memory per word, W deep each) and its row minima row_min_[kind - 1]
-  // (one memory, W deep); the row-left kind's lag_ (D) and mlag_; every kind's ahead_ (PU),
-  // edge_, mq_ and run_min_.
-  // The row memories' mapping for `packing` disparities per word and `banks` memories (0: one per
-  // word): q disparities per word, in `memories` memories of words_per_memory words per column.
+  // Storage descriptor (resources.hpp) of the members above, per active path kind, with the path-cost width: the pixel
+  // path's pix_ (D) and pix_min_; a row kind's row memory row_[kind - 1] (`packing` disparities per word, the ceil(D /
+  // packing) words of a column in `banks` memories, 0: one memory per word, W deep each) and its row minima
+  // row_min_[kind - 1] (one memory, W deep); the row-left kind's lag_ (D) and mlag_; every kind's ahead_ (PU), edge_,
+  // mq_ and run_min_. The row memories' mapping (packing disparities per word, banks memories, 0: one per word).
   void row_mapping(int packing, int banks, int& q, int& memories, int& words_per_memory) const {
     q = packing < 1 ? 1 : (packing > d_ ? d_ : packing);
     const int words = (d_ + q - 1) / q;
     memories = banks <= 0 || banks > words ? words : banks;
     words_per_memory = (words + memories - 1) / memories;
   }
-  // Counting instantiations (access.hpp): the mapping the export makes of the row memories for
-  // this packing and these banks (its configuration header's PX_HLS_SGM_ROW_*), stated to the
-  // count at run time; nothing in plain instantiations.
+  // Counting instantiations (access.hpp): the export's mapping of the rows, stated at run time.
   void count_row_layout(int packing, int banks) {
-    int q = 1, memories = 1, words_per_memory = 1;
-    row_mapping(packing, banks, q, memories, words_per_memory);
+    int q = 1, memories = 1, wpm = 1;
+    row_mapping(packing, banks, q, memories, wpm);
     access_reshape(row_, q, 3);
     access_partition(row_, "row_", kPartitionCyclic, memories, 3);
     access_bind(row_, kStorageRamS2p);
@@ -739,9 +720,9 @@ class SgmAggregate {
   }
 
  private:
-  // MGM's state (aggregate_kind_mgm), no hardware with SGM: per datapath the second
-  // predecessor's lanes and minimum; the pixel datapath's row memory (mapped as the row kinds');
-  // the row-left datapath's window, head column and their minima.
+  // MGM's state (aggregate_kind_mgm), no hardware with SGM: per datapath the second predecessor's lanes and minimum;
+  // the pixel datapath's row memory (mapped as the row kinds'); the row-left datapath's window, head column and their
+  // minima.
   template <class V>
   void mgm_storage(V& v, int q, int memories, int words_per_memory) const {
     const int pb = path_bits(p_);
@@ -778,8 +759,7 @@ class SgmAggregate {
     }
   }
 
-  // The adaptive P2's state (adapt_p2): no hardware without it; the row intensities only with a
-  // row kind active.
+  // The adaptive P2's state (adapt_p2): no hardware without it; the row intensities only with a row kind active.
   template <class V>
   void intensity_storage(V& v) const {
     const bool on = p_.p2_adaptive > 0;
