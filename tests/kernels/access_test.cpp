@@ -27,6 +27,8 @@ class ToyStage {
     PX_PARTITION_COMPLETE(regs_, 1)
     PX_PARTITION_CYCLIC(words_, 1, 1)
     PX_BIND_RAM_S2P(words_, bram)
+    PX_RESHAPE_COMPLETE(lanes_, 2)
+    PX_BIND_RAM_S2P(lanes_, bram)
   }
   // One firing: PU lanes of chunk c of column x, the row memory indexed by the run-time base.
   void fire_runtime_banked(int x, int c) {
@@ -45,10 +47,46 @@ class ToyStage {
   toy_lanes_fixed:
     for (int i = 0; i < kPU; ++i) regs_[i] = uint16_t(w >> (16 * i));
   }
+  // The same as PU lanes reshaped into one word per chunk: the lanes' accesses at one address
+  // are one access of the word.
+  void fire_reshaped(int x, int c) {
+  toy_lanes_reshaped:
+    for (int i = 0; i < kPU; ++i) {
+      const uint16_t v = lanes_[x * 3 + c][i];
+      lanes_[x * 3 + c][i] = uint16_t(v + 1);
+    }
+  }
+  // A reshaped memory whose lanes address different words (lane i reads word i): one access per lane.
+  void fire_reshaped_scattered(int x, int c) {
+  toy_lanes_scattered:
+    for (int i = 0; i < kPU; ++i) regs_[i] = lanes_[(x * 3 + c + i) % (kW * 3)][0];
+  }
   typename C::template array<uint16_t, kW, kD> rows_{};
   typename C::template array<uint16_t, kD> regs_{};
   typename C::template array<uint64_t, kW * 3> words_{};
+  typename C::template array<uint16_t, kW * 3, kPU> lanes_{};
 };
+
+// The report of firing `fire` at every chunk of every column of a counted toy stage; `layout`
+// may restate a layout first.
+template <class Fire, class Layout>
+std::vector<MemoryAccesses> count_toy(Fire fire, Layout layout) {
+  AccessRegistry::get().reset();
+  {
+    ToyStage<true> s;
+    layout(s);
+    for (int x = 0; x < ToyStage<true>::kW; ++x)
+      for (int c = 0; c < 3; ++c) {
+        AccessFiring f("toy");
+        fire(s, x, c);
+      }
+  }
+  return AccessRegistry::get().report();
+}
+template <class Fire>
+std::vector<MemoryAccesses> count_toy(Fire fire) {
+  return count_toy(fire, [](ToyStage<true>&) {});
+}
 
 const MemoryAccesses* find(const std::vector<MemoryAccesses>& r, const std::string& name) {
   for (const MemoryAccesses& m : r)
@@ -57,16 +95,7 @@ const MemoryAccesses* find(const std::vector<MemoryAccesses>& r, const std::stri
 }
 
 TEST(AccessCount, RuntimeIndexedMemoryIsFlaggedAndChargedOnEveryBankItReaches) {
-  AccessRegistry::get().reset();
-  {
-    ToyStage<true> s;
-    for (int x = 0; x < ToyStage<true>::kW; ++x)
-      for (int c = 0; c < 3; ++c) {
-        AccessFiring f("toy");
-        s.fire_runtime_banked(x, c);
-      }
-  }
-  const std::vector<MemoryAccesses> r = AccessRegistry::get().report();
+  const std::vector<MemoryAccesses> r = count_toy([](ToyStage<true>& s, int x, int c) { s.fire_runtime_banked(x, c); });
   const MemoryAccesses* rows = find(r, "rows_");
   ASSERT_NE(rows, nullptr);
   EXPECT_EQ(rows->stage, "toy");
@@ -93,17 +122,9 @@ TEST(AccessCount, ABankingThatTheBaseMovesCostsEveryLaneOnEveryBank) {
   // The same code with the rows partitioned cyclic 3 (not a divisor pattern of PU = 4): lane i
   // of chunk c lands in bank (4c + i) mod 3, so every lane reaches all three banks and each bank
   // is charged with all four lanes' reads and writes: II 4 on a one-read, one-write port.
-  AccessRegistry::get().reset();
-  {
-    ToyStage<true> s;
-    access_partition(s.rows_, "rows_", kPartitionCyclic, 3, 2);
-    for (int x = 0; x < ToyStage<true>::kW; ++x)
-      for (int c = 0; c < 3; ++c) {
-        AccessFiring f("toy");
-        s.fire_runtime_banked(x, c);
-      }
-  }
-  const std::vector<MemoryAccesses> r = AccessRegistry::get().report();
+  const std::vector<MemoryAccesses> r =
+      count_toy([](ToyStage<true>& s, int x, int c) { s.fire_runtime_banked(x, c); },
+                [](ToyStage<true>& s) { access_partition(s.rows_, "rows_", kPartitionCyclic, 3, 2); });
   const MemoryAccesses* rows = find(r, "rows_");
   ASSERT_NE(rows, nullptr);
   EXPECT_EQ(rows->banks, 3);
@@ -117,16 +138,7 @@ TEST(AccessCount, ABankingThatTheBaseMovesCostsEveryLaneOnEveryBank) {
 }
 
 TEST(AccessCount, OneWordPerChunkIsOneReadAndOneWriteAndFixedRegisters) {
-  AccessRegistry::get().reset();
-  {
-    ToyStage<true> s;
-    for (int x = 0; x < ToyStage<true>::kW; ++x)
-      for (int c = 0; c < 3; ++c) {
-        AccessFiring f("toy");
-        s.fire_word(x, c);
-      }
-  }
-  const std::vector<MemoryAccesses> r = AccessRegistry::get().report();
+  const std::vector<MemoryAccesses> r = count_toy([](ToyStage<true>& s, int x, int c) { s.fire_word(x, c); });
   const MemoryAccesses* words = find(r, "words_");
   ASSERT_NE(words, nullptr);
   EXPECT_EQ(words->banks, 1);
@@ -138,6 +150,23 @@ TEST(AccessCount, OneWordPerChunkIsOneReadAndOneWriteAndFixedRegisters) {
   ASSERT_NE(regs, nullptr);
   EXPECT_EQ(regs->runtime_banked_sites, 0);
   EXPECT_EQ(regs->max_banks_per_site, 1);
+}
+
+TEST(AccessCount, ReshapedLanesAtOneAddressAreOneAccessOfTheWord) {
+  const std::vector<MemoryAccesses> r = count_toy([](ToyStage<true>& s, int x, int c) { s.fire_reshaped(x, c); });
+  const MemoryAccesses* lanes = find(r, "lanes_");
+  ASSERT_NE(lanes, nullptr);
+  EXPECT_EQ(lanes->banks, 1);
+  EXPECT_EQ(lanes->max_reads_per_bank_per_firing, 1);
+  EXPECT_EQ(lanes->max_writes_per_bank_per_firing, 1);
+  EXPECT_EQ(lanes->ii_forced, 1);
+  // Lanes that address different words of the reshaped memory are accesses of their own.
+  const std::vector<MemoryAccesses> scattered =
+      count_toy([](ToyStage<true>& s, int x, int c) { s.fire_reshaped_scattered(x, c); });
+  const MemoryAccesses* sc = find(scattered, "lanes_");
+  ASSERT_NE(sc, nullptr);
+  EXPECT_EQ(sc->max_reads_per_bank_per_firing, 4);
+  EXPECT_EQ(sc->ii_forced, 4);
 }
 
 TEST(AccessCount, AccessesOutsideAFiringAndPortsOfEachBinding) {

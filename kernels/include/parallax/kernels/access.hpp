@@ -66,9 +66,9 @@ struct ArrayOf {
 template <class A>
 inline void access_partition(A&, const char*, int, int, int) {}
 template <class A>
-inline void access_bind(A&, int) {}
+inline void access_bind(A&, const char*, int) {}
 template <class A>
-inline void access_reshape(A&, int, int) {}
+inline void access_reshape(A&, const char*, int, int) {}
 
 }  // namespace kern
 }  // namespace parallax
@@ -92,21 +92,25 @@ inline void access_reshape(A&, int, int) {}
 // word i / FACTOR); a later partition of DIM splits the words.
 #define PX_RESHAPE_CYCLIC(VAR, FACTOR, DIM)                                                \
   PX_PRAGMA_TEXT_(HLS ARRAY_RESHAPE variable=VAR type=cyclic factor=FACTOR dim=DIM) \
-  ::parallax::kern::access_reshape(VAR, FACTOR, DIM);
+  ::parallax::kern::access_reshape(VAR, #VAR, FACTOR, DIM);
+// ARRAY_RESHAPE complete: all of dimension DIM in one word (the PU lanes of a chunk).
+#define PX_RESHAPE_COMPLETE(VAR, DIM)                                             \
+  PX_PRAGMA_TEXT_(HLS ARRAY_RESHAPE variable=VAR type=complete dim=DIM) \
+  ::parallax::kern::access_reshape(VAR, #VAR, 0, DIM);
 #define PX_BIND_RAM_S2P(VAR, IMPL)                                          \
   PX_PRAGMA_TEXT_(HLS BIND_STORAGE variable=VAR type=ram_s2p impl=IMPL) \
-  ::parallax::kern::access_bind(VAR, ::parallax::kern::kStorageRamS2p);
+  ::parallax::kern::access_bind(VAR, #VAR, ::parallax::kern::kStorageRamS2p);
 #define PX_BIND_RAM_S2P_ANY(VAR)                                          \
   PX_PRAGMA_TEXT_(HLS BIND_STORAGE variable=VAR type=ram_s2p) \
-  ::parallax::kern::access_bind(VAR, ::parallax::kern::kStorageRamS2p);
+  ::parallax::kern::access_bind(VAR, #VAR, ::parallax::kern::kStorageRamS2p);
 #define PX_BIND_RAM_T2P(VAR, IMPL)                                          \
   PX_PRAGMA_TEXT_(HLS BIND_STORAGE variable=VAR type=ram_t2p impl=IMPL) \
-  ::parallax::kern::access_bind(VAR, ::parallax::kern::kStorageRamT2p);
+  ::parallax::kern::access_bind(VAR, #VAR, ::parallax::kern::kStorageRamT2p);
 // A counted array that is a memory but whose binding comes from elsewhere (the export's
 // configuration header): the counting statement alone.
-#define PX_COUNT_BIND(VAR, STORAGE) ::parallax::kern::access_bind(VAR, STORAGE);
+#define PX_COUNT_BIND(VAR, STORAGE) ::parallax::kern::access_bind(VAR, #VAR, STORAGE);
 // clang-format on
 
-#if !defined(__SYNTHESIS__)
+#if !defined(__SYNTHESIS__) && !defined(PARALLAX_HLS_SUBSET_CHECK)
 #include "parallax/kernels/access_count.hpp"
 #endif

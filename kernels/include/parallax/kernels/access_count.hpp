@@ -11,6 +11,12 @@
 // counted on every bank it ever reached, and keeps the largest sum of any firing.
 #pragma once
 
+// The guard the export's source check relies on (tests/hls/csim_test.cpp): a synthesis or a
+// subset check that reached this file stops here.
+#if defined(__SYNTHESIS__) || defined(PARALLAX_HLS_SUBSET_CHECK)
+#error "access_count.hpp is C-simulation only: include it through access.hpp"
+#endif
+
 #include <stdint.h>
 #include <stdio.h>
 
@@ -164,10 +170,15 @@ class AccessTally {
     complete_ = true;
     for (int k = 0; k < rank_; ++k) complete_ = complete_ && part_[k] == kPartitionComplete;
   }
-  void bind(int storage) { storage_ = storage; }
-  // ARRAY_RESHAPE cyclic of dimension dim (1-based): element i in word i / factor.
-  void reshape(int factor, int dim) {
-    if (dim >= 1 && dim <= rank_) reshape_[dim - 1] = factor < 1 ? 1 : factor;
+  void bind(const char* name, int storage) {
+    name_ = name;
+    storage_ = storage;
+  }
+  // ARRAY_RESHAPE cyclic of dimension dim (1-based): element i in word i / factor; factor 0:
+  // complete (the whole dimension one word).
+  void reshape(const char* name, int factor, int dim) {
+    name_ = name;
+    if (dim >= 1 && dim <= rank_) reshape_[dim - 1] = factor == 0 ? dims_[dim - 1] : factor < 1 ? 1 : factor;
   }
 
   void record(long flat, bool write, const char* file, int line) {
@@ -195,10 +206,19 @@ class AccessTally {
     const int copy = b.count++;
     if (copy >= int(b.sites.size())) {
       b.sites.push_back(int(sites_.size()));
-      sites_.push_back(Site{base, copy, {}});
+      sites_.push_back(Site{base, copy, false, {}});
     }
     const int site = b.sites[std::size_t(copy)];
-    sites_[std::size_t(site)].banks.insert(bank_of(flat));
+    Site& st = sites_[std::size_t(site)];
+    st.banks.insert(bank_of(flat));
+    // A reshaped word read or written by several copies of one place at the same address is one
+    // access of the word (the lanes of an ARRAY_RESHAPE); a copy that ever addresses another
+    // word than copy 0 does in the same firing is an access of its own.
+    const long word = word_of(flat);
+    if (copy == 0)
+      b.word = word;
+    else if (word != b.word)
+      st.own_word = true;
     current_.push_back(site);
   }
 
@@ -229,6 +249,7 @@ class AccessTally {
       std::map<int, int> reads, writes;
       for (int site : sig.first) {
         const Site& s = sites_[std::size_t(site)];
+        if (s.copy > 0 && !s.own_word) continue;  // part of copy 0's word access
         std::map<int, int>& tally = bases_[std::size_t(s.base)].write ? writes : reads;
         for (int bank : s.banks) ++tally[bank];
       }
@@ -237,7 +258,7 @@ class AccessTally {
         m.max_writes_per_bank_per_firing = std::max(m.max_writes_per_bank_per_firing, b.second);
     }
     for (const Site& s : sites_) {
-      if (s.banks.size() <= 1) continue;
+      if (s.banks.size() <= 1 || (s.copy > 0 && !s.own_word)) continue;
       ++m.runtime_banked_sites;
       m.max_banks_per_site = std::max(m.max_banks_per_site, int(s.banks.size()));
       const BaseSite& b = bases_[std::size_t(s.base)];
@@ -258,10 +279,12 @@ class AccessTally {
     uint64_t stamp;
     int count;
     std::vector<int> sites;  // by copy
+    long word = 0;           // the word copy 0 addressed in this firing
   };
   struct Site {
     int base;
     int copy;
+    bool own_word;  // addressed another word than copy 0 in some firing
     std::set<int> banks;
   };
 
@@ -276,9 +299,22 @@ class AccessTally {
     const auto it = base_index_.find(key);
     if (it != base_index_.end()) return it->second;
     const int id = int(bases_.size());
-    bases_.push_back(BaseSite{file, line, write, 0, 0, {}});
+    bases_.push_back(BaseSite{file, line, write, 0, 0, {}, 0});
     base_index_.emplace(key, id);
     return id;
+  }
+
+  // The word of element `flat` (row-major) after the reshapes: its index with each reshaped
+  // dimension's coordinate divided by the factor.
+  long word_of(long flat) const {
+    long idx[kMaxRank];
+    for (int k = rank_ - 1; k >= 0; --k) {
+      idx[k] = flat % dims_[k];
+      flat /= dims_[k];
+    }
+    long word = 0;
+    for (int k = 0; k < rank_; ++k) word = word * ((dims_[k] + reshape_[k] - 1) / reshape_[k]) + idx[k] / reshape_[k];
+    return word;
   }
 
   // The bank of element `flat` (row-major): per dimension, the partition's bank coordinate.
@@ -551,12 +587,12 @@ inline void access_partition(Counted<T, N...>& a, const char* name, int type, in
   a.tally().partition(name, type, factor, dim);
 }
 template <class T, int... N>
-inline void access_bind(Counted<T, N...>& a, int storage) {
-  a.tally().bind(storage);
+inline void access_bind(Counted<T, N...>& a, const char* name, int storage) {
+  a.tally().bind(name, storage);
 }
 template <class T, int... N>
-inline void access_reshape(Counted<T, N...>& a, int factor, int dim) {
-  a.tally().reshape(factor, dim);
+inline void access_reshape(Counted<T, N...>& a, const char* name, int factor, int dim) {
+  a.tally().reshape(name, factor, dim);
 }
 
 template <class T, int... N>

@@ -669,9 +669,9 @@ class SgmAggregate {
   void count_row_layout(int packing, int banks) {
     int q = 1, memories = 1, wpm = 1;
     row_mapping(packing, banks, q, memories, wpm);
-    access_reshape(row_, q, 3);
+    access_reshape(row_, "row_", q, 3);
     access_partition(row_, "row_", kPartitionCyclic, memories, 3);
-    access_bind(row_, kStorageRamS2p);
+    access_bind(row_, "row_", kStorageRamS2p);
   }
   template <class V>
   void storage(V& v, int packing, int banks) const {
