@@ -298,7 +298,6 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["UNIQUENESS_TEXT"] =
       regs.uniqueness_pct > 0 ? "built with the check; 0 turns it off" : "built without the check: ignored";
   v["FRAMES"] = std::to_string(kTestbenchFrames);
-  v["ROW_PACKING"] = std::to_string(c.row_packing);
 }
 
 // Storage directives of the line buffers and the path-cost rows, from the resource model's mapping.
@@ -322,7 +321,6 @@ void storage_values(const config::PipelineConfig&, const res::Inventory& inv, Va
   for (const char* n : {"row_path_up", "row_path_left", "row_path_right"})
     if (!row) row = find_memory(inv, "aggregate", n);
   v["ROW_IMPL"] = row ? ram_impl(row->per_copy.storage) : "bram";
-  v["ROW_MEMORIES"] = std::to_string(row ? std::max(1, row->copies) : 1);
 }
 
 // Rectification: two more AXI4-Stream inputs (the remap tables), a stage per camera. Its row

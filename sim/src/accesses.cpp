@@ -22,7 +22,6 @@ template <class Word>
 void run_counting(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                   const AccessRunOptions& opt) {
   auto engine = std::make_unique<detail::Engine<CountCaps, Word, false, true>>();
-  engine->set_count_row_layout(opt.row_packing, opt.row_banks);
   DisparityCodes out;
   engine->run(left, right, p, detail::RunSetup{}, out, nullptr);
 }

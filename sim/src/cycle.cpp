@@ -47,29 +47,6 @@ TimingModel default_timing(const kern::StereoParams& p, double clock_hz) {
   return t;
 }
 
-int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int row_banks, int chunk, int ii_cycles) {
-  const int packing = std::max(1, row_packing);
-  const int words = (p.disparities + packing - 1) / packing;
-  const int banks = row_banks <= 0 ? words : std::min(row_banks, words);
-  std::vector<int> access(std::size_t(banks), 0);
-  const int lo = chunk * p.parallel_units, hi = lo + p.parallel_units - 1;
-  auto touch = [&](int d_first, int d_last) {
-    d_first = std::max(d_first, 0);
-    d_last = std::min(d_last, p.disparities - 1);
-    if (d_first > d_last) return;
-    for (int w = d_first / packing; w <= d_last / packing; ++w) ++access[std::size_t(w % banks)];
-  };
-  // The kernel's schedule (sgm.hpp): a firing reads the lanes of the next firing's chunk (the
-  // next column's first chunk after the last) and writes its own.
-  const int chunks = p.disparities / p.parallel_units;
-  const int next_lo = chunk + 1 == chunks ? 0 : lo + p.parallel_units;
-  touch(next_lo, next_lo + p.parallel_units - 1);  // reads
-  touch(lo, hi);                                   // writes
-  int worst = 0;
-  for (int a : access) worst = std::max(worst, (a + 1) / 2);
-  return std::max(0, worst - ii_cycles);
-}
-
 namespace {
 
 void require_valid(const kern::StereoParams& p) {

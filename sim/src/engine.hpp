@@ -81,13 +81,6 @@ class Engine : private PipelineRun<kTimed> {
     if (rep_) finish_report();
   }
 
-  // Counting instantiations (kernels/access.hpp): the path-cost rows mapped as the export maps
-  // them for this row packing and these banks (the configuration's row_packing, row_banks).
-  void set_count_row_layout(int packing, int banks) {
-    count_row_packing_ = packing;
-    count_row_banks_ = banks;
-  }
-
   // Func run only (work sharing in sweeps): the matching-cost tokens of one frame, the cost
   // stage alone; and the rest of a one-pass pipeline fed with such tokens. Designs that share
   // cost, window and disparities (so the same lanes) share the tokens: a penalty sweep computes
@@ -248,29 +241,21 @@ class Engine : private PipelineRun<kTimed> {
 
   template <class CostIn, class FwdIn, class SumOut, class TeeOut>
   std::function<bool()> agg_pump(NodeT& n, CostIn& c, FwdIn* f, SumOut& s, TeeOut* t) {
-    return agg_pump_of(agg_, true, n, c, f, s, t);
+    return agg_pump_of(agg_, n, c, f, s, t);
   }
-  // The same for any aggregation stage; row_memories: whether its firings meet the path-cost row
-  // memories' port conflicts (the pixel kind alone has no row memory).
+  // The same for any aggregation stage (its row memories take one read and one write per firing,
+  // a word per chunk: no port conflict beyond the stage's II).
   template <class Agg, class CostIn, class FwdIn, class SumOut, class TeeOut>
-  std::function<bool()> agg_pump_of(Agg& agg, bool row_memories, NodeT& n, CostIn& c, FwdIn* f, SumOut& s, TeeOut* t) {
-    // Extra cycles of each chunk's firing from the path-cost row memories' ports.
-    std::vector<int> conflicts(std::size_t(p_.disparities / p_.parallel_units), 0);
-    if (kTimed && setup_.opt && row_memories)
-      for (std::size_t k = 0; k < conflicts.size(); ++k)
-        conflicts[k] = row_memory_conflict_cycles(p_, setup_.opt->row_packing, setup_.opt->row_banks, int(k),
-                                                  timing_.count(n.name()) ? timing_.at(n.name()).ii_cycles : 1);
-    return [&agg, &n, &c, f, &s, t, conflicts, chunk = std::size_t(0)]() mutable {
+  std::function<bool()> agg_pump_of(Agg& agg, NodeT& n, CostIn& c, FwdIn* f, SumOut& s, TeeOut* t) {
+    return [&agg, &n, &c, f, &s, t]() mutable {
       bool fired = false;
       if (n.still_blocked()) return false;
       kern::NoStream<SumTok> no_sum;
       kern::NoStream<CostTok> no_cost;
       while (!agg.done()) {
         const kern::AggPlan pl = agg.plan();
-        const int extra = conflicts[chunk];
-        const bool ok = n.attempt(
-            {Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}},
-            [&] {
+        const bool ok =
+            n.attempt({Port{&c, true}, Port{f, f != nullptr}}, {Port{&s, true}, Port{t, t != nullptr}}, [&] {
               const FiringScope<Caps::count_accesses> scope(n.name());
               if constexpr (!kData) {
                 agg.step(pl);
@@ -286,10 +271,8 @@ class Engine : private PipelineRun<kTimed> {
                 agg.fire(pl, c, no_sum, s, *t);
               else
                 agg.fire(pl, c, no_sum, s, no_cost);
-            },
-            0, extra);
+            });
         if (!ok) break;
-        if (++chunk == conflicts.size()) chunk = 0;
         fired = true;
       }
       return fired;
@@ -500,7 +483,7 @@ class Engine : private PipelineRun<kTimed> {
   std::unique_ptr<BackEnd> one_pass_back_end(Fifo<CostTok>& costs, DisparityCodes& out, int64_t& got) {
     const bool rr = kern::row_reverse_paths(p_.path_mask);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, rr);
-    if constexpr (Caps::count_accesses) agg_.count_row_layout(count_row_packing_, count_row_banks_);
+    if constexpr (Caps::count_accesses) agg_.count_row_layout();
     wta_.configure(p_, rr);
     median_.configure(p_);
     auto be = std::make_unique<BackEnd>();
@@ -525,7 +508,7 @@ class Engine : private PipelineRun<kTimed> {
           n_agg, costs, nullptr, *be->fwd_to_row, be->cost_to_row.get()));
       be->pumps.push_back(row_reverse_pump(n_rev, *be->cost_to_row, *be->fwd_to_row, *be->cost_row, *be->fwd_row));
       be->pumps.push_back(agg_pump_of<decltype(agg_row_), Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(
-          agg_row_, false, n_row, *be->cost_row, be->fwd_row.get(), *be->sums, nullptr));
+          agg_row_, n_row, *be->cost_row, be->fwd_row.get(), *be->sums, nullptr));
     } else {
       be->pumps.push_back(agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, costs, nullptr,
                                                                                              *be->sums, nullptr));
@@ -585,7 +568,7 @@ class Engine : private PipelineRun<kTimed> {
     const Rate ddr = ddr_rate();
     cost.configure(p_);
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
-    if constexpr (Caps::count_accesses) agg_.count_row_layout(count_row_packing_, count_row_banks_);
+    if constexpr (Caps::count_accesses) agg_.count_row_layout();
     std::unique_ptr<FrontEnd> fe = front_end(left, right);
     Fifo<uint8_t>& in_l = *fe->out_l;
     Fifo<uint8_t>& in_r = *fe->out_r;
@@ -610,7 +593,7 @@ class Engine : private PipelineRun<kTimed> {
     if (rep_) rep_->ddr_bytes_written = stored * fl.word_bytes;
     const int64_t pass2_start = n_wr.t_next() + ddr_latency_cycles();
     agg_.configure(p_, kern::stream_kinds(p_.path_mask, true), true, false);
-    if constexpr (Caps::count_accesses) agg_.count_row_layout(count_row_packing_, count_row_banks_);
+    if constexpr (Caps::count_accesses) agg_.count_row_layout();
     wta_.configure(p_, true);
     median_.configure(p_);
     auto back_c = make_fifo<CostTok>("cost_from_ddr", kTokenDepth);
@@ -703,7 +686,6 @@ class Engine : private PipelineRun<kTimed> {
   kern::RowReverseCodes<Caps> code_rev_;
   std::unique_ptr<RectifyStage> rect_l_, rect_r_;
   FrameBufferStages<Caps, Word, kTimed, kData> fb_;
-  int count_row_packing_ = 1, count_row_banks_ = 0;
 };
 
 }  // namespace parallax::sim::detail

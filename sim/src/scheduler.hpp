@@ -50,11 +50,9 @@ class Node {
 
   // Fires once if the plan's ports allow it (and, timed, no earlier than `earliest`): inputs
   // non-empty, outputs not full; timed: at max(t_next, visible inputs, free output slots).
-  // conflict_cycles: extra cycles this firing holds the stage because its memory accesses exceed
-  // the memories' ports within one II (see row_memory_conflict_cycles()).
   template <class Fire>
   [[gnu::always_inline]] bool attempt(std::initializer_list<Port> in, std::initializer_list<Port> out, Fire&& fire,
-                                      int64_t earliest = 0, int conflict_cycles = 0) {
+                                      int64_t earliest = 0) {
     if constexpr (!kTimed) {  // func run: only the plan's ports, no statistics
       for (const Port& p : in)
         if (p.used && p.fifo->empty()) return false;
@@ -106,8 +104,7 @@ class Node {
       fire();
       if (report_.fires == 0) report_.first_fire_cycle = t;
       report_.last_fire_cycle = t;
-      t_next_ = t + timing_.ii_cycles + conflict_cycles;
-      report_.port_conflict_cycles += conflict_cycles;
+      t_next_ = t + timing_.ii_cycles;
     } else {
       fire();
     }
@@ -135,7 +132,6 @@ class Node {
     v(report_.fires);
     v(report_.input_stall_cycles);
     v(report_.output_stall_cycles);
-    v(report_.port_conflict_cycles);
     v(report_.first_fire_cycle);
     v(report_.last_fire_cycle);
     v(blocked_on_input_);
@@ -145,9 +141,9 @@ class Node {
   // Firings whose cycle the `earliest` bound (a source's arrival) set, above every other bound.
   int64_t earliest_bound() const { return earliest_bound_; }
 
-  // busy = fires x II + the cycles memory-port conflicts add.
+  // busy = fires x II.
   const StageReport& report() const {
-    report_.busy_cycles = report_.fires * timing_.ii_cycles + report_.port_conflict_cycles;
+    report_.busy_cycles = report_.fires * timing_.ii_cycles;
     return report_;
   }
   const FifoBase* blocked_fifo() const { return blocked_; }

@@ -266,8 +266,8 @@ INSTANTIATE_TEST_SUITE_P(Designs, HlsCsim, ::testing::ValuesIn(kDesigns),
 // reduced frame.
 TEST(HlsCsimWidePairs, TwoWordsPerPairBitExact) {
   const fs::path out = fresh_dir("csim_wide_pairs");
-  const Shell ex = export_design("configs/ruf2018-sad.yaml", out,
-                                 "--set paths=8 --set disparities=64 --set parallel_units=64 --set row_packing=1");
+  const Shell ex =
+      export_design("configs/ruf2018-sad.yaml", out, "--set paths=8 --set disparities=64 --set parallel_units=64");
   ASSERT_EQ(ex.status, 0) << ex.output;
   EXPECT_NE(read_file(out / "src/parallax_top.hpp")
                 .find("kFrameBeats = parallax::kern::frame_beats_of(kFramePairBits);  // words per pair: 2"),

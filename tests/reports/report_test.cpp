@@ -277,8 +277,7 @@ TEST(Report, RunAndSimWriteTheDesignSection) {
   for (const char* page : {"run.html", "sim.html"}) {
     const std::string html = slurp(d / page);
     EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u) << page;
-    for (const char* want :
-         {"class=\"design\"", "data:image/png;base64,", "class=\"plot\"", "row_packing", "parallax "})
+    for (const char* want : {"class=\"design\"", "data:image/png;base64,", "class=\"plot\"", "fifo_depth", "parallax "})
       EXPECT_NE(html.find(want), std::string::npos) << page << ": " << want;
   }
   EXPECT_NE(slurp(d / "run.html").find("error: green within 3 px"), std::string::npos);

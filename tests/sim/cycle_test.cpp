@@ -69,7 +69,6 @@ void expect_same_report(const sim::CycleReport& a, const sim::CycleReport& b, co
     EXPECT_EQ(x.busy_cycles, y.busy_cycles) << at;
     EXPECT_EQ(x.input_stall_cycles, y.input_stall_cycles) << at;
     EXPECT_EQ(x.output_stall_cycles, y.output_stall_cycles) << at;
-    EXPECT_EQ(x.port_conflict_cycles, y.port_conflict_cycles) << at;
     EXPECT_EQ(x.first_fire_cycle, y.first_fire_cycle) << at;
     EXPECT_EQ(x.last_fire_cycle, y.last_fire_cycle) << at;
   }
@@ -519,10 +518,6 @@ TEST(CycleEquiv, FastForwardEqualsEveryFiring) {
     const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, seed, 4);
     sim::CycleOptions o = one_pair_per_cycle();
     o.fifo_depth = std::size_t(1 + variant % 3);
-    if (variant % 6 == 4) {  // one memory per path row: port conflicts every firing
-      o.row_packing = 4;
-      o.row_banks = 1;
-    }
     if (variant % 4 == 2) {  // a camera: slower than the pipeline (variant 2), or faster (6, 10: overruns)
       o.input = sim::InputKind::camera;
       o.camera_pixel_hz = variant == 2 ? 5e6 : 150e6;
@@ -659,8 +654,6 @@ TEST(CycleEquiv, ControlPathScheduleEqualsCoupledRun) {
       const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, seed, 5);
       sim::CycleOptions o = one_pair_per_cycle();
       o.fifo_depth = depth;
-      o.row_packing = 4;
-      o.row_banks = 1;
       if (seed % 4 == 1) {
         o.input = sim::InputKind::camera;
         o.camera_pixel_hz = 40e6;
@@ -698,42 +691,6 @@ TEST(Timing, IndependentOfImageContent) {
       EXPECT_EQ(ra.stages[i].output_stall_cycles, rb.stages[i].output_stall_cycles) << ra.stages[i].name;
     }
   }
-}
-
-}  // namespace
-}  // namespace parallax::test
-
-namespace parallax::test {
-namespace {
-
-// Complete partitioning (one memory per word) never exceeds two ports; one memory per path
-// holding the whole row does, and the firing pays for it.
-TEST(Timing, RowMemoryPortConflicts) {
-  StereoParams p = params(40, 8, 60, 6, kern::kForwardPaths);
-  for (int packing : {1, 2, 6, 12, 60})
-    for (int chunk = 0; chunk < 10; ++chunk) EXPECT_EQ(sim::row_memory_conflict_cycles(p, packing, 0, chunk, 2), 0);
-  // One memory, one disparity per word: the next chunk's 6 reads + this chunk's 6 writes = 12
-  // accesses -> 6 cycles, II 2: 4 more.
-  EXPECT_EQ(sim::row_memory_conflict_cycles(p, 1, 1, 3, 2), 4);
-  // The last chunk reads the next column's first chunk: the same count.
-  EXPECT_EQ(sim::row_memory_conflict_cycles(p, 1, 1, 9, 2), 4);
-  // Six-lane words in one memory: 1 word read + 1 written -> 1 cycle: no conflict, even at II 1.
-  EXPECT_EQ(sim::row_memory_conflict_cycles(p, 6, 1, 4, 2), 0);
-  EXPECT_EQ(sim::row_memory_conflict_cycles(p, 6, 1, 4, 1), 0);
-  // Four-lane words: chunk 1 (lanes 6-11) writes words 1-2 and reads words 3-4 (lanes 12-17):
-  // 4 accesses -> 2 cycles: one more at II 1.
-  EXPECT_EQ(sim::row_memory_conflict_cycles(p, 4, 1, 1, 1), 1);
-
-  const StereoPair sp = make_pair(Pattern::kRandom, p.width_px, p.height_px, 13);
-  sim::CycleOptions o = one_pair_per_cycle();
-  const sim::CycleReport base = sim::run_cycle(sp.left, sp.right, p, o);
-  o.row_banks = 1;
-  const sim::CycleReport one_bank = sim::run_cycle(sp.left, sp.right, p, o);
-  const auto& agg = stage(one_bank, "aggregate");
-  EXPECT_EQ(agg.port_conflict_cycles, int64_t(p.width_px) * p.height_px * 10 * 4);
-  EXPECT_EQ(agg.busy_cycles, stage(base, "aggregate").busy_cycles + agg.port_conflict_cycles);
-  EXPECT_GT(one_bank.last_pixel_cycle, base.last_pixel_cycle);
-  EXPECT_EQ(compare_maps(one_bank.codes.code, base.codes.code, p.width_px).mismatches, 0);
 }
 
 }  // namespace

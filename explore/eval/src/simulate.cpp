@@ -22,8 +22,6 @@ sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz
   o.ddr_bytes_per_s = cfg.ddr_gbps * 1e9;
   o.ddr_latency_s = cfg.ddr_latency_ns * 1e-9;
   o.fifo_depth = std::size_t(cfg.fifo_depth);
-  o.row_packing = cfg.row_packing;
-  o.row_banks = cfg.row_banks;
   for (const auto& kv : cfg.fifo_depths) o.fifo_depths[kv.first] = std::size_t(kv.second);
   const kern::StereoParams p = cfg.stereo_params(cfg.roi_width_px, cfg.roi_height_px);
   const sim::TimingModel defaults = sim::default_timing(p, o.synthesis_clock_hz);

@@ -49,6 +49,11 @@ std::string field_documentation() {
 
 void set_field(PipelineConfig& c, const std::string& key, const std::string& raw) {
   const detail::FieldRow* row = find_row(key);
+  // Fields of earlier versions whose meaning is gone: say why, not only that they are unknown.
+  if (key == "row_packing" || key == "row_banks")
+    throw ConfigError("field '" + key +
+                      "' was removed: the aggregation's row memories now hold one word of PU lanes per chunk (one "
+                      "read and one write per firing, issue 41); delete the line");
   if (!row) {
     std::string known;
     for (const auto& n : field_names()) known += (known.empty() ? "" : ", ") + n;

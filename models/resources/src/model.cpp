@@ -167,7 +167,7 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
     auto agg = std::make_unique<kern::SgmAggregate<DeclCaps, uint32_t>>();
     agg->configure(p, kern::stream_kinds(p.path_mask, false), false, two_pass || row_reverse);
     Collector c(inv, "aggregate");
-    agg->declare(c, cfg.row_packing, cfg.row_banks);
+    agg->declare(c);
     if (two_pass) {
       // The frame buffer's writer: its on-chip reversal (kernels/frame_buffer.hpp).
       Collector w(inv, "ddr_write");
@@ -176,7 +176,7 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
     if (two_pass) {
       agg->configure(p, kern::stream_kinds(p.path_mask, true), true, false);
       Collector b(inv, "aggregate_back");
-      agg->declare(b, cfg.row_packing, cfg.row_banks);
+      agg->declare(b);
     }
     if (row_reverse) {
       // The 180-degree path in the one pass (kernels/row_reverse.hpp): the row memories of costs
@@ -187,7 +187,7 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
       rev->declare(r);
       agg->configure(p, kern::stream_kinds(kern::kPath180, true), true, false);
       Collector a(inv, "aggregate_row");
-      agg->declare(a, cfg.row_packing, cfg.row_banks);
+      agg->declare(a);
     }
   }
   {

@@ -90,7 +90,7 @@ TEST(HlsReport, ComparesModelAndSynthesisSideBySide) {
   EXPECT_EQ(by["II aggregate_loop"].note, "stage aggregate");
   EXPECT_EQ(by.count("II init_rows"), 0u);  // no stage of that name
   EXPECT_EQ(by["BRAM_18K"].synthesis, 134.0);
-  EXPECT_EQ(by["BRAM_18K"].model, 138.0);
+  EXPECT_EQ(by["BRAM_18K"].model, 78.0);  // one word of PU lanes per chunk in the path-cost rows (issue 41)
   // The report handed back is the one the latency came from.
   EXPECT_EQ(double(model_cycle.last_pixel_cycle - model_cycle.first_input_cycle), by["latency (cycles)"].model);
 }

@@ -206,9 +206,9 @@ void check_design(const config::PipelineConfig& cfg) {
       const std::string stage = pass == 0 ? "aggregate" : "aggregate_back";
       agg->configure(p, kern::stream_kinds(p.path_mask, pass == 1), pass == 1, (two_pass || row_reverse) && pass == 0);
       res::Collector r(inv, stage);
-      agg->declare(r, cfg.row_packing, cfg.row_banks);
+      agg->declare(r);
       StorageCheck c;
-      agg->storage(c, cfg.row_packing, cfg.row_banks);
+      agg->storage(c);
       const auto f = compare(inv, stage, c, int64_t(sizeof(*agg)));
       EXPECT_TRUE(f.empty()) << cfg.name << join(f);
     }
@@ -225,9 +225,9 @@ void check_design(const config::PipelineConfig& cfg) {
     auto row = std::make_unique<kern::SgmAggregate<kern::PixelPathCaps<Caps>, uint16_t>>();
     row->configure(p, kern::stream_kinds(kern::kPath180, true), true, false);
     res::Collector a(inv, "aggregate_row");
-    row->declare(a, cfg.row_packing, cfg.row_banks);
+    row->declare(a);
     StorageCheck ca;
-    row->storage(ca, cfg.row_packing, cfg.row_banks);
+    row->storage(ca);
     f = compare(inv, "aggregate_row", ca, int64_t(sizeof(*row)));
     EXPECT_TRUE(f.empty()) << cfg.name << join(f);
     auto codes = std::make_unique<kern::RowReverseCodes<Caps>>();

@@ -162,7 +162,6 @@ json sim_json(const config::PipelineConfig& cfg, int clock, const cv::Mat& l, co
                {"busy_cycles", s.busy_cycles},
                {"input_stall_cycles", s.input_stall_cycles},
                {"output_stall_cycles", s.output_stall_cycles},
-               {"port_conflict_cycles", s.port_conflict_cycles},
                {"first_fire_cycle", s.first_fire_cycle},
                {"last_fire_cycle", s.last_fire_cycle}};
     if (why.count(s.name)) sj["ii_limit"] = why.at(s.name);
@@ -307,8 +306,6 @@ void write_accesses(const std::string& path, const config::PipelineConfig& cfg, 
   ao.design = cfg.name;
   ao.clock_hz = clock * 1e6;
   ao.rectify = cfg.rectify_params(l.cols, l.rows);
-  ao.row_packing = cfg.row_packing;
-  ao.row_banks = cfg.row_banks;
   write_text_file(path,
                   sim::count_accesses_json(to_grey_image(l), to_grey_image(r), cfg.stereo_params(l.cols, l.rows), ao));
 }

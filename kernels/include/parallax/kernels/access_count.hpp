@@ -202,6 +202,7 @@ class AccessTally {
     if (b.stamp != firing_) {
       b.stamp = firing_;
       b.count = 0;
+      b.words.clear();
     }
     const int copy = b.count++;
     if (copy >= int(b.sites.size())) {
@@ -212,13 +213,14 @@ class AccessTally {
     Site& st = sites_[std::size_t(site)];
     st.banks.insert(bank_of(flat));
     // A reshaped word read or written by several copies of one place at the same address is one
-    // access of the word (the lanes of an ARRAY_RESHAPE); a copy that ever addresses another
-    // word than copy 0 does in the same firing is an access of its own.
+    // access of the word (the lanes of an ARRAY_RESHAPE): a copy that, in some firing, is the
+    // first of its place to address its word is an access; one that only ever follows another
+    // copy to the same word is part of that access.
     const long word = word_of(flat);
-    if (copy == 0)
-      b.word = word;
-    else if (word != b.word)
-      st.own_word = true;
+    if (std::find(b.words.begin(), b.words.end(), word) == b.words.end()) {
+      b.words.push_back(word);
+      st.leads = true;
+    }
     current_.push_back(site);
   }
 
@@ -249,7 +251,7 @@ class AccessTally {
       std::map<int, int> reads, writes;
       for (int site : sig.first) {
         const Site& s = sites_[std::size_t(site)];
-        if (s.copy > 0 && !s.own_word) continue;  // part of copy 0's word access
+        if (!s.leads) continue;  // part of another copy's word access
         std::map<int, int>& tally = bases_[std::size_t(s.base)].write ? writes : reads;
         for (int bank : s.banks) ++tally[bank];
       }
@@ -258,7 +260,7 @@ class AccessTally {
         m.max_writes_per_bank_per_firing = std::max(m.max_writes_per_bank_per_firing, b.second);
     }
     for (const Site& s : sites_) {
-      if (s.banks.size() <= 1 || (s.copy > 0 && !s.own_word)) continue;
+      if (s.banks.size() <= 1 || !s.leads) continue;
       ++m.runtime_banked_sites;
       m.max_banks_per_site = std::max(m.max_banks_per_site, int(s.banks.size()));
       const BaseSite& b = bases_[std::size_t(s.base)];
@@ -278,13 +280,13 @@ class AccessTally {
     bool write;
     uint64_t stamp;
     int count;
-    std::vector<int> sites;  // by copy
-    long word = 0;           // the word copy 0 addressed in this firing
+    std::vector<int> sites;   // by copy
+    std::vector<long> words;  // the words its copies addressed in this firing
   };
   struct Site {
     int base;
     int copy;
-    bool own_word;  // addressed another word than copy 0 in some firing
+    bool leads;  // the first of its place to address its word, in some firing
     std::set<int> banks;
   };
 
@@ -299,7 +301,7 @@ class AccessTally {
     const auto it = base_index_.find(key);
     if (it != base_index_.end()) return it->second;
     const int id = int(bases_.size());
-    bases_.push_back(BaseSite{file, line, write, 0, 0, {}, 0});
+    bases_.push_back(BaseSite{file, line, write, 0, 0, {}, {}});
     base_index_.emplace(key, id);
     return id;
   }

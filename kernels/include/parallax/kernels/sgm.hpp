@@ -54,13 +54,18 @@ class SgmAggregate {
   // Whether rows may be as narrow as two pixels (then a row kind's next predecessor column can be the one being
   // written; see aggregate_kind): software, or a fixed width of 1 or 2.
   static constexpr bool kNarrowRows = !Caps::fixed || Caps::max_width_px <= 2;
+  // The row memories' words (row_): a FIXED instantiation (the export) keeps each chunk's PU lanes as one word, [W x
+  // D/PU][PU] reshaped in the last dimension, so the firing at column x, chunk c reads and writes the words x * D/PU +
+  // c of its own and the next firing's, and lane i is bit field i of the word whatever the chunk; software
+  // instantiations run any PU up to their lanes and keep a column's lanes flat, [W][D].
+  static constexpr int kRowWords = Caps::fixed ? kMaxW * (kMaxD / kLanes) : kMaxW;
+  static constexpr int kRowLanes = Caps::fixed ? kLanes : kMaxD;
   // Larger than any path cost (<= 2^path_bits - 1) and safe to add P1 to in 32 bits.
   static constexpr uint32_t kNone = sizeof(Word) == 2 ? 0xFFFFu : 0x7FFFFFFFu;
 
-  // Registers: everything but the row memories. Row memories: one per row kind, each split into banks as the export's
-  // mapping says (by default PU lane banks: lane i of every chunk in bank i); one read and one write per bank and
-  // firing (simple dual port). A row is read again only W firings after it was written, so no dependence between
-  // iterations on them.
+  // Registers: everything but the row memories. Row memories: one per row kind, a word of PU lanes per chunk (row_word,
+  // row_lane); a firing reads the next firing's word and writes its own, one read and one write per firing (simple dual
+  // port). A row is read again only W firings after it was written, so no dependence between iterations on them.
   SgmAggregate() {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=ahead_ type=complete dim=0")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=mq_ type=complete dim=1")
@@ -74,17 +79,14 @@ class SgmAggregate {
     PX_PARTITION_COMPLETE(win_, 0)
     PX_PARTITION_COMPLETE(win_head_, 0)
     PX_PRAGMA("HLS ARRAY_PARTITION variable=win_min_ type=complete dim=1")
-    // The row memories' mapping: the export's (its configuration header: PACKING disparities per word, the words of a
-    // column in BANKS memories, bound to IMPL), else PU lane banks.
-#ifdef PX_HLS_SGM_ROW_BANKS
-#if PX_HLS_SGM_ROW_PACKING > 1
-    PX_RESHAPE_CYCLIC(row_, PX_HLS_SGM_ROW_PACKING, 3)
-#endif
-    PX_PARTITION_CYCLIC(row_, PX_HLS_SGM_ROW_BANKS, 3)
+    // The row memories: a chunk's lanes are one word (software instantiations, whose PU is a run-time value, restate
+    // the word per configuration when they count: count_row_layout), bound as the export's configuration header says
+    // (PX_HLS_SGM_ROW_IMPL), else to any RAM.
+    PX_RESHAPE_COMPLETE(row_, 3)
+#ifdef PX_HLS_SGM_ROW_IMPL
     PX_BIND_RAM_S2P(row_, PX_HLS_SGM_ROW_IMPL)
 #else
-    PX_PARTITION_CYCLIC(row_, kLanes, 3)
-    PX_COUNT_BIND(row_, kStorageRamS2p)
+    PX_BIND_RAM_S2P_ANY(row_)
 #endif
     PX_PRAGMA("HLS DEPENDENCE variable=row_ type=inter dependent=false")
     PX_PRAGMA("HLS DEPENDENCE variable=row_min_ type=inter dependent=false")
@@ -103,10 +105,10 @@ class SgmAggregate {
       }
       for (int x = 0; x < kMaxW; ++x) row_px_[x] = 0;
       for (int m = 0; m < kRowMemories; ++m)
-        for (int x = 0; x < kMaxW; ++x) {
-          row_min_[m][x] = 0;
-          for (int d = 0; d < kMaxD; ++d) row_[m][x][d] = 0;
-        }
+        for (int x = 0; x < kMaxW; ++x) row_min_[m][x] = 0;
+      for (int m = 0; m < kRowMemories; ++m)
+        for (int w = 0; w < kRowWords; ++w)
+          for (int l = 0; l < kRowLanes; ++l) row_[m][w][l] = 0;
     }
   }
 
@@ -248,8 +250,8 @@ class SgmAggregate {
     sgm_schedule(*this, s);
   }
   template <class R>
-  void declare(R& r, int packing, int banks) const {
-    sgm_declare(*this, r, packing, banks);
+  void declare(R& r) const {
+    sgm_declare(*this, r);
   }
   const StereoParams& params() const {
     return p_;
@@ -293,6 +295,7 @@ class SgmAggregate {
     const int lo = chunk_ * n;
     const bool first = chunk_ == 0;
     const bool last = chunk_ + 1 == chunks_;
+    const int nc = last ? 0 : chunk_ + 1;
     const int nlo = last ? 0 : lo + n;
     const int nx = last ? (x_ + 1 == p_.width_px ? 0 : x_ + 1) : x_;
     const int m = row_memory(k);
@@ -323,9 +326,9 @@ class SgmAggregate {
       const int d = nlo + i;
       if (straight) {
         next_a[i] = pix_[d];
-        next_b[i] = row_[m][nx][d];
+        next_b[i] = row_[m][row_word(nx, nc)][row_lane(nlo, i)];
       } else {
-        const Word ahead = row_[m][nxr][d];
+        const Word ahead = row_[m][row_word(nxr, nc)][row_lane(nlo, i)];
         next_a[i] = win_[1][d];
         win_[1][d] = nx == 0 ? win_head_[d] : win_[0][d];
         win_[0][d] = ahead;
@@ -370,7 +373,7 @@ class SgmAggregate {
   agg_mgm_store:
     for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
-      row_[m][x_][lo + i] = lr[i];
+      row_[m][row_word(x_, chunk_)][row_lane(lo, i)] = lr[i];
       if (straight) {
         pix_[lo + i] = lr[i];
         if (last && chunks_ == 1) next_a[i] = lr[i];  // the next pixel's predecessor is this one
@@ -427,6 +430,7 @@ class SgmAggregate {
     const bool last = chunk_ + 1 == chunks_;
     // The next firing's position: the next chunk, or chunk 0 of the next pixel (the next row's first at the end of a
     // row).
+    const int nc = last ? 0 : chunk_ + 1;
     const int nlo = last ? 0 : lo + n;
     const int nx = last ? (x_ + 1 == p_.width_px ? 0 : x_ + 1) : x_;
     const int m = k - 1;  // row memory of a row kind
@@ -465,12 +469,12 @@ class SgmAggregate {
       if (k == kKindPixel) {
         next[i] = pix_[d];
       } else if (k == kKindRowUp) {
-        next[i] = row_[m][nx][d];
+        next[i] = row_[m][row_word(nx, nc)][row_lane(nlo, i)];
       } else if (k == kKindRowLeft) {
         next[i] = lag_[d];
-        lag_[d] = row_[m][nx][d];
+        lag_[d] = row_[m][row_word(nx, nc)][row_lane(nlo, i)];
       } else {
-        next[i] = row_[m][nxr][d];
+        next[i] = row_[m][row_word(nxr, nc)][row_lane(nlo, i)];
       }
     }
 
@@ -534,7 +538,7 @@ class SgmAggregate {
         pix_[lo + i] = lr[i];
         if (last && chunks_ == 1) next[i] = lr[i];  // the next pixel's predecessor is this one
       } else {
-        row_[m][x_][lo + i] = lr[i];
+        row_[m][row_word(x_, chunk_)][row_lane(lo, i)] = lr[i];
         // Rows of one or two pixels with one chunk per pixel (software instantiations and exports that narrow): the
         // next firing's predecessor column is the one this firing writes, fetched above before the write; it takes this
         // firing's Lr instead.
@@ -601,6 +605,14 @@ class SgmAggregate {
     return chunks_ == 1 ? Caps::simd_trip(lanes_, kLanes < kMaxD ? kLanes : kMaxD) : Caps::trip(lanes_, kLanes);
   }
 
+  // The row memories' word of column x, chunk c, and the element of lane i of a chunk starting at disparity lo.
+  static int row_word(int x, int c) {
+    return Caps::fixed ? x * (kMaxD / kLanes) + c : x;
+  }
+  static int row_lane(int lo, int i) {
+    return Caps::fixed ? i : lo + i;
+  }
+
   // a + b, saturating at kNone (the largest value Lr arithmetic needs). Sums that could exceed Word saturate, which
   // cannot change a minimum because Lr(q, d) <= 2^path_bits - 1 is always a candidate and fits.
   static Word sat_add(Word a, Word b) {
@@ -633,8 +645,8 @@ class SgmAggregate {
   Word pix_min_ = 0;        // pixel path: the previous pixel's minimum
   Array<Word, kMaxD> lag_;  // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
   Word mlag_ = 0;           // row-left path: the previous row's minimum of column x - 1
-  Array<Word, kRowMemories, kMaxW, kMaxD> row_;  // row kinds (and MGM's pixel kind): previous-row Lr per column
-  Array<Word, kRowMemories, kMaxW> row_min_;     // the same kinds: previous-row min_d Lr per column
+  Array<Word, kRowMemories, kRowWords, kRowLanes> row_;  // row kinds (and MGM's pixel kind): previous-row Lr per column
+  Array<Word, kRowMemories, kMaxW> row_min_;             // the same kinds: previous-row min_d Lr per column
   // MGM (aggregate_kind_mgm): each datapath's second predecessor lanes and minimum; the row-left datapath's window over
   // its previous row ([0] column x, [1] column x - 1 of the next firing's pixel; lanes of chunks not yet fetched one
   // pixel behind), the row's column 0, and the same for the minima (at the current pixel).
@@ -654,30 +666,20 @@ class SgmAggregate {
   Word p2k_[kKindCount];
 
  public:
-  // Storage descriptor (resources.hpp) of the members above, per active path kind, with the path-cost width: the pixel
-  // path's pix_ (D) and pix_min_; a row kind's row memory row_[kind - 1] (`packing` disparities per word, the ceil(D /
-  // packing) words of a column in `banks` memories, 0: one memory per word, W deep each) and its row minima
-  // row_min_[kind - 1] (one memory, W deep); the row-left kind's lag_ (D) and mlag_; every kind's ahead_ (PU), edge_,
-  // mq_ and run_min_. The row memories' mapping (packing disparities per word, banks memories, 0: one per word).
-  void row_mapping(int packing, int banks, int& q, int& memories, int& words_per_memory) const {
-    q = packing < 1 ? 1 : (packing > d_ ? d_ : packing);
-    const int words = (d_ + q - 1) / q;
-    memories = banks <= 0 || banks > words ? words : banks;
-    words_per_memory = (words + memories - 1) / memories;
-  }
-  // Counting instantiations (access.hpp): the export's mapping of the rows, stated at run time.
-  void count_row_layout(int packing, int banks) {
-    int q = 1, memories = 1, wpm = 1;
-    row_mapping(packing, banks, q, memories, wpm);
-    access_reshape(row_, "row_", q, 3);
-    access_partition(row_, "row_", kPartitionCyclic, memories, 3);
+  // Counting instantiations (access.hpp) of software capacities: the export's row words at this configuration's PU
+  // (a column's D lanes in D/PU words of PU), stated at run time after configure().
+  void count_row_layout() {
+    access_reshape(row_, "row_", Caps::fixed ? 0 : lanes_, 3);
     access_bind(row_, "row_", kStorageRamS2p);
   }
+  // Storage descriptor (resources.hpp) of the members above, per active path kind, with the path-cost width: the pixel
+  // path's pix_ (D) and pix_min_; a row kind's row memory row_[kind - 1] (a word of PU lanes per chunk, W x D/PU deep)
+  // and its row minima row_min_[kind - 1] (W deep); the row-left kind's lag_ (D) and mlag_; every kind's ahead_ (PU),
+  // edge_, mq_ and run_min_.
   template <class V>
-  void storage(V& v, int packing, int banks) const {
+  void storage(V& v) const {
     const int pb = path_bits(p_);
-    int q = 1, memories = 1, words_per_memory = 1;
-    row_mapping(packing, banks, q, memories, words_per_memory);
+    const int64_t words = int64_t(p_.width_px) * chunks_;
     v.unused("software_lane_pad", pad_);  // read only where !Caps::fixed
     const unsigned dk = datapaths();
   agg_storage_kinds:
@@ -698,7 +700,7 @@ class SgmAggregate {
         v.memory(k == kKindRowLeft ? "row_path_left"
                  : k == kKindRowUp ? "row_path_up"
                                    : "row_path_right",
-                 row_[m], int64_t(p_.width_px) * words_per_memory, q * pb, memories, false, q);
+                 row_[m], words, lanes_ * pb, 1, false, lanes_);
         v.memory(k == kKindRowLeft ? "row_min_left"
                  : k == kKindRowUp ? "row_min_up"
                                    : "row_min_right",
@@ -715,7 +717,7 @@ class SgmAggregate {
       v.registers("path_min_previous", mq_[k], 1, pb);
       v.registers("path_min_running", run_min_[k], 1, pb);
     }
-    mgm_storage(v, q, memories, words_per_memory);
+    mgm_storage(v, words);
     intensity_storage(v);
   }
 
@@ -724,13 +726,13 @@ class SgmAggregate {
   // the pixel datapath's row memory (mapped as the row kinds'); the row-left datapath's window, head column and their
   // minima.
   template <class V>
-  void mgm_storage(V& v, int q, int memories, int words_per_memory) const {
+  void mgm_storage(V& v, int64_t words) const {
     const int pb = path_bits(p_);
     const bool on = mgm();
     const unsigned dk = datapaths();
     const int pixel = row_memory(kKindPixel);
     if (on && (dk & (1u << kKindPixel)) != 0) {
-      v.memory("row_path_pixel", row_[pixel], int64_t(p_.width_px) * words_per_memory, q * pb, memories, false, q);
+      v.memory("row_path_pixel", row_[pixel], words, lanes_ * pb, 1, false, lanes_);
       v.memory("row_min_pixel", row_min_[pixel], p_.width_px, pb, 1, false, 1);
     } else {
       v.unused("row_path", row_[pixel]);

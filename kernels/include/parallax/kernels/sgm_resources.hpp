@@ -11,18 +11,15 @@ namespace parallax {
 namespace kern {
 
 // Resources of this configuration (resources.hpp). Row paths keep the previous row's Lr in
-// memories: `packing` disparities per word, the words of a column spread over `banks`
-// memories (0: one memory per word, complete partitioning), and the previous row's minimum
-// per column; the pixel path keeps the previous pixel's Lr and minimum in registers; the
-// row-left path delays the previous row's column by one pixel in registers. Every path holds
-// the predecessor's lanes of the next chunk and lane lo - 1. Per lane and path: two +P1 adds,
-// the min of four, + C - M, and the running minimum; per lane the sum over paths.
-// Schedule of one firing (resources.hpp). Each row memory's bank sees one read (the next
-// chunk's lanes) and one write (this chunk's); each row-minimum memory one read (chunk 0) and
-// one write (the last chunk). The pixel path's minimum M is written by a pixel's last firing
-// and used by the next firing; the lanes' minimum is taken off that path (see
-// aggregate_kind), so the chain from M to M is the subtraction, the min with C + P2, the
-// running minimum and its register. The running minimum itself recurs every firing.
+// memories, a word of PU lanes per chunk, and the previous row's minimum per column; the pixel
+// path keeps the previous pixel's Lr and minimum in registers; the row-left path delays the previous row's column by
+// one pixel in registers. Every path holds the predecessor's lanes of the next chunk and lane lo - 1. Per lane and
+// path: two +P1 adds, the min of four, + C - M, and the running minimum; per lane the sum over paths. Schedule of one
+// firing (resources.hpp). Each row memory sees one read (the next chunk's word) and one write (this chunk's); each
+// row-minimum memory one read (chunk 0) and one write (the last chunk). The pixel path's minimum M is written by a
+// pixel's last firing and used by the next firing; the lanes' minimum is taken off that path (see aggregate_kind), so
+// the chain from M to M is the subtraction, the min with C + P2, the running minimum and its register. The running
+// minimum itself recurs every firing.
 template <class A, class S>
 void sgm_schedule(const A& a, S& s) {
   const StereoParams& p = a.params();
@@ -80,7 +77,7 @@ agg_schedule_kinds:
 }
 
 template <class A, class R>
-void sgm_declare(const A& a, R& r, int packing, int banks) {
+void sgm_declare(const A& a, R& r) {
   const StereoParams& p = a.params();
   const int pb = path_bits(p);
   const int ab = aggregate_bits(p);
@@ -88,7 +85,7 @@ void sgm_declare(const A& a, R& r, int packing, int banks) {
   const int pu = a.lanes();
   declare_raster_control(r, p.width_px, p.height_px, d / pu);
   DeclareStorage<R> st(r);
-  a.storage(st, packing, banks);
+  a.storage(st);
   const unsigned dk = a.datapaths();
 agg_declare_paths:
   for (int k = 0; k < kKindCount; ++k) {

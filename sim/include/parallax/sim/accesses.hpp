@@ -15,8 +15,6 @@ struct AccessRunOptions {
   std::string design;  // the design's name, for the report
   double clock_hz = 200e6;
   kern::RectifyParams rectify{};  // recurrences of the rectify stages (the counting run itself takes rectified images)
-  int row_packing = 1;            // the path-cost rows' mapping (the configuration's row_packing, row_banks)
-  int row_banks = 0;
 };
 
 // Runs the counting instantiation on one frame (left and right of the design's size) and

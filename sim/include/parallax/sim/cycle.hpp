@@ -57,11 +57,6 @@ struct CycleOptions {
   std::size_t fifo_depth = 2;
   std::map<std::string, std::size_t> fifo_depths;
   TimingModel timing;  // overrides on top of default_timing()
-  // Memory of the aggregation's path-cost rows: row_packing disparities per memory word, the
-  // words of a column spread cyclically over row_banks memories per path (0 = one memory per
-  // word, i.e. complete partitioning, as Vitis does). Each memory has two ports (true dual port).
-  int row_packing = 1;
-  int row_banks = 0;
   // Rectification in front of the cost stage (mode kRectifyNone: none). The maps are the
   // fixed-point source positions of every pixel of the processed size; their entries stream from
   // memory at input_bytes_per_s (8 bytes each).
@@ -89,10 +84,9 @@ struct StageReport {
   int ii_cycles = 0;
   int latency_cycles = 0;
   int64_t fires = 0;
-  int64_t busy_cycles = 0;           // fires x II
-  int64_t input_stall_cycles = 0;    // waiting for an input token to become visible
-  int64_t output_stall_cycles = 0;   // waiting for space in an output FIFO
-  int64_t port_conflict_cycles = 0;  // extra cycles forced by memory ports (see docs/simulator.md)
+  int64_t busy_cycles = 0;          // fires x II
+  int64_t input_stall_cycles = 0;   // waiting for an input token to become visible
+  int64_t output_stall_cycles = 0;  // waiting for space in an output FIFO
   int64_t first_fire_cycle = -1;
   int64_t last_fire_cycle = -1;
 };
@@ -136,7 +130,6 @@ struct CycleReport {
 // Extra cycles a firing of chunk `chunk` needs beyond II because the path-cost row memories'
 // accesses (per row path: read the next firing's chunk, write lanes [lo, lo+PU-1]) exceed two ports
 // per memory within II cycles: max over memories of ceil(accesses / 2) - II, at least 0.
-int row_memory_conflict_cycles(const kern::StereoParams& p, int row_packing, int row_banks, int chunk, int ii_cycles);
 
 // Runs one frame through the cycle model with the design's PU. The codes are bit-identical to the
 // func run and the golden model (tested in both modes, see CycleOptions::coupled).

@@ -55,10 +55,6 @@ struct Structure {
   double ddr_gbps = 4.0;  // frame buffer of the 8-path variant
   int ddr_latency_ns = 150;
   int fifo_depth = 2;  // default depth of every FIFO
-  // Path-cost row memories of the aggregation: disparities per memory word, and memories per
-  // path (0 = one per word: complete partitioning). Timing counts their port conflicts.
-  int row_packing = 1;
-  int row_banks = 0;
   // Resource figures: what Vitis HLS C synthesis reports (csynth) or after place and route
   // (routed: csynth x the ratios of models/data/resource_model.yaml), docs/resources.md.
   std::string estimate = "csynth";           // csynth | routed

@@ -9,15 +9,11 @@
 
 // Storage directives the kernels place on their member arrays in their constructors
 // (kernels/common.hpp), from the resource model's mapping of this design's memories
-// (docs/resources.md): the line buffers' RAM, and the path-cost rows' packing (disparities per
-// word), memories per row kind and RAM. The structural directives (registers, one memory per row
-// kind, lane banks) are the kernels' own.
+// (docs/resources.md): the line buffers' RAM and the path-cost rows' RAM. The structural
+// directives (registers, one memory per row kind, a word of PU lanes per chunk) are the kernels'
+// own.
 #define PX_HLS_LINE_BUFFER_STORAGE "HLS BIND_STORAGE variable=mem_ type=ram_s2p impl=bram"
-// The path-cost rows (kernels/sgm.hpp writes the ARRAY_RESHAPE, ARRAY_PARTITION and BIND_STORAGE
-// from these, and tells the C simulation's access count the same mapping): PACKING disparities
-// per word, the words of a column in BANKS memories per row kind, each bound to IMPL.
-#define PX_HLS_SGM_ROW_PACKING 3
-#define PX_HLS_SGM_ROW_BANKS 20
+// The path-cost rows' RAM (kernels/sgm.hpp writes the BIND_STORAGE from it).
 #define PX_HLS_SGM_ROW_IMPL bram
 #define PX_MEDIAN_WIDE_KEYS 0  // the median's rank keys need 32 bits (codes with fractions)
 
