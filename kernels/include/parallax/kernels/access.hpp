@@ -79,6 +79,9 @@ inline void access_reshape(A&, const char*, int, int) {}
 // Layout directives: ARRAY_PARTITION of dimension DIM (1-based; 0 = every dimension) and
 // BIND_STORAGE, each the pragma and, in a counting instantiation, the same statement to the
 // counted array (its name is the member's).
+// The arguments are pragma text as well as C++: they cannot take the parentheses a C++-only
+// macro would put around them.
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define PX_PARTITION_COMPLETE(VAR, DIM)                                    \
   PX_PRAGMA_TEXT_(HLS ARRAY_PARTITION variable=VAR type=complete dim=DIM) \
   ::parallax::kern::access_partition(VAR, #VAR, ::parallax::kern::kPartitionComplete, 0, DIM);
@@ -109,6 +112,7 @@ inline void access_reshape(A&, const char*, int, int) {}
 // A counted array that is a memory but whose binding comes from elsewhere (the export's
 // configuration header): the counting statement alone.
 #define PX_COUNT_BIND(VAR, STORAGE) ::parallax::kern::access_bind(VAR, #VAR, STORAGE);
+// NOLINTEND(bugprone-macro-parentheses)
 // clang-format on
 
 #if !defined(__SYNTHESIS__) && !defined(PARALLAX_HLS_SUBSET_CHECK)

@@ -536,6 +536,9 @@ class CountedRef<A, L, true> {
     a_->write(flat_, v, file_, line_);
     return *this;
   }
+  // A proxy: assigning one element to another reads one and writes the other; self-assignment
+  // reads and writes the same element, as the plain array would.
+  // NOLINTNEXTLINE(bugprone-unhandled-self-assignment)
   const CountedRef& operator=(const CountedRef& o) const { return *this = T(o); }
   CountedRef(const CountedRef&) = default;
 
