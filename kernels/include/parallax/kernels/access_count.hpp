@@ -306,14 +306,19 @@ class AccessTally {
     return id;
   }
 
-  // The word of element `flat` (row-major) after the reshapes: its index with each reshaped
-  // dimension's coordinate divided by the factor.
-  long word_of(long flat) const {
-    long idx[kMaxRank];
+  // The coordinates of element `flat` (row-major).
+  void coordinates(long flat, long* idx) const {
     for (int k = rank_ - 1; k >= 0; --k) {
       idx[k] = flat % dims_[k];
       flat /= dims_[k];
     }
+  }
+
+  // The word of element `flat` (row-major) after the reshapes: its index with each reshaped
+  // dimension's coordinate divided by the factor.
+  long word_of(long flat) const {
+    long idx[kMaxRank];
+    coordinates(flat, idx);
     long word = 0;
     for (int k = 0; k < rank_; ++k) word = word * ((dims_[k] + reshape_[k] - 1) / reshape_[k]) + idx[k] / reshape_[k];
     return word;
@@ -322,10 +327,7 @@ class AccessTally {
   // The bank of element `flat` (row-major): per dimension, the partition's bank coordinate.
   int bank_of(long flat) const {
     long idx[kMaxRank];
-    for (int k = rank_ - 1; k >= 0; --k) {
-      idx[k] = flat % dims_[k];
-      flat /= dims_[k];
-    }
+    coordinates(flat, idx);
     long bank = 0;
     for (int k = 0; k < rank_; ++k) {
       const long word = idx[k] / reshape_[k];  // the partition splits words
