@@ -19,8 +19,7 @@ using CountCaps = kern::Caps<kern::kMaxWidthPx, kern::kMaxDisparities, kern::kMa
                              kern::kMaxMedian, 0xFu, false, kern::kMaxMinDisparity, true>;
 
 template <class Word>
-void run_counting(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
-                  const AccessRunOptions& opt) {
+void run_counting(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p) {
   auto engine = std::make_unique<detail::Engine<CountCaps, Word, false, true>>();
   DisparityCodes out;
   engine->run(left, right, p, detail::RunSetup{}, out, nullptr);
@@ -41,9 +40,9 @@ std::string count_accesses_json(const GreyImage& left, const GreyImage& right, c
   if (!errors.empty()) detail::internal_error("count_accesses_json: " + errors.front());
   kern::AccessRegistry::get().reset();
   if (kern::aggregate_bits(p) <= 16)
-    run_counting<uint16_t>(left, right, p, opt);
+    run_counting<uint16_t>(left, right, p);
   else
-    run_counting<uint32_t>(left, right, p, opt);
+    run_counting<uint32_t>(left, right, p);
   const double budget_ns = 1e9 / opt.clock_hz * (1.0 - kClockUncertainty);
   std::vector<kern::AccessStage> stages;
   for (const StageSchedule& s : stage_schedules(p, opt.rectify, opt.clock_hz)) {
