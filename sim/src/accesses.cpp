@@ -1,9 +1,12 @@
 // The counting run (accesses.hpp).
 #include "parallax/sim/accesses.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "engine.hpp"
@@ -25,6 +28,68 @@ void run_counting(const GreyImage& left, const GreyImage& right, const kern::Ste
   engine->run(left, right, p, detail::RunSetup{}, out, nullptr);
 }
 
+// A seeded texture (an LCG's high bits), the right image the left shifted by half the range.
+GreyImage probe_image(int width_px, int height_px, int shift_px) {
+  GreyImage g;
+  g.width_px = width_px;
+  g.height_px = height_px;
+  g.px.resize(std::size_t(width_px) * std::size_t(height_px));
+  uint32_t state = 0x2545F491u;
+  std::vector<uint8_t> row(std::size_t(width_px) + std::size_t(shift_px));
+  for (int y = 0; y < height_px; ++y) {
+    for (auto& v : row) {
+      state = state * 1664525u + 1013904223u;
+      v = uint8_t(state >> 24);
+    }
+    for (int x = 0; x < width_px; ++x)
+      g.px[std::size_t(y) * std::size_t(width_px) + std::size_t(x)] = row[std::size_t(x + shift_px)];
+  }
+  return g;
+}
+
+std::string probe_key(const kern::StereoParams& p) {
+  const int f[] = {p.width_px,
+                   p.height_px,
+                   p.cost,
+                   p.window_w,
+                   p.window_h,
+                   p.disparities,
+                   p.parallel_units,
+                   int(p.path_mask),
+                   p.p1,
+                   p.p2,
+                   int(p.lr_check),
+                   p.lr_tolerance,
+                   p.median,
+                   p.uniqueness_pct,
+                   p.census,
+                   p.min_disparity,
+                   p.p2_adaptive,
+                   p.aggregation,
+                   p.subpixel_bits};
+  std::string k;
+  for (int v : f) k += std::to_string(v) + ",";
+  return k;
+}
+
+std::vector<kern::MemoryAccesses> count_probe(const kern::StereoParams& p) {
+  kern::StereoParams q = p;
+  const int rows = std::max({p.window_h, p.median, 3});
+  q.width_px = std::min(p.width_px, std::max(16, p.min_disparity + p.disparities + p.window_w + 8));
+  q.height_px = std::min(p.height_px, 2 * rows + 2);
+  if (!func_param_errors(q).empty()) q = p;  // a size the design rejects: the design's own
+  const GreyImage left = probe_image(q.width_px, q.height_px, 0);
+  const GreyImage right = probe_image(q.width_px, q.height_px, p.min_disparity + p.disparities / 2);
+  kern::AccessRegistry::get().reset();
+  if (kern::aggregate_bits(q) <= 16)
+    run_counting<uint16_t>(left, right, q);
+  else
+    run_counting<uint32_t>(left, right, q);
+  std::vector<kern::MemoryAccesses> out = kern::AccessRegistry::get().report();
+  kern::AccessRegistry::get().reset();
+  return out;
+}
+
 std::string op_text(const ChainOp& op) {
   static const char* const names[] = {"add", "compare", "mux", "popcount", "xor", "mul", "memory_read", "register"};
   const int k = int(op.kind);
@@ -34,10 +99,29 @@ std::string op_text(const ChainOp& op) {
 
 }  // namespace
 
+std::vector<kern::MemoryAccesses> probe_memory_accesses(const kern::StereoParams& p) {
+  const std::vector<std::string> errors = func_param_errors(p);
+  if (!errors.empty()) detail::internal_error("probe_memory_accesses: " + errors.front());
+  static std::mutex mutex;
+  static std::map<std::string, std::vector<kern::MemoryAccesses>> memo;
+  const std::string key = probe_key(p);
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = memo.find(key);
+    if (it != memo.end()) return it->second;
+  }
+  std::vector<kern::MemoryAccesses> counted = count_probe(p);
+  const std::lock_guard<std::mutex> lock(mutex);
+  return memo.emplace(key, std::move(counted)).first->second;
+}
+
 std::string count_accesses_json(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                                 const AccessRunOptions& opt) {
   const std::vector<std::string> errors = func_param_errors(p);
   if (!errors.empty()) detail::internal_error("count_accesses_json: " + errors.front());
+  // The II each stage's pragma states (from the probe's counts and the declared recurrences),
+  // before this frame's count: the probe uses the same registry.
+  const std::vector<StageSchedule> schedules = stage_schedules(p, opt.rectify, opt.clock_hz);
   kern::AccessRegistry::get().reset();
   if (kern::aggregate_bits(p) <= 16)
     run_counting<uint16_t>(left, right, p);
@@ -45,7 +129,7 @@ std::string count_accesses_json(const GreyImage& left, const GreyImage& right, c
     run_counting<uint32_t>(left, right, p);
   const double budget_ns = 1e9 / opt.clock_hz * (1.0 - kClockUncertainty);
   std::vector<kern::AccessStage> stages;
-  for (const StageSchedule& s : stage_schedules(p, opt.rectify, opt.clock_hz)) {
+  for (const StageSchedule& s : schedules) {
     kern::AccessStage a;
     a.name = s.stage;
     a.ii_declared = s.ii;

@@ -49,10 +49,14 @@ class PipelineRun {
     p_ = p;
     setup_ = setup;
     rep_ = rep;
-    timing_ = default_timing(p, !setup.opt                          ? 200e6
-                                : setup.opt->synthesis_clock_hz > 0 ? setup.opt->synthesis_clock_hz
-                                                                    : setup.opt->clock_hz);
-    if (setup.opt)
+    // An untimed run (the func and counting runs) has no use for the timing, and the default
+    // timing's II comes from a counting run (stage_schedules): only a timed run asks for it.
+    timing_.clear();
+    if (kTimed)
+      timing_ = default_timing(p, !setup.opt                          ? 200e6
+                                  : setup.opt->synthesis_clock_hz > 0 ? setup.opt->synthesis_clock_hz
+                                                                      : setup.opt->clock_hz);
+    if (kTimed && setup.opt)
       for (const auto& kv : setup.opt->timing) timing_[kv.first] = kv.second;
     conditions_ = kern::pipeline_conditions(p, rectifying());
     trace_.reset();

@@ -8,6 +8,7 @@
 #include <memory>
 #include <sstream>
 
+#include "parallax/kernels/access.hpp"
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/census.hpp"
 #include "parallax/kernels/median.hpp"
@@ -16,6 +17,7 @@
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
+#include "parallax/sim/accesses.hpp"
 
 namespace parallax::res::data {
 extern const char* const operator_delays_csv;
@@ -95,12 +97,29 @@ struct Collector {
   }
 };
 
+// The counted memories of stage `name` (every array the counting run saw it access).
+void add_counted(StageSchedule& s, const std::vector<kern::MemoryAccesses>& counted) {
+  for (const kern::MemoryAccesses& m : counted) {
+    if (m.stage != s.stage) continue;
+    MemoryPorts mp;
+    mp.name = m.name;
+    mp.reads = m.max_reads_per_bank_per_firing;
+    mp.writes = m.max_writes_per_bank_per_firing;
+    mp.storage = kern::access_storage_kind(m.kind);
+    mp.banks = m.banks;
+    mp.runtime_banked_sites = m.runtime_banked_sites;
+    s.memories.push_back(mp);
+  }
+}
+
 template <class Stage>
-StageSchedule collect(const std::string& name, const Stage& stage, double clock_hz) {
+StageSchedule collect(const std::string& name, const Stage& stage, double clock_hz,
+                      const std::vector<kern::MemoryAccesses>& counted) {
   StageSchedule s;
   s.stage = name;
   Collector c{&s};
   stage.schedule(c);
+  add_counted(s, counted);
   derive_ii(s, clock_hz);
   return s;
 }
@@ -136,6 +155,24 @@ double Recurrence::delay_ns() const {
   return d;
 }
 
+int MemoryPorts::mii() const {
+  if (storage >= 0) return kern::access_ii_forced(storage, reads, writes);
+  return std::max(1, (reads + writes + ports - 1) / ports);
+}
+
+std::string MemoryPorts::describe() const {
+  if (storage < 0)
+    return "memory " + name + ": " + std::to_string(reads) + " reads + " + std::to_string(writes) + " writes on " +
+           std::to_string(ports) + " ports";
+  std::string d = "memory " + name + " (" + kern::access_storage_name(storage) +
+                  ", counted): " + std::to_string(reads) + " reads + " + std::to_string(writes) +
+                  " writes per bank and firing";
+  if (runtime_banked_sites > 0)
+    d += ", " + std::to_string(runtime_banked_sites) + " site(s) banked at run time over " + std::to_string(banks) +
+         " banks";
+  return d;
+}
+
 void derive_ii(StageSchedule& s, double clock_hz) {
   const double budget_ns = 1e9 / clock_hz * (1.0 - kClockUncertainty);
   s.res_mii = 1;
@@ -144,8 +181,7 @@ void derive_ii(StageSchedule& s, double clock_hz) {
   for (const auto& m : s.memories)
     if (m.mii() > s.res_mii) {
       s.res_mii = m.mii();
-      s.limit = "memory " + m.name + ": " + std::to_string(m.reads) + " reads + " + std::to_string(m.writes) +
-                " writes on " + std::to_string(m.ports) + " ports";
+      s.limit = m.describe();
     }
   std::string rec_limit;
   for (const auto& r : s.recurrences) {
@@ -169,49 +205,50 @@ void derive_ii(StageSchedule& s, double clock_hz) {
 std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const kern::RectifyParams& rectify,
                                            double clock_hz) {
   std::vector<StageSchedule> out;
+  const std::vector<kern::MemoryAccesses> counted = probe_memory_accesses(p);
   if (p.cost == kern::kCostCensus) {
     auto cost = make_stage<kern::CensusCostStage<ScheduleCaps>>();
     cost->configure(p);
-    out.push_back(collect("cost", *cost, clock_hz));
+    out.push_back(collect("cost", *cost, clock_hz, counted));
   } else {
     auto cost = make_stage<kern::SadCostStage<ScheduleCaps>>();
     cost->configure(p);
-    out.push_back(collect("cost", *cost, clock_hz));
+    out.push_back(collect("cost", *cost, clock_hz, counted));
   }
   {
     auto agg = make_stage<kern::SgmAggregate<ScheduleCaps, uint32_t>>();
     agg->configure(p, kern::stream_kinds(p.path_mask, false), false, false);
-    out.push_back(collect("aggregate", *agg, clock_hz));
+    out.push_back(collect("aggregate", *agg, clock_hz, counted));
     if (kern::two_pass_paths(p.path_mask)) {
       agg->configure(p, kern::stream_kinds(p.path_mask, true), true, false);
-      out.push_back(collect("aggregate_back", *agg, clock_hz));
+      out.push_back(collect("aggregate_back", *agg, clock_hz, counted));
     }
     if (kern::row_reverse_paths(p.path_mask)) {
       auto rev = make_stage<kern::RowReverse<ScheduleCaps, uint32_t>>();
       rev->configure(p);
-      out.push_back(collect("row_reverse", *rev, clock_hz));
+      out.push_back(collect("row_reverse", *rev, clock_hz, counted));
       agg->configure(p, kern::stream_kinds(kern::kPath180, true), true, false);
-      out.push_back(collect("aggregate_row", *agg, clock_hz));
+      out.push_back(collect("aggregate_row", *agg, clock_hz, counted));
       auto codes = make_stage<kern::RowReverseCodes<ScheduleCaps>>();
       codes->configure(p);
-      out.push_back(collect("row_unreverse", *codes, clock_hz));
+      out.push_back(collect("row_unreverse", *codes, clock_hz, counted));
     }
   }
   {
     auto wta = make_stage<kern::WtaLr<ScheduleCaps, uint32_t>>();
     wta->configure(p, false);
-    out.push_back(collect("wta_lr", *wta, clock_hz));
+    out.push_back(collect("wta_lr", *wta, clock_hz, counted));
   }
   {
     auto median = make_stage<kern::Median<ScheduleCaps>>();
     median->configure(p);
-    out.push_back(collect("median", *median, clock_hz));
+    out.push_back(collect("median", *median, clock_hz, counted));
   }
   if (rectify.mode != kern::kRectifyNone) {
     auto rect = make_stage<kern::Rectify<1, 1>>();
     rect->configure(rectify);
-    out.push_back(collect("rectify_left", *rect, clock_hz));
-    out.push_back(collect("rectify_right", *rect, clock_hz));
+    out.push_back(collect("rectify_left", *rect, clock_hz, {}));
+    out.push_back(collect("rectify_right", *rect, clock_hz, {}));
   }
   return out;
 }

@@ -221,7 +221,7 @@ TEST(HlsExport, ProjectCarriesTheDirectivesAndSteps) {
   EXPECT_NE(sgm.find("PX_BIND_RAM_S2P(row_, PX_HLS_SGM_ROW_IMPL)"), std::string::npos);
   EXPECT_NE(sgm.find("PX_RESHAPE_COMPLETE(row_, 3)"), std::string::npos);  // a word of PU lanes per chunk
   EXPECT_NE(sgm.find("HLS DEPENDENCE variable=row_ type=inter dependent=false"), std::string::npos);
-  EXPECT_NE(lb.find("HLS ARRAY_PARTITION variable=mem_ type=complete dim=1"), std::string::npos);
+  EXPECT_NE(lb.find("PX_PARTITION_COMPLETE(mem_, 1)"), std::string::npos);
   EXPECT_NE(lb.find("HLS DEPENDENCE variable=mem_ type=inter dependent=false"), std::string::npos);
   EXPECT_NE(lb.find("HLS ARRAY_PARTITION variable=v_ type=complete dim=0"), std::string::npos);
   const std::string tcl = read_file(out / "run_hls.tcl");

@@ -1,9 +1,10 @@
-// unit: each stage's II derived from what its kernel declares (sim/schedule.hpp): known cases,
-// mutations that must raise it, and the cycle model using it.
+// unit: each stage's II derived from its kernel's counted memory accesses and declared recurrences
+// (sim/schedule.hpp): known cases, mutations that must raise it, and the cycle model using it.
 #include <gtest/gtest.h>
 
 #include <string>
 
+#include "parallax/kernels/access.hpp"
 #include "parallax/sim/cycle.hpp"
 #include "parallax/sim/schedule.hpp"
 
@@ -52,14 +53,57 @@ TEST(DerivedII, ClockAndPathsMoveTheAggregation) {
   EXPECT_GE(last, 3);
 }
 
+const MemoryPorts* memory(const StageSchedule& s, const std::string& name) {
+  for (const auto& m : s.memories)
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+TEST(DerivedII, MemoriesAreCountedNotDeclared) {
+  // The seed's memories as the counting run saw them (probe frame): one read and one write per
+  // bank and firing, on the simple dual-port RAMs the kernels bind them to.
+  const StageSchedule cost = stage(seed(), 200, "cost");
+  for (const char* name : {"left_line_buffer", "right_line_buffer"}) {
+    const MemoryPorts* m = memory(cost, name);
+    ASSERT_NE(m, nullptr) << name;
+    EXPECT_EQ(m->storage, kern::kStorageRamS2p) << name;
+    EXPECT_EQ(m->banks, 5) << name;  // the 5 x 5 window's rows
+    EXPECT_EQ(m->reads, 1) << name;
+    EXPECT_EQ(m->writes, 1) << name;
+  }
+  const StageSchedule agg = stage(seed(), 200, "aggregate");
+  const MemoryPorts* row = memory(agg, "row_path");
+  ASSERT_NE(row, nullptr);
+  EXPECT_EQ(row->banks, 3);  // the seed's three row paths
+  EXPECT_EQ(row->runtime_banked_sites, 0);
+  EXPECT_EQ(row->mii(), 1);
+  EXPECT_NE(memory(stage(seed(), 200, "median"), "median_line_buffer"), nullptr);
+  // Five paths, the 180-degree one on reversed rows: the row-reversal stages' memories too.
+  kern::StereoParams reversed = seed();
+  reversed.path_mask = kern::kForwardPaths | kern::kPath180;
+  const StageSchedule rev = stage(reversed, 200, "row_reverse");
+  for (const char* name : {"row_reverse_cost", "row_reverse_sum"}) {
+    const MemoryPorts* m = memory(rev, name);
+    ASSERT_NE(m, nullptr) << name;
+    EXPECT_EQ(m->reads, 1) << name;  // a chunk's lanes are one word
+    EXPECT_EQ(m->writes, 1) << name;
+  }
+  EXPECT_NE(memory(stage(reversed, 200, "row_unreverse"), "row_reverse_codes"), nullptr);
+}
+
 TEST(DerivedII, AnAddedAccessRaisesResMII) {
   StageSchedule cost = stage(seed(), 200, "cost");
   ASSERT_EQ(cost.ii, 1);
-  cost.memories.front().reads += 2;  // e.g. a window reloaded from the line buffer
+  MemoryPorts* left = nullptr;
+  for (auto& m : cost.memories)
+    if (m.name == "left_line_buffer") left = &m;
+  ASSERT_NE(left, nullptr);
+  left->reads += 2;  // e.g. a window reloaded from the line buffer: 3 reads on one read port
   derive_ii(cost, 200e6);
-  EXPECT_EQ(cost.res_mii, 2);
-  EXPECT_EQ(cost.ii, 2);
-  EXPECT_NE(cost.limit.find("left_line_buffer: 3 reads + 1 writes on 2 ports"), std::string::npos) << cost.limit;
+  EXPECT_EQ(cost.res_mii, 3);
+  EXPECT_EQ(cost.ii, 3);
+  EXPECT_NE(cost.limit.find("left_line_buffer (ram_s2p, counted): 3 reads + 1 writes"), std::string::npos)
+      << cost.limit;
 }
 
 TEST(DerivedII, ALongerChainRaisesRecMII) {

@@ -212,7 +212,10 @@ void print_sim_text(const config::PipelineConfig& cfg, int clock, const cv::Mat&
     std::printf("%-15s %4d %4d %10lld %12lld %12lld %12lld %12lld %12lld\n", s.name.c_str(), s.ii_cycles,
                 s.latency_cycles, (long long)s.fires, (long long)s.busy_cycles, (long long)s.input_stall_cycles,
                 (long long)s.output_stall_cycles, (long long)s.first_fire_cycle, (long long)s.last_fire_cycle);
-  std::printf("\nII derived from the kernels' declarations at the design's %d MHz (docs/hls.md):\n", cfg.clock_mhz);
+  std::printf(
+      "\nII derived from the kernels' counted accesses and declared recurrences at the design's %d MHz "
+      "(docs/hls.md):\n",
+      cfg.clock_mhz);
   for (const auto& kv : ii_reasons(cfg, l.cols, l.rows))
     std::printf("  %-13s %s\n", kv.first.c_str(), kv.second.c_str());
   if (c.rows_fast_forwarded > 0)

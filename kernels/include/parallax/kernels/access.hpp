@@ -69,6 +69,9 @@ template <class A>
 inline void access_bind(A&, const char*, int) {}
 template <class A>
 inline void access_reshape(A&, const char*, int, int) {}
+// The report's name of a counted array (one member of several objects: the object's name).
+template <class A>
+inline void access_name(A&, const char*) {}
 
 }  // namespace kern
 }  // namespace parallax

@@ -84,6 +84,12 @@ inline const char* access_storage_name(int storage) {
          : storage == kStorageRamT2p  ? "ram_t2p"
                                       : "default";
 }
+// The StorageType of access_storage_name()'s text (kStorageDefault for any other).
+inline int access_storage_kind(const std::string& name) {
+  for (int k = kStorageRegisters; k <= kStorageRamT2p; ++k)
+    if (name == access_storage_name(k)) return k;
+  return kStorageDefault;
+}
 
 class AccessTally;
 
@@ -170,6 +176,8 @@ class AccessTally {
     complete_ = true;
     for (int k = 0; k < rank_; ++k) complete_ = complete_ && part_[k] == kPartitionComplete;
   }
+  // The name the report gives the array (a member shared by several objects, e.g. two line buffers).
+  void rename(const char* name) { name_ = name; }
   void bind(const char* name, int storage) {
     name_ = name;
     storage_ = storage;
@@ -596,6 +604,10 @@ inline void access_partition(Counted<T, N...>& a, const char* name, int type, in
 template <class T, int... N>
 inline void access_bind(Counted<T, N...>& a, const char* name, int storage) {
   a.tally().bind(name, storage);
+}
+template <class T, int... N>
+inline void access_name(Counted<T, N...>& a, const char* name) {
+  a.tally().rename(name);
 }
 template <class T, int... N>
 inline void access_reshape(Counted<T, N...>& a, const char* name, int factor, int dim) {

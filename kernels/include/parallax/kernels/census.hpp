@@ -58,9 +58,9 @@ class CensusMatcher {
   // right image's codes are kept in the shift register, so only the window's own half width).
   int columns_behind() const { return w_ / 2; }
 
+  // Pixel (x, y) starts: the codes of the windows prime() has just moved to (x, y).
   template <class LB>
-  void begin_pixel(const LB& left, const LB& right, int x, int y) {
-    prime(left, right, x, y);
+  void begin_pixel(const LB&, const LB&, int, int) {
     left_code_ = code(left_win_);
     right_codes_.shift_in(code(right_win_), m_ + d_);
   }

@@ -30,6 +30,8 @@ class CostStage {
     ry_ = p.window_h / 2;
     lanes_ = p.parallel_units;
     chunks_ = p.disparities / p.parallel_units;
+    left_.name("left_line_buffer");
+    right_.name("right_line_buffer");
     left_.configure(p.width_px, p.height_px, p.window_h);
     right_.configure(p.width_px, p.height_px, p.window_h);
     matcher_.configure(p);
@@ -70,9 +72,13 @@ class CostStage {
 
   template <class InS, class OutS>
   void fire(const CostPlan& pl, InS& left_in, InS& right_in, OutS& out) {
-    if (pl.prime) matcher_.prime(left_, right_, prime_++ - rx_, y_);
+    // One window step per firing (one read per row memory): a prologue position or the pixel's
+    // first chunk, never both (plan()).
+    const bool pixel = pl.write && chunk_ == 0;
+    if (pl.prime || pixel) matcher_.prime(left_, right_, pixel ? x_ : prime_ - rx_, y_);
+    if (pl.prime) ++prime_;
     if (pl.write) {
-      if (chunk_ == 0) matcher_.begin_pixel(left_, right_, x_, y_);
+      if (pixel) matcher_.begin_pixel(left_, right_, x_, y_);
       Token t;
       const int d0 = chunk_ * lanes_;
       matcher_.costs(left_, right_, x_, y_, d0, lanes_, t.v);
@@ -129,13 +135,10 @@ class CostStage {
     r.registers("cost_token", lanes_ * cost_bits(p_), 1);
   }
 
-  // Schedule of one firing (resources.hpp): each row memory of the two line buffers takes the
-  // incoming pixel (one write) and gives the window registers one column (one read, also in the
-  // row's prologue steps); the raster counters are the only recurrence.
+  // Schedule of one firing (resources.hpp): the raster counters are the only recurrence (the
+  // line buffers' accesses are counted: accesses.hpp).
   template <class S>
   void schedule(S& s) const {
-    s.memory("left_line_buffer", 1, 1, 2);
-    s.memory("right_line_buffer", 1, 1, 2);
     matcher_.schedule(s, p_);
     s.recurrence("raster_counters", 1);
     s.chain(kOpAdd, bits_for(uint64_t(chunks_)), 1);
@@ -159,8 +162,8 @@ class CostStage {
   int x_ = 0, y_ = 0, chunk_ = 0;
   int prime_ = 0;  // prologue steps of this row's window registers done (of rx)
   bool out_done_ = true;
-  LineBuffer<uint8_t, Caps::max_width_px, kRows> left_;
-  LineBuffer<uint8_t, Caps::max_width_px, kRows> right_;
+  LineBuffer<uint8_t, Caps::max_width_px, kRows, Caps::count_accesses> left_;
+  LineBuffer<uint8_t, Caps::max_width_px, kRows, Caps::count_accesses> right_;
   Matcher matcher_;  // mutable state: cost() may keep running sums
 
  public:

@@ -5,26 +5,36 @@
 // buffers do. C++14 synthesisable subset.
 #pragma once
 
+#include "parallax/kernels/access.hpp"
 #include "parallax/kernels/common.hpp"
 #include "parallax/kernels/resources.hpp"
 
 namespace parallax {
 namespace kern {
 
-template <class T, int MAX_W, int SLOTS>
+template <class T, int MAX_W, int SLOTS, bool COUNT = false>
 class LineBuffer {
  public:
+  static constexpr int kSlots = SLOTS;
   static_assert(SLOTS <= 10 && kMaxHeightPx <= 4096, "slot(): the reciprocal is exact only up to 10 rows of 4096");
   // rows: slots in use (<= SLOTS), at least the window's height. Contract: the caller writes
   // only when input_allowed() says so.
   // One memory per row slot; a write of the incoming row never meets a read of the window's
   // rows in the same slot and column (input_allowed()), hence no dependence between iterations.
+  // The window reads every row memory once per step, at one column (column()), and selects its
+  // rows from those values by slot: a read's memory never depends on run-time state, so each
+  // memory sees one read and one write per firing (counted: issue 41).
   LineBuffer() {
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=mem_ type=complete dim=1")
+    PX_PARTITION_COMPLETE(mem_, 1)
     PX_PRAGMA("HLS DEPENDENCE variable=mem_ type=inter dependent=false")
 #ifdef PX_HLS_LINE_BUFFER_STORAGE
     PX_PRAGMA(PX_HLS_LINE_BUFFER_STORAGE)
 #endif
+    PX_COUNT_BIND(mem_, kStorageRamS2p)
+  }
+  // The name the access count reports the memories under (the stage's name for this buffer).
+  void name(const char* n) {
+    access_name(mem_, n);
   }
   void configure(int width_px, int height_px, int rows) {
     width_px_ = width_px;
@@ -85,16 +95,27 @@ class LineBuffer {
     return in_row_ >= height_px_;
   }
 
-  // Pixel (x, y) with both coordinates clamped to the image; it must be resident.
+  // Pixel (x, y) with both coordinates clamped to the image; it must be resident. One read of
+  // each row memory in use (a window of one row: one memory).
   T at_clamped(int x, int y) const {
-    const int cx = clamp_int(x, 0, width_px_ - 1);
-    const int cy = clamp_int(y, 0, height_px_ - 1);
-    return mem_[slot(cy)][cx];
+    T col[SLOTS];
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=col type=complete dim=1")
+    column(clamp_int(x, 0, width_px_ - 1), col);
+    return col[slot_clamped(y)];
   }
 
-  // The resident row holding image row clamp(y); columns are not clamped.
-  const T* row_clamped(int y) const {
-    return mem_[slot(clamp_int(y, 0, height_px_ - 1))];
+  // Column x of every row memory in use (x not clamped): one read per memory, whatever rows the
+  // caller then selects (slot_clamped()).
+  void column(int x, T out[SLOTS]) const {
+  line_buffer_column:
+    for (int s = 0; s < SLOTS; ++s) {
+      PX_PRAGMA("HLS UNROLL")
+      out[s] = s < rows_ ? T(mem_[s][x]) : T(0);
+    }
+  }
+  // The slot of image row clamp(y).
+  int slot_clamped(int y) const {
+    return slot(clamp_int(y, 0, height_px_ - 1));
   }
   // row % rows by a multiply: exact for row < 4096 and rows <= 10 (error < 4096 * 10 / 2^16).
   int slot(int row) const {
@@ -124,7 +145,7 @@ class LineBuffer {
   }
 
  private:
-  T mem_[SLOTS][MAX_W];
+  typename ArrayOf<COUNT, T, SLOTS, MAX_W>::type mem_;
   int width_px_ = 0;
   int height_px_ = 0;
   int rows_ = 1;
@@ -162,11 +183,14 @@ class WindowRegs {
     const bool start = x == -reach;
     const int col = start ? 0 : lb.clamp_x(x + reach);
     if (!start && !LITERAL) base_ = (base_ + 1) & (kRing - 1);
+    T column[LB::kSlots];  // the column of every row memory: one read each
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=column type=complete dim=1")
+    lb.column(col, column);
   window_rows:
     for (int j = 0; j < MAX_H; ++j) {
       PX_PRAGMA("HLS UNROLL")
       if (j < h) {
-        const T pixel = lb.row_clamped(y + j - ry)[col];
+        const T pixel = column[lb.slot_clamped(y + j - ry)];
       window_cols:
         for (int i = 0; i < (LITERAL ? MAX_W : 1); ++i) {
           PX_PRAGMA("HLS UNROLL")

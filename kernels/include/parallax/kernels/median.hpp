@@ -35,6 +35,7 @@ class Median {
     r_ = k_ / 2;
     width_px_ = p.width_px;
     height_px_ = p.height_px;
+    lb_.name("median_line_buffer");
     lb_.configure(p.width_px, p.height_px, k_);
     start_frame();
   }
@@ -59,9 +60,10 @@ class Median {
 
   template <class InS, class OutS>
   void fire(const MedianPlan& pl, InS& in, OutS& out) {
-    if (pl.prime) win_.step_to(lb_, prime_++ - r_, y_, k_, k_, r_);
+    // One window step per firing (one read per row memory): a prologue position or an output.
+    if (pl.prime || (pl.write && k_ > 1)) win_.step_to(lb_, pl.prime ? prime_ - r_ : x_, y_, k_, k_, r_);
+    if (pl.prime) ++prime_;
     if (pl.write) {
-      if (k_ > 1) win_.step_to(lb_, x_, y_, k_, k_, r_);
       // Only the sizes the window registers hold are instantiated (kRows = k of the export).
       out.write(k_ == 1                     ? lb_.at_clamped(x_, y_)
                 : k_ == 3                   ? window_median < kRows < 3 ? 1 : 3 > ()
@@ -93,11 +95,10 @@ class Median {
   }
   void resync() { lb_.resync(); }
 
-  // Schedule of one firing (resources.hpp): each row memory of the line buffer takes the incoming
-  // code and gives the window registers one column (also in the row's prologue steps).
+  // Schedule of one firing (resources.hpp): the raster counters (the line buffer's accesses are
+  // counted: accesses.hpp).
   template <class S>
   void schedule(S& s) const {
-    s.memory("median_line_buffer", 1, 1, 2);
     s.recurrence("raster_counters", 1);
     s.chain(kOpAdd, bits_for(uint64_t(width_px_)), 1);
     s.chain(kOpCompare, bits_for(uint64_t(width_px_)), 1);
@@ -259,7 +260,7 @@ class Median {
   int x_ = 0, y_ = 0;
   int prime_ = 0;  // prologue steps of this row's window registers done (of r)
   bool done_ = true;
-  LineBuffer<DispCode, Caps::max_width_px, kRows> lb_;
+  LineBuffer<DispCode, Caps::max_width_px, kRows, Caps::count_accesses> lb_;
   WindowRegs<DispCode, kRows, kRows, Caps::fixed> win_;  // the k x k window registers of the output position
 };
 

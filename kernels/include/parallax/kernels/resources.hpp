@@ -12,9 +12,9 @@
 //
 // A stage's schedule(S& s) declares what limits the initiation interval of its pipelined loop
 // (issue 14; sim/ derives II = max(1, ResMII, RecMII) from it, docs/hls.md):
-//   s.memory(name, reads, writes, ports)   one physical memory after partitioning and its
-//       accesses in the busiest firing (every branch of the loop body counts: synthesis schedules
-//       the loop for all of them); ports: 2 for a dual-port RAM, 1 for a single-port one;
+//   s.memory(name, reads, writes, ports)   a memory the counting run does not see (the rectify
+//       stages' line buffer): its accesses in the busiest firing over its ports. Every other
+//       memory's accesses are counted in C simulation (access.hpp, sim/accesses.hpp), not declared;
 //   s.recurrence(name, distance)           a value one firing produces and the firing `distance`
 //       later uses (a loop-carried dependence), followed by
 //   s.chain(kind, width_bits, count)        the operators on the path from that use to the value's

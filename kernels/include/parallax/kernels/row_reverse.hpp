@@ -25,6 +25,7 @@
 // registers do. C++14 synthesisable subset.
 #pragma once
 
+#include "parallax/kernels/access.hpp"
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/common.hpp"
 #include "parallax/kernels/resources.hpp"
@@ -141,25 +142,34 @@ class RowReverse : public RowReverseStage {
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
-  static constexpr int kWords = Caps::fixed ? kMaxD / kLanes : kMaxD;  // words per pixel
-  static constexpr int kPerWord = Caps::fixed ? kLanes : 1;            // lanes per word
+  // A word holds a chunk's PU lanes (the export) or, in software instantiations, the pixel's
+  // whole column: either way the lanes of one firing are one word, one access (counted).
+  static constexpr int kWords = Caps::fixed ? kMaxD / kLanes : 1;  // words per pixel
+  static constexpr int kPerWord = Caps::fixed ? kLanes : kMaxD;    // lanes per word
 
   RowReverse() {
-    PX_PRAGMA("HLS ARRAY_RESHAPE variable=cost_ type=complete dim=3")
-    PX_PRAGMA("HLS ARRAY_RESHAPE variable=sum_ type=complete dim=3")
+    PX_RESHAPE_COMPLETE(cost_, 3)
+    PX_RESHAPE_COMPLETE(sum_, 3)
 #ifdef PX_HLS_ROW_REVERSE_COST_STORAGE
     PX_PRAGMA(PX_HLS_ROW_REVERSE_COST_STORAGE)
     PX_PRAGMA(PX_HLS_ROW_REVERSE_SUM_STORAGE)
+    PX_COUNT_BIND(cost_, kStorageRamS2p)
+    PX_COUNT_BIND(sum_, kStorageRamS2p)
 #else
-    PX_PRAGMA("HLS BIND_STORAGE variable=cost_ type=ram_s2p")
-    PX_PRAGMA("HLS BIND_STORAGE variable=sum_ type=ram_s2p")
+    PX_BIND_RAM_S2P_ANY(cost_)
+    PX_BIND_RAM_S2P_ANY(sum_)
 #endif
     PX_PRAGMA("HLS DEPENDENCE variable=cost_ type=inter dependent=false")
     PX_PRAGMA("HLS DEPENDENCE variable=sum_ type=inter dependent=false")
-    PX_PRAGMA("HLS BIND_STORAGE variable=px_ type=ram_s2p")
+    PX_BIND_RAM_S2P_ANY(px_)
     PX_PRAGMA("HLS DEPENDENCE variable=px_ type=inter dependent=false")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=last_cost_ type=complete dim=1")
-    PX_PRAGMA("HLS ARRAY_PARTITION variable=last_sum_ type=complete dim=1")
+    PX_PARTITION_COMPLETE(last_cost_, 1)
+    PX_PARTITION_COMPLETE(last_sum_, 1)
+    access_name(cost_, "row_reverse_cost");
+    access_name(sum_, "row_reverse_sum");
+    access_name(px_, "row_reverse_intensity");
+    access_name(last_cost_, "row_reverse_last_cost");
+    access_name(last_sum_, "row_reverse_last_sum");
   }
 
   void configure(const StereoParams& p) {
@@ -187,7 +197,7 @@ class RowReverse : public RowReverseStage {
     row_reverse_out:
       for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
-        const int w = Caps::fixed ? c : c * lanes_ + i, l = Caps::fixed ? i : 0;
+        const int w = Caps::fixed ? c : 0, l = Caps::fixed ? i : c * lanes_ + i;
         ct.v[i] = bypass ? last_cost_[c * lanes_ + i] : cost_[xs][w][l];
         st.v[i] = bypass ? last_sum_[c * lanes_ + i] : sum_[xs][w][l];
       }
@@ -209,7 +219,7 @@ class RowReverse : public RowReverseStage {
     row_reverse_in:
       for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
-        const int w = Caps::fixed ? c : c * lanes_ + i, l = Caps::fixed ? i : 0;
+        const int w = Caps::fixed ? c : 0, l = Caps::fixed ? i : c * lanes_ + i;
         if (bypass) {
           last_cost_[c * lanes_ + i] = ct.v[i];
           last_sum_[c * lanes_ + i] = st.v[i];
@@ -222,14 +232,10 @@ class RowReverse : public RowReverseStage {
     ctl_.advance(pl);
   }
 
-  // Schedule of one firing: each memory sees one read and one write; the bypass registers are
-  // written by the last pixel and read by the first, never a chain within one firing.
+  // Schedule of one firing: no recurrence (the bypass registers are written by the last pixel and
+  // read by the first, never a chain within one firing); the memories' accesses are counted.
   template <class S>
-  void schedule(S& s) const {
-    s.memory("row_reverse_cost", 1, 1, 2);
-    s.memory("row_reverse_sum", 1, 1, 2);
-    if (p_.p2_adaptive > 0) s.memory("row_reverse_intensity", 1, 1, 2);
-  }
+  void schedule(S&) const {}
   template <class R>
   void declare(R& r) const {
     const int cb = cost_bits(p_), ab = aggregate_bits(p_);
@@ -264,11 +270,13 @@ class RowReverse : public RowReverseStage {
  private:
   StereoParams p_;
   int d_ = 1, lanes_ = 1;
-  uint16_t cost_[kMaxW][kWords][kPerWord];
-  Word sum_[kMaxW][kWords][kPerWord];
-  uint16_t last_cost_[kMaxD];
-  Word last_sum_[kMaxD];
-  uint8_t px_[kMaxW];  // the buffered row's left intensities, one per pixel slot
+  template <class T, int... N>
+  using Array = typename ArrayOf<Caps::count_accesses, T, N...>::type;
+  Array<uint16_t, kMaxW, kWords, kPerWord> cost_;
+  Array<Word, kMaxW, kWords, kPerWord> sum_;
+  Array<uint16_t, kMaxD> last_cost_;
+  Array<Word, kMaxD> last_sum_;
+  Array<uint8_t, kMaxW> px_;  // the buffered row's left intensities, one per pixel slot
   uint8_t last_px_ = 0, out_px_ = 0;
 };
 
@@ -283,9 +291,11 @@ class RowReverseCodes : public RowReverseStage {
   RowReverseCodes() {
 #ifdef PX_HLS_ROW_REVERSE_CODES_STORAGE
     PX_PRAGMA(PX_HLS_ROW_REVERSE_CODES_STORAGE)
+    PX_COUNT_BIND(codes_, kStorageRamS2p)
 #else
-    PX_PRAGMA("HLS BIND_STORAGE variable=codes_ type=ram_s2p")
+    PX_BIND_RAM_S2P_ANY(codes_)
 #endif
+    access_name(codes_, "row_reverse_codes");
     PX_PRAGMA("HLS DEPENDENCE variable=codes_ type=inter dependent=false")
   }
 
@@ -307,10 +317,9 @@ class RowReverseCodes : public RowReverseStage {
     ctl_.advance(pl);
   }
 
+  // No recurrence; the memory's accesses are counted.
   template <class S>
-  void schedule(S& s) const {
-    s.memory("row_reverse_codes", 1, 1, 2);
-  }
+  void schedule(S&) const {}
   template <class R>
   void declare(R& r) const {
     ctl_.declare(r);
@@ -325,7 +334,7 @@ class RowReverseCodes : public RowReverseStage {
 
  private:
   StereoParams p_;
-  DispCode codes_[kMaxW];
+  typename ArrayOf<Caps::count_accesses, DispCode, kMaxW>::type codes_;
   DispCode last_ = 0;
 };
 

@@ -2,6 +2,7 @@
 // CostStage. Clamped border on both images. C++14 synthesisable subset.
 #pragma once
 
+#include "parallax/kernels/access.hpp"
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/common.hpp"
 #include "parallax/kernels/cost_stage.hpp"
@@ -13,9 +14,13 @@ template <class Caps>
 class SadMatcher {
  public:
   static constexpr int kLanes = Caps::lanes;
+  static_assert(kMaxWindow * kMaxWindow * 255 <= 0xFFFF, "a window's sum of differences fits a 16-bit cost");
   // The previous pixel's sums: PU lanes read and written per firing, lane i in bank i.
-  SadMatcher() { PX_PRAGMA("HLS ARRAY_PARTITION variable=last_ type=cyclic factor=kLanes dim=1") }
+  SadMatcher() { PX_PARTITION_CYCLIC(last_, kLanes, 1) }
   void configure(const StereoParams& p) {
+    // The count's statement of the layout at the design's PU (kLanes in the export, where the two
+    // are equal; a software instantiation's kLanes is its capacity).
+    access_partition(last_, "sad_last_sums", kPartitionCyclic, p.parallel_units, 1);
     w_ = p.window_w;
     h_ = p.window_h;
     width_px_ = p.width_px;
@@ -37,11 +42,9 @@ class SadMatcher {
     r.op("sad_adder_tree", kOpAdd, cost_bits(p), (taps - 1) * pu);
   }
 
-  // The previous pixel's sums: PU lane banks, one read and one write each per firing.
+  // No recurrence of its own (the previous pixel's sums, PU lane banks, are counted).
   template <class S>
-  void schedule(S& s, const StereoParams&) const {
-    s.memory("sad_last_sums", 1, 1, 2);
-  }
+  void schedule(S&, const StereoParams&) const {}
 
   // Columns left of the output column that costs() may still read from the line buffers: the
   // right window at x - d reaches x - D + 1 - w/2, and the slide's trailing column one more.
@@ -54,11 +57,10 @@ class SadMatcher {
   // min_disparity), each clamped to the
   // image, over the window's h rows. The next pixel of a row shifts them one column and reads
   // one new pixel per row memory and image; any other move reloads them whole.
-  // Contract: once per pixel, in raster order, before costs() is called for every d in [0, D).
+  // Contract: once per pixel, in raster order, after prime() moved the registers to (x, y) and
+  // before costs() is called for every d in [0, D); the registers hold all it needs.
   template <class LB>
-  void begin_pixel(const LB& left, const LB& right, int x, int y) {
-    prime(left, right, x, y);
-  }
+  void begin_pixel(const LB&, const LB&, int, int) {}
   // Moves both registers one step to position x of row y (x < 0: the row's prologue).
   template <class LB>
   void prime(const LB& left, const LB& right, int x, int y) {
@@ -104,11 +106,17 @@ class SadMatcher {
             }
           }
         }
-        last_[d] = sum;
         out[i] = uint16_t(sum);
       } else if (i >= n_valid && i < n) {
         out[i] = cost_max_;  // no right pixel
       }
+    }
+    // The sums the next pixel slides from: one store per lane, whichever way its sum was made
+    // (one write per lane bank and firing; a sum fits 16 bits: see kMaxWindow).
+  sad_keep:
+    for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      if (i < n_valid) last_[d0 + i] = uint32_t(out[i]);
     }
   }
 
@@ -143,10 +151,7 @@ class SadMatcher {
   sad_slide_out:
     for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
-      if (i < n) {
-        last_[d0 + i] = uint32_t(acc[i]);
-        out[i] = uint16_t(acc[i]);
-      }
+      if (i < n) out[i] = uint16_t(acc[i]);
     }
   }
 
@@ -158,7 +163,8 @@ class SadMatcher {
   WindowRegs<uint8_t, kMaxWindow + 1, Caps::window_rows, Caps::fixed> left_;
   WindowRegs<uint8_t, Caps::max_min_disparity + Caps::max_disparities + kMaxWindow, Caps::window_rows, Caps::fixed>
       right_;
-  uint32_t last_[Caps::max_disparities];  // S(x - 1, d) of this row, where it was a real sum
+  typename ArrayOf<Caps::count_accesses, uint32_t, Caps::max_disparities>::type
+      last_;  // S(x - 1, d) of this row, where it was a real sum
 
  public:
   // Storage descriptor (resources.hpp) of the members above: the left window's w + 1 columns and

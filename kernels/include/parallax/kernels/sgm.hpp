@@ -94,6 +94,13 @@ class SgmAggregate {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=head_px_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=p2k_ type=complete dim=1")
     PX_BIND_RAM_S2P_ANY(row_px_)
+    access_name(pix_, "pixel_path_previous");
+    access_name(lag_, "row_left_delay");
+    access_name(row_, "row_path");
+    access_name(row_min_, "row_min");
+    access_name(win_, "mgm_window");
+    access_name(win_head_, "mgm_window_head");
+    access_name(row_px_, "row_intensity");
     PX_PRAGMA("HLS DEPENDENCE variable=row_px_ type=inter dependent=false")
     // Software instantiations read the don't-care lanes past PU (simd_trip): give them values once. (Nothing to do in
     // the export, where every lane is a design lane.)
@@ -669,8 +676,8 @@ class SgmAggregate {
   // Counting instantiations (access.hpp) of software capacities: the export's row words at this configuration's PU
   // (a column's D lanes in D/PU words of PU), stated at run time after configure().
   void count_row_layout() {
-    access_reshape(row_, "row_", Caps::fixed ? 0 : lanes_, 3);
-    access_bind(row_, "row_", kStorageRamS2p);
+    access_reshape(row_, "row_path", Caps::fixed ? 0 : lanes_, 3);
+    access_bind(row_, "row_path", kStorageRamS2p);
   }
   // Storage descriptor (resources.hpp) of the members above, per active path kind, with the path-cost width: the pixel
   // path's pix_ (D) and pix_min_; a row kind's row memory row_[kind - 1] (a word of PU lanes per chunk, W x D/PU deep)

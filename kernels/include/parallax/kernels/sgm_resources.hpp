@@ -26,18 +26,8 @@ void sgm_schedule(const A& a, S& s) {
   const int lanes = a.lanes();
   const int pb = path_bits(p);
   const unsigned dk = a.datapaths();
-agg_schedule_kinds:
-  for (int k = 1; k < kKindCount; ++k) {
-    if (((dk >> k) & 1u) == 0) continue;
-    s.memory(k == kKindRowLeft ? "row_path_left" : k == kKindRowUp ? "row_path_up" : "row_path_right", 1, 1, 2);
-    s.memory(k == kKindRowLeft ? "row_min_left" : k == kKindRowUp ? "row_min_up" : "row_min_right", 1, 1, 2);
-  }
+  // The memories' accesses are counted, not declared (accesses.hpp, issue 41).
   if (a.mgm()) {
-    // The pixel kind's row memory: one read (the next chunk's lanes) and one write per firing.
-    if ((dk & (1u << kKindPixel)) != 0) {
-      s.memory("row_path_pixel", 1, 1, 2);
-      s.memory("row_min_pixel", 1, 1, 2);
-    }
     // The previous pixel's minimum M recurs into the next pixel's (the pixel datapath): no
     // lane-minimum identity here, so the chain runs through the lanes: the step's P2 clamp
     // and subtraction, the average, + C, the min tree over the PU lanes, the running minimum
@@ -72,8 +62,6 @@ agg_schedule_kinds:
   s.chain(kOpCompare, pb, 1);
   s.chain(kOpMux, pb, 1);
   s.chain(kOpRegister, pb, 1);
-  // Adaptive P2: the previous row's intensities, one read and one write per pixel.
-  if (p.p2_adaptive > 0 && a.row_intensities()) s.memory("row_intensity", 1, 1, 2);
 }
 
 template <class A, class R>

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "parallax/kernels/access.hpp"
 #include "parallax/kernels/params.hpp"
 #include "parallax/sim/func.hpp"
 
@@ -22,6 +24,14 @@ struct AccessRunOptions {
 // counted memory with its banks, ports, largest reads and writes per bank and firing, the sites
 // banked at run time and the II the counts force, and the declared recurrences with theirs.
 // Aborts on parameters rejected by func_param_errors (callers validate).
+// The design's memories as the counting run counts them on a probe frame: a generated pair,
+// seeded, as narrow and short as the design's window, disparity range and median allow (every
+// chunk of a pixel, every slot of a line buffer and every row memory are reached within it; the
+// banking a site shows does not depend on the frame's size or content). Per stage and memory
+// (kern::MemoryAccesses). Memoised per design: the stage schedules of a sweep ask once each.
+// Aborts on parameters rejected by func_param_errors (callers validate).
+std::vector<kern::MemoryAccesses> probe_memory_accesses(const kern::StereoParams& p);
+
 std::string count_accesses_json(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
                                 const AccessRunOptions& opt);
 

@@ -28,10 +28,18 @@ const std::vector<OperatorDelay>& operator_delays();
 // Delay of one operator of this kind and width (the row whose width range holds it).
 double operator_delay_ns(kern::OpKind kind, int width_bits);
 
+// One memory of a stage and its accesses per firing. Counted (storage >= 0): the largest reads and
+// writes any bank received in one firing of the counting run (accesses.hpp), on the ports its
+// binding gives a bank. Declared (storage < 0): what the kernel's schedule() states, over `ports`
+// ports shared by reads and writes (the rectify stages, which the counting run does not fire).
 struct MemoryPorts {
   std::string name;
   int reads = 0, writes = 0, ports = 2;
-  int mii() const { return (reads + writes + ports - 1) / ports; }
+  int storage = -1;              // kern::StorageType of a counted memory; -1: declared
+  int banks = 1;                 // banks the count reached
+  int runtime_banked_sites = 0;  // sites whose bank is chosen at run time (counted on every bank they reach)
+  int mii() const;               // the smallest II the accesses fit the ports at
+  std::string describe() const;  // "memory NAME (ram_s2p, counted): R reads + W writes per bank and firing"
 };
 
 struct ChainOp {
@@ -63,7 +71,9 @@ struct StageSchedule {
 void derive_ii(StageSchedule& s, double clock_hz);
 
 // The schedules of the design's kernel stages (cost, aggregate, aggregate_back for two passes,
-// wta_lr, median, rectify_left/right when rectifying), derived at clock_hz. Stages without a
+// wta_lr, median, rectify_left/right when rectifying), derived at clock_hz: the memories as the
+// counting run of the kernels counts them on a probe frame (probe_memory_accesses(), accesses.hpp),
+// the recurrences as the kernels' schedule() declares their operator chains. Stages without a
 // declaration (source, sink, maps, DDR) fire at II = 1.
 std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const kern::RectifyParams& rectify,
                                            double clock_hz);
