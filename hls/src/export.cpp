@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "embedded.hpp"
+#include "export_loops.hpp"
 #include "parallax/kernels/frame_buffer.hpp"
 #include "parallax/kernels/params.hpp"
 #include "parallax/kernels/pipeline.hpp"
@@ -155,46 +156,6 @@ void check_request(const ExportRequest& r) {
   for (const std::vector<uint16_t>* g : {&r.golden, &r.reduced_golden})
     if (std::any_of(g->begin(), g->end(), [&](uint16_t c) { return c > invalid; }))
       throw ExportError("export: a golden code exceeds the invalid code D * 2^subpixel_bits");
-}
-
-// The stages whose loops in the top run until the stage is done (`while (!stage.done())`), by the
-// placeholder of their LOOP_TRIPCOUNT: each loop fires its kernel once per iteration, so its trip
-// count is the cycle model's firings of the stage (several stages: the instances of one loop).
-struct TripLoop {
-  const char* key;
-  std::vector<std::string> stages;
-};
-std::vector<TripLoop> trip_loops(const config::PipelineConfig& c) {
-  std::vector<TripLoop> loops = {{"TRIPCOUNT_COST", {"cost"}},
-                                 {"TRIPCOUNT_AGGREGATE", {"aggregate"}},
-                                 {"TRIPCOUNT_WTA_LR", {"wta_lr"}},
-                                 {"TRIPCOUNT_MEDIAN", {"median"}}};
-  if (kern::two_pass_paths(c.path_mask)) loops.push_back({"TRIPCOUNT_AGGREGATE_BACK", {"aggregate_back"}});
-  if (kern::row_reverse_paths(c.path_mask)) {
-    loops.push_back({"TRIPCOUNT_ROW_REVERSE", {"row_reverse"}});
-    loops.push_back({"TRIPCOUNT_AGGREGATE_ROW", {"aggregate_row"}});
-    loops.push_back({"TRIPCOUNT_ROW_UNREVERSE", {"row_unreverse"}});
-  }
-  if (c.rectify != "none") loops.push_back({"TRIPCOUNT_RECTIFY", {"rectify_left", "rectify_right"}});
-  return loops;
-}
-
-// min, max and mean of the firings of `stages` in `fires`; ExportError naming a missing stage.
-std::string tripcount_pragma(const std::map<std::string, int64_t>& fires, const std::vector<std::string>& stages,
-                             const std::string& frame) {
-  int64_t lo = 0, hi = 0, sum = 0;
-  for (std::size_t i = 0; i < stages.size(); ++i) {
-    const auto it = fires.find(stages[i]);
-    if (it == fires.end() || it->second < 1)
-      throw ExportError("export: the cycle model's firings of stage '" + stages[i] + "' on the " + frame +
-                        " frame are missing");
-    lo = i == 0 ? it->second : std::min(lo, it->second);
-    hi = i == 0 ? it->second : std::max(hi, it->second);
-    sum += it->second;
-  }
-  const int64_t avg = (sum + int64_t(stages.size()) / 2) / int64_t(stages.size());
-  return "#pragma HLS LOOP_TRIPCOUNT min=" + std::to_string(lo) + " max=" + std::to_string(hi) +
-         " avg=" + std::to_string(avg) + "\n";
 }
 
 }  // namespace
@@ -555,43 +516,6 @@ void interface_values(const ExportRequest& r, const kern::StereoParams& p, const
   v["MAP_SEGMENT_IMPL"] = map_mem ? ram_impl(map_mem->per_copy.storage) : "bram";
 }
 
-// LOOP_TRIPCOUNT and PIPELINE II of the loops that run until their stage is done.
-void loop_values(const ExportRequest& r, Values& v) {
-  const config::PipelineConfig& c = r.config;
-  // LOOP_TRIPCOUNT of the loops that run until their stage is done: the cycle model's firings per
-  // frame, of the full frame and of the reduced one.
-  std::string trip_table;
-  for (const char* key :
-       {"TRIPCOUNT_COST", "TRIPCOUNT_AGGREGATE", "TRIPCOUNT_WTA_LR", "TRIPCOUNT_MEDIAN", "TRIPCOUNT_AGGREGATE_BACK",
-        "TRIPCOUNT_RECTIFY", "TRIPCOUNT_ROW_REVERSE", "TRIPCOUNT_AGGREGATE_ROW", "TRIPCOUNT_ROW_UNREVERSE"})
-    v[key] = "";
-  for (const TripLoop& l : trip_loops(c)) {
-    v[l.key] = "#ifndef PARALLAX_REDUCED_FRAME\n" + tripcount_pragma(r.stage_fires, l.stages, "full") + "#else\n" +
-               tripcount_pragma(r.reduced_stage_fires, l.stages, "reduced") + "#endif\n";
-    for (const std::string& st : l.stages)
-      trip_table += std::string(trip_table.empty() ? "" : ", ") + st + " " + std::to_string(r.stage_fires.at(st));
-  }
-  v["TRIPCOUNT_TABLE"] = trip_table;
-  // PIPELINE II of each stage's loop: the cycle model's (derived from the kernels' schedule
-  // declarations at this clock); the rectify loop serves both cameras.
-  auto ii_of = [&](std::initializer_list<const char*> stages) {
-    int ii = 1;
-    for (const auto& t : r.stage_timing)
-      for (const char* st : stages)
-        if (t.name == st) ii = std::max(ii, t.ii_cycles);
-    return std::to_string(ii);
-  };
-  v["II_COST"] = ii_of({"cost"});
-  v["II_AGGREGATE"] = ii_of({"aggregate"});
-  v["II_AGGREGATE_BACK"] = ii_of({"aggregate_back"});
-  v["II_WTA_LR"] = ii_of({"wta_lr"});
-  v["II_MEDIAN"] = ii_of({"median"});
-  v["II_RECTIFY"] = ii_of({"rectify_left", "rectify_right"});
-  v["II_ROW_REVERSE"] = ii_of({"row_reverse"});
-  v["II_AGGREGATE_ROW"] = ii_of({"aggregate_row"});
-  v["II_ROW_UNREVERSE"] = ii_of({"row_unreverse"});
-}
-
 // The README's output ports, kernel headers, provenance and predictions.
 void readme_values(const ExportRequest& r, const kern::StereoParams& p, Values& v) {
   const ExportPrediction& pr = r.prediction;
@@ -750,7 +674,7 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   rectify_values(c, inv, v);
   fifo_values(r, inv, v);
   interface_values(r, p, inv, v);
-  loop_values(r, v);
+  detail::loop_values(r, v);
   readme_values(r, p, v);
   // The functions filled from templates, once every value above is set.
   const bool two_pass = is_two_pass(c);

@@ -2,7 +2,6 @@
 #include "parallax/sim/accesses.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -115,19 +114,10 @@ std::vector<kern::MemoryAccesses> probe_memory_accesses(const kern::StereoParams
   return memo.emplace(key, std::move(counted)).first->second;
 }
 
-std::string count_accesses_json(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
-                                const AccessRunOptions& opt) {
-  const std::vector<std::string> errors = func_param_errors(p);
-  if (!errors.empty()) detail::internal_error("count_accesses_json: " + errors.front());
-  // The II each stage's pragma states (from the probe's counts and the declared recurrences),
-  // before this frame's count: the probe uses the same registry.
-  const std::vector<StageSchedule> schedules = stage_schedules(p, opt.rectify, opt.clock_hz);
-  kern::AccessRegistry::get().reset();
-  if (kern::aggregate_bits(p) <= 16)
-    run_counting<uint16_t>(left, right, p);
-  else
-    run_counting<uint32_t>(left, right, p);
-  const double budget_ns = 1e9 / opt.clock_hz * (1.0 - kClockUncertainty);
+std::vector<kern::AccessStage> access_stages(const kern::StereoParams& p, const kern::RectifyParams& rectify,
+                                             double clock_hz) {
+  const std::vector<StageSchedule> schedules = stage_schedules(p, rectify, clock_hz);
+  const double budget_ns = 1e9 / clock_hz * (1.0 - kClockUncertainty);
   std::vector<kern::AccessStage> stages;
   for (const StageSchedule& s : schedules) {
     kern::AccessStage a;
@@ -140,11 +130,26 @@ std::string count_accesses_json(const GreyImage& left, const GreyImage& right, c
       ar.delay_ns = r.delay_ns();
       ar.budget_ns = budget_ns;
       ar.distance = r.distance;
-      ar.ii_forced = std::max(1, int(std::ceil(ar.delay_ns / (budget_ns * r.distance) - 1e-9)));
+      ar.ii_forced = r.ii_at(budget_ns);
       a.recurrences.push_back(ar);
     }
     stages.push_back(a);
   }
+  return stages;
+}
+
+std::string count_accesses_json(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                                const AccessRunOptions& opt) {
+  const std::vector<std::string> errors = func_param_errors(p);
+  if (!errors.empty()) detail::internal_error("count_accesses_json: " + errors.front());
+  // The II each stage's pragma states (from the probe's counts and the declared recurrences),
+  // before this frame's count: the probe uses the same registry.
+  const std::vector<kern::AccessStage> stages = access_stages(p, opt.rectify, opt.clock_hz);
+  kern::AccessRegistry::get().reset();
+  if (kern::aggregate_bits(p) <= 16)
+    run_counting<uint16_t>(left, right, p);
+  else
+    run_counting<uint32_t>(left, right, p);
   std::string json = kern::access_report_json(opt.design, stages);
   kern::AccessRegistry::get().reset();
   return json;

@@ -90,12 +90,33 @@ struct Collector {
   void memory(const char* name, int reads, int writes, int ports) {
     s->memories.push_back({name, reads, writes, ports});
   }
-  void recurrence(const char* name, int distance) { s->recurrences.push_back({name, distance, {}}); }
+  void recurrence(const char* name, int distance) { s->recurrences.push_back({name, distance, {}, {}}); }
   void chain(kern::OpKind kind, int width_bits, int count) {
     if (s->recurrences.empty()) table_error("a chain operator before any recurrence");
     if (count > 0) s->recurrences.back().chain.push_back({kind, width_bits, count});
   }
+  void via(const char* memory) {
+    if (s->recurrences.empty()) table_error("a register file before any recurrence");
+    s->recurrences.back().via.emplace_back(memory);
+  }
 };
+
+// What the counted banking implies for the recurrences that pass through a register file
+// (Recurrence::via). B registers reached by one site at run time are a B:1 read mux, ceil(log4 B)
+// levels of LUT6 (a LUT6 selects among 4), and a write decoder comparing the index
+// (ceil(log2 B) bits), both at the chain's width.
+void add_banking_muxes(StageSchedule& s) {
+  for (Recurrence& r : s.recurrences)
+    for (const std::string& name : r.via)
+      for (const MemoryPorts& m : s.memories) {
+        if (m.name != name || m.max_banks_per_site < 2) continue;
+        int select_bits = 0;
+        while ((1 << select_bits) < m.max_banks_per_site) ++select_bits;
+        const int width = r.chain.empty() ? 1 : r.chain.front().width_bits;
+        r.chain.push_back({kern::kOpMux, width, (select_bits + 1) / 2});
+        r.chain.push_back({kern::kOpCompare, select_bits, 1});
+      }
+}
 
 // The counted memories of stage `name` (every array the counting run saw it access).
 void add_counted(StageSchedule& s, const std::vector<kern::MemoryAccesses>& counted) {
@@ -108,6 +129,7 @@ void add_counted(StageSchedule& s, const std::vector<kern::MemoryAccesses>& coun
     mp.storage = kern::access_storage_kind(m.kind);
     mp.banks = m.banks;
     mp.runtime_banked_sites = m.runtime_banked_sites;
+    mp.max_banks_per_site = m.max_banks_per_site;
     s.memories.push_back(mp);
   }
 }
@@ -120,6 +142,7 @@ StageSchedule collect(const std::string& name, const Stage& stage, double clock_
   Collector c{&s};
   stage.schedule(c);
   add_counted(s, counted);
+  add_banking_muxes(s);
   derive_ii(s, clock_hz);
   return s;
 }
@@ -155,6 +178,10 @@ double Recurrence::delay_ns() const {
   return d;
 }
 
+int Recurrence::ii_at(double budget_ns) const {
+  return std::max(1, int(std::ceil(delay_ns() / (budget_ns * distance) - 1e-9)));
+}
+
 int MemoryPorts::mii() const {
   if (storage >= 0) return kern::access_ii_forced(storage, reads, writes);
   return std::max(1, (reads + writes + ports - 1) / ports);
@@ -183,18 +210,21 @@ void derive_ii(StageSchedule& s, double clock_hz) {
       s.res_mii = m.mii();
       s.limit = m.describe();
     }
+  // The recurrence that sets RecMII: the largest II, then the longest delay per firing of its
+  // distance (the tightest chain).
   std::string rec_limit;
+  double tightest = -1;
   for (const auto& r : s.recurrences) {
     const double d = r.delay_ns();
-    const int mii = std::max(1, int(std::ceil(d / (budget_ns * r.distance) - 1e-9)));
-    if (mii > s.rec_mii || rec_limit.empty()) {
-      if (mii >= s.rec_mii) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "recurrence %s: %.2f ns over %d firing(s) of %.2f ns", r.name.c_str(), d,
-                      r.distance, budget_ns);
-        rec_limit = buf;
-      }
-      s.rec_mii = std::max(s.rec_mii, mii);
+    const int mii = r.ii_at(budget_ns);
+    const double per_firing = d / r.distance;
+    if (mii > s.rec_mii || (mii == s.rec_mii && per_firing > tightest)) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "recurrence %s: %.2f ns over %d firing(s) of %.2f ns", r.name.c_str(), d,
+                    r.distance, budget_ns);
+      rec_limit = buf;
+      tightest = per_firing;
+      s.rec_mii = mii;
     }
   }
   s.ii = std::max({1, s.res_mii, s.rec_mii});

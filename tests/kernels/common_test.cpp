@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "parallax/kernels/common.hpp"
+#include "parallax/kernels/shift_reg.hpp"
 #include "parallax/kernels/row_reverse.hpp"
 #include "parallax/kernels/sgm.hpp"
 

@@ -99,7 +99,9 @@ TEST(CountedII, TheSeedMeetsItsTargets) {
 }
 
 TEST(CountedII, TheProbeFrameCountsAsALargerFrame) {
-  // The II comes from a probe frame; a frame of another size and content counts the same.
+  // The II comes from a probe frame; a frame of another size and content counts the same
+  // memories the same. Register files have no ports: their counts may depend on the data (the
+  // LR check reads the right disparity at the left result's age), not the II they force.
   for (const Design& d : {designs()[0], designs()[2]}) {
     const kern::StereoParams p = params(d, 320, 90);
     const std::vector<kern::MemoryAccesses> probe = probe_memory_accesses(p);
@@ -109,10 +111,11 @@ TEST(CountedII, TheProbeFrameCountsAsALargerFrame) {
       for (const auto& m : s.at("memories"))
         for (const auto& q : probe)
           if (q.stage == s.at("name") && q.name == m.at("name")) {
+            EXPECT_EQ(q.ii_forced, m.at("ii_forced").get<int>()) << q.name;
+            if (q.kind == "registers") continue;
             EXPECT_EQ(q.max_reads_per_bank_per_firing, m.at("max_reads_per_bank_per_firing").get<int>()) << q.name;
             EXPECT_EQ(q.max_writes_per_bank_per_firing, m.at("max_writes_per_bank_per_firing").get<int>()) << q.name;
             EXPECT_EQ(q.runtime_banked_sites, m.at("runtime_banked_sites").get<int>()) << q.name;
-            EXPECT_EQ(q.ii_forced, m.at("ii_forced").get<int>()) << q.name;
             ++compared;
           }
     EXPECT_GE(compared, 4) << d.name;

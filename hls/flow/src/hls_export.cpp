@@ -9,6 +9,7 @@
 #include "parallax/eval/simulate.hpp"
 #include "parallax/resources/devices.hpp"
 #include "parallax/resources/model.hpp"
+#include "parallax/sim/accesses.hpp"
 
 namespace parallax::explore {
 
@@ -103,6 +104,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
     r.stage_fires[s.name] = s.fires;
     r.stage_timing.push_back({s.name, s.ii_cycles, s.latency_cycles});
   }
+  r.access_stages = sim::access_stages(cfg.stereo_params(left.cols, left.rows),
+                                       cfg.rectify_params(left.cols, left.rows), sim_clock * 1e6);
 
   // 2b. The reduced frame of C/RTL co-simulation: the pair's first rows, the same depths; the
   // remap tables (rectifying designs) cut to those rows as the images are.

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "parallax/config/config.hpp"
+#include "parallax/kernels/access.hpp"
 #include "parallax/kernels/common.hpp"
 
 namespace parallax::hlsx {
@@ -85,6 +86,9 @@ struct ExportRequest {
     int depth_cycles = 1;
   };
   std::vector<StageTiming> stage_timing;
+  // The kernel stages' declared II and recurrences at the export's clock (sim::access_stages):
+  // the testbench's table, to which `make csim` adds its own counts (csim_accesses.json).
+  std::vector<kern::AccessStage> access_stages;
   // The reduced frame of C/RTL co-simulation (PARALLAX_REDUCED_FRAME): the first
   // reduced_height_px rows of the pair (reduced_frame_rows), the simulator's codes for them and
   // its firings per stage.

@@ -62,6 +62,17 @@ struct ArrayOf {
   typedef typename RawArray<T, N...>::type type;
 };
 
+// What a shift register (shift_reg.hpp) does with the index of an at() or set(): nothing but pass
+// it on, except in a counting instantiation, where the index type captures the caller's site and
+// the access is recorded on the entry's register (the specialisation in access_count.hpp).
+template <bool COUNT, int N>
+struct ShiftPorts {
+  typedef int Index;
+  static int read(int k) { return k; }
+  static int write(int k) { return k; }
+  static void name(const char*) {}
+};
+
 // Layout statements on a raw array: nothing (the pragma is the statement).
 template <class A>
 inline void access_partition(A&, const char*, int, int, int) {}
@@ -116,6 +127,16 @@ inline void access_name(A&, const char*) {}
 // configuration header): the counting statement alone.
 #define PX_COUNT_BIND(VAR, STORAGE) ::parallax::kern::access_bind(VAR, #VAR, STORAGE);
 // NOLINTEND(bugprone-macro-parentheses)
+
+// One firing of the stage STAGE (a string literal, the simulator's stage name) in an exported
+// top's pipelined loop: with PARALLAX_COUNT_ACCESSES (the project's `make csim`) the kernels'
+// counted arrays attribute the accesses up to the end of the loop body to it; otherwise, and in
+// synthesis, nothing.
+#if defined(PARALLAX_COUNT_ACCESSES) && !defined(__SYNTHESIS__) && !defined(PARALLAX_HLS_SUBSET_CHECK)
+#define PX_COUNT_FIRING(STAGE) const ::parallax::kern::AccessFiring px_access_firing_(STAGE);
+#else
+#define PX_COUNT_FIRING(STAGE)
+#endif
 // clang-format on
 
 #if !defined(__SYNTHESIS__) && !defined(PARALLAX_HLS_SUBSET_CHECK)

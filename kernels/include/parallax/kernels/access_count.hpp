@@ -119,6 +119,10 @@ class AccessRegistry {
   // Every counted memory so far, one entry per stage and name (several arrays of one name in one
   // stage, e.g. one per frame of a C simulation, merged by their largest counts).
   std::vector<MemoryAccesses> report() const;
+  // Whether firings that begin from now on are counted (a C simulation counts its first frame
+  // and runs the others uncounted).
+  bool enabled() const { return enabled_; }
+  void set_enabled(bool on) { enabled_ = on; }
   // Forget everything (a new counting run).
   void reset() {
     firings_.clear();
@@ -126,9 +130,11 @@ class AccessRegistry {
     live_.clear();
     stage_ = nullptr;
     firing_ = 0;
+    enabled_ = true;
   }
 
  private:
+  bool enabled_ = true;
   const char* stage_ = nullptr;
   uint64_t firing_ = 0, serial_ = 0;
   std::map<std::string, int64_t> firings_;
@@ -136,13 +142,21 @@ class AccessRegistry {
   std::set<AccessTally*> live_;
 };
 
-// One firing of `stage`: the accesses between construction and destruction belong to it.
+// One firing of `stage` (a name that outlives the count, e.g. a literal): the accesses between
+// construction and destruction belong to it. Nothing while counting is disabled.
 class AccessFiring {
  public:
-  explicit AccessFiring(const char* stage) { AccessRegistry::get().begin_firing(stage); }
-  ~AccessFiring() { AccessRegistry::get().end_firing(); }
+  explicit AccessFiring(const char* stage) : counted_(AccessRegistry::get().enabled()) {
+    if (counted_) AccessRegistry::get().begin_firing(stage);
+  }
+  ~AccessFiring() {
+    if (counted_) AccessRegistry::get().end_firing();
+  }
   AccessFiring(const AccessFiring&) = delete;
   AccessFiring& operator=(const AccessFiring&) = delete;
+
+ private:
+  bool counted_;
 };
 
 // The counts of one array (see the top of this file).
@@ -196,10 +210,12 @@ class AccessTally {
       registered_ = true;
       r.add_live(this);
       stage_ = r.stage();
-    } else if (stage_ != r.stage()) {  // one kernel object reused by another stage (two passes)
+      stage_name_ = r.stage();
+    } else if (r.stage() != stage_name_ && stage_ != r.stage()) {  // reused by another stage (two passes)
       r.add_finished(summary());
       reset_counts();
       stage_ = r.stage();
+      stage_name_ = r.stage();
     }
     if (r.firing() != firing_) {
       close_firing();
@@ -219,7 +235,11 @@ class AccessTally {
     }
     const int site = b.sites[std::size_t(copy)];
     Site& st = sites_[std::size_t(site)];
-    st.banks.insert(bank_of(flat));
+    const int bank = bank_of(flat);
+    if (bank != st.last_bank) {
+      st.banks.insert(bank);
+      st.last_bank = bank;
+    }
     // A reshaped word read or written by several copies of one place at the same address is one
     // access of the word (the lanes of an ARRAY_RESHAPE): a copy that, in some firing, is the
     // first of its place to address its word is an access; one that only ever follows another
@@ -296,6 +316,7 @@ class AccessTally {
     int copy;
     bool leads;  // the first of its place to address its word, in some firing
     std::set<int> banks;
+    int last_bank = -1;  // the bank of its last access (most sites keep to one)
   };
 
   static std::string short_file(const char* f) {
@@ -304,14 +325,17 @@ class AccessTally {
     return k == std::string::npos ? s : s.substr(k + 1);
   }
 
+  // An array is indexed at a handful of places: a linear search over them (the file names are
+  // the compiler's literals, compared by address), starting with the last one found.
   int base_site(const char* file, int line, bool write) {
-    const auto key = std::make_pair(std::make_pair(static_cast<const void*>(file), line), write);
-    const auto it = base_index_.find(key);
-    if (it != base_index_.end()) return it->second;
-    const int id = int(bases_.size());
+    const int n = int(bases_.size());
+    for (int k = 0; k < n; ++k) {
+      const int i = (last_base_ + k) % n;
+      const BaseSite& b = bases_[std::size_t(i)];
+      if (b.line == line && b.write == write && b.file == file) return last_base_ = i;
+    }
     bases_.push_back(BaseSite{file, line, write, 0, 0, {}, {}});
-    base_index_.emplace(key, id);
-    return id;
+    return last_base_ = n;
   }
 
   // The coordinates of element `flat` (row-major).
@@ -360,16 +384,19 @@ class AccessTally {
   void reset_counts() {
     firing_ = 0;
     bases_.clear();
-    base_index_.clear();
+    last_base_ = 0;
     sites_.clear();
     current_.clear();
     signatures_.clear();
+    last_signature_ = signatures_.end();
   }
 
   void close_firing() {
     if (current_.empty()) return;
     std::sort(current_.begin(), current_.end());
-    ++signatures_[current_];
+    if (last_signature_ == signatures_.end() || last_signature_->first != current_)
+      last_signature_ = signatures_.emplace(current_, 0).first;
+    ++last_signature_->second;
     current_.clear();
   }
 
@@ -382,13 +409,15 @@ class AccessTally {
   bool complete_ = false;
   int storage_ = kStorageDefault;
   std::string name_, stage_;
+  const char* stage_name_ = nullptr;  // the registry's pointer to stage_'s text (a cheap first test)
   bool registered_ = false;
   uint64_t firing_ = 0;
   std::vector<BaseSite> bases_;
-  std::map<std::pair<std::pair<const void*, int>, bool>, int> base_index_;
+  int last_base_ = 0;
   std::vector<Site> sites_;
   std::vector<int> current_;
   std::map<std::vector<int>, int64_t> signatures_;
+  std::map<std::vector<int>, int64_t>::iterator last_signature_ = signatures_.end();
 };
 
 inline std::vector<MemoryAccesses> AccessRegistry::report() const {
@@ -617,6 +646,27 @@ inline void access_reshape(Counted<T, N...>& a, const char* name, int factor, in
 template <class T, int... N>
 struct ArrayOf<true, T, N...> {
   typedef Counted<T, N...> type;
+};
+
+// The counted side of a shift register's N entries: a register per entry (complete
+// partitioning), each at() or set() a read or a write of its entry at the caller's site.
+template <int N>
+class ShiftPorts<true, N> {
+ public:
+  typedef AccessIndex Index;
+  ShiftPorts() { access_partition(entries_, "shift_register", kPartitionComplete, 0, 1); }
+  int read(const AccessIndex& k) const {
+    (void)entries_.read(k.i, k.file, k.line);
+    return int(k.i);
+  }
+  int write(const AccessIndex& k) {
+    entries_.write(k.i, 0, k.file, k.line);
+    return int(k.i);
+  }
+  void name(const char* n) { access_name(entries_, n); }
+
+ private:
+  Counted<uint8_t, N> entries_;
 };
 
 }  // namespace kern

@@ -9,6 +9,7 @@
 #include "parallax/kernels/common.hpp"
 #include "parallax/kernels/cost_stage.hpp"
 #include "parallax/kernels/line_buffer.hpp"
+#include "parallax/kernels/shift_reg.hpp"
 
 namespace parallax {
 namespace kern {
@@ -22,6 +23,7 @@ class CensusMatcher {
   static constexpr int kLanes = Caps::lanes;
 
   void configure(const StereoParams& p) {
+    right_codes_.name("right_codes");
     w_ = p.window_w;
     h_ = p.window_h;
     kind_ = p.census;
@@ -131,7 +133,7 @@ class CensusMatcher {
   uint16_t cost_max_ = 24;
   uint64_t left_code_ = 0;
   // The right codes of columns x .. x - m - D + 1: a shift register (one register per entry).
-  ShiftReg<uint64_t, kMaxSpan, Caps::fixed> right_codes_;
+  ShiftReg<uint64_t, kMaxSpan, Caps::fixed, Caps::count_accesses> right_codes_;
   Window left_win_, right_win_;  // the window registers of the two images
   int code_bits() const { return census_bits(kind_, w_, h_); }
 

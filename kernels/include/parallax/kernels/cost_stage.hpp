@@ -44,6 +44,7 @@ class CostStage {
     y_ = 0;
     chunk_ = 0;
     prime_ = 0;
+    corner_.start(ry_, p_.height_px);
     out_done_ = false;
   }
   bool done() const { return out_done_; }
@@ -59,10 +60,10 @@ class CostStage {
     // A row starts with rx prologue steps of the window registers (positions -rx .. -1), each
     // once its column is resident; then the outputs.
     if (!out_done_ && x_ == 0 && prime_ < rx_) {
-      pl.prime = left_.window_ready(prime_ - rx_, y_, rx_, ry_);
+      pl.prime = left_.corner_resident(corner_);  // window_ready(prime_ - rx_, y_, rx_, ry_)
       pl.write = false;
     } else {
-      pl.write = !out_done_ && left_.window_ready(x_, y_, rx_, ry_);
+      pl.write = !out_done_ && left_.corner_resident(corner_);  // window_ready(x_, y_, rx_, ry_)
     }
     // A prologue step reads no input: a row then takes as many input pixels as it has outputs, so
     // the input does not drift ahead row after row (the schedule stays periodic).
@@ -76,7 +77,7 @@ class CostStage {
     // first chunk, never both (plan()).
     const bool pixel = pl.write && chunk_ == 0;
     if (pl.prime || pixel) matcher_.prime(left_, right_, pixel ? x_ : prime_ - rx_, y_);
-    if (pl.prime) ++prime_;
+    if (pl.prime) prime_step();
     if (pl.write) {
       if (pixel) matcher_.begin_pixel(left_, right_, x_, y_);
       Token t;
@@ -96,7 +97,7 @@ class CostStage {
   // no pixel is stored and no cost computed. plan() after step(pl) equals plan() after fire(pl),
   // so a scheduler can time the stage without its datapath (the cycle model's timing run).
   void step(const CostPlan& pl) {
-    if (pl.prime) ++prime_;
+    if (pl.prime) prime_step();
     if (pl.write) advance();
     if (pl.read) {
       left_.skip_push();
@@ -122,6 +123,7 @@ class CostStage {
   void resync() {
     left_.resync();
     right_.resync();
+    corner_.sync(y_ + ry_, x_ + prime_, p_.width_px, p_.height_px);
   }
 
   // Resources of this configuration (resources.hpp): raster control, the two line buffers of
@@ -144,15 +146,38 @@ class CostStage {
     s.chain(kOpAdd, bits_for(uint64_t(chunks_)), 1);
     s.chain(kOpCompare, bits_for(uint64_t(chunks_)), 1);
     s.chain(kOpRegister, bits_for(uint64_t(chunks_)), 1);
+    // The plan (issue 41, N3): the window corner compared with the line buffer's input position
+    // (a compare of column counters; its and/or with the row compare and the firing's enables),
+    // the counters' next-value select and their register.
+    const int col_bits = bits_for(uint64_t(p_.width_px));
+    s.recurrence("plan_window_ready", 1);
+    s.chain(kOpCompare, col_bits, 1);
+    s.chain(kOpXor, 1, 2);
+    s.chain(kOpMux, col_bits, 1);
+    s.chain(kOpRegister, col_bits, 1);
+    // The corner's column: a saturating increment under the firing's enable.
+    s.recurrence("window_corner", 1);
+    s.chain(kOpAdd, col_bits, 1);
+    s.chain(kOpCompare, col_bits, 1);
+    s.chain(kOpMux, col_bits, 2);
+    s.chain(kOpRegister, col_bits, 1);
   }
 
  private:
+  void prime_step() {
+    ++prime_;
+    corner_.next_col(p_.width_px);
+  }
   void advance() {
     if (++chunk_ < chunks_) return;
     chunk_ = 0;
-    if (++x_ < p_.width_px) return;
+    if (++x_ < p_.width_px) {
+      corner_.next_col(p_.width_px);
+      return;
+    }
     x_ = 0;
     prime_ = 0;
+    corner_.next_row(p_.height_px);
     if (++y_ < p_.height_px) return;
     out_done_ = true;
   }
@@ -160,7 +185,8 @@ class CostStage {
   StereoParams p_;
   int rx_ = 0, ry_ = 0, lanes_ = 1, chunks_ = 1;
   int x_ = 0, y_ = 0, chunk_ = 0;
-  int prime_ = 0;  // prologue steps of this row's window registers done (of rx)
+  int prime_ = 0;        // prologue steps of this row's window registers done (of rx)
+  WindowCorner corner_;  // the last pixel the next window step needs
   bool out_done_ = true;
   LineBuffer<uint8_t, Caps::max_width_px, kRows, Caps::count_accesses> left_;
   LineBuffer<uint8_t, Caps::max_width_px, kRows, Caps::count_accesses> right_;

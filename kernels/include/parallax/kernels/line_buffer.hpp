@@ -12,6 +12,33 @@
 namespace parallax {
 namespace kern {
 
+// The last pixel, clamped to the image, of the window a stage's next step needs: row
+// min(y + ry, H - 1) and column min(x + prologue steps, W - 1), which is the window_ready()
+// corner of both the prologue position (prime - rx) and the output x (where prime = rx). Kept as
+// two saturating counters that step with the stage's own (issue 41, N3): the plan compares them
+// with the line buffer's input position, no add, no clamp and no product on the loop's
+// recurrence.
+struct WindowCorner {
+  int row = 0, col = 0;
+  // A frame's first row.
+  void start(int ry, int height_px) {
+    row = min_int(ry, height_px - 1);
+    col = 0;
+  }
+  // The next prologue step or output column.
+  void next_col(int width_px) { col = min_int(col + 1, width_px - 1); }
+  // The next output row (its prologue starts at column 0).
+  void next_row(int height_px) {
+    row = min_int(row + 1, height_px - 1);
+    col = 0;
+  }
+  // From the counters (a scheduler that wrote them: resync()).
+  void sync(int y_plus_ry, int x_plus_steps, int width_px, int height_px) {
+    row = min_int(y_plus_ry, height_px - 1);
+    col = min_int(x_plus_steps, width_px - 1);
+  }
+};
+
 template <class T, int MAX_W, int SLOTS, bool COUNT = false>
 class LineBuffer {
  public:
@@ -125,10 +152,21 @@ class LineBuffer {
     return clamp_int(x, 0, width_px_ - 1);
   }
 
-  // True when every pixel of the clamped window of radius (rx, ry) around (x, y) is resident.
+  // True when the window whose last pixel is `corner` (a WindowCorner the stage keeps) is
+  // resident: window_ready() with the corner counted instead of computed (issue 41, N3), so the
+  // stage's plan is two compares of counters.
+  template <class C>
+  bool corner_resident(const C& corner) const {
+    return in_row_ > corner.row || (in_row_ == corner.row && in_col_ > corner.col);
+  }
+  // True when every pixel of the clamped window of radius (rx, ry) around (x, y) is resident: the
+  // next input position (in_row_, in_col_) lies beyond the window's last pixel in raster order.
+  // Row and column compared separately (issue 41, N3): the same answer as comparing the pixels
+  // written with last_row * W + last_col, without a 64-bit product on the plan's path.
   bool window_ready(int x, int y, int rx, int ry) const {
-    const int64_t last = int64_t(min_int(y + ry, height_px_ - 1)) * width_px_ + min_int(x + rx, width_px_ - 1);
-    return written_ > last;
+    const int last_row = min_int(y + ry, height_px_ - 1);
+    const int last_col = min_int(x + rx, width_px_ - 1);
+    return in_row_ > last_row || (in_row_ == last_row && in_col_ > last_col);
   }
   // True when the next input pixel may be written without overwriting a pixel that the window
   // of radius (rx, ry) around the next output (x_out, y_out), or a later output, still needs.

@@ -44,6 +44,7 @@ class Median {
     x_ = 0;
     y_ = 0;
     prime_ = 0;
+    corner_.start(r_, height_px_);
     done_ = false;
   }
   bool done() const { return done_; }
@@ -52,8 +53,9 @@ class Median {
     MedianPlan pl;
     // A row starts with r prologue steps of the window registers (positions -r .. -1).
     const bool priming = !done_ && x_ == 0 && prime_ < r_;
-    pl.prime = priming && lb_.window_ready(prime_ - r_, y_, r_, r_);
-    pl.write = !priming && !done_ && lb_.window_ready(x_, y_, r_, r_);
+    // The window's last pixel is counted (corner_: window_ready(prime_ - r_ or x_, y_, r_, r_)).
+    pl.prime = priming && lb_.corner_resident(corner_);
+    pl.write = !priming && !done_ && lb_.corner_resident(corner_);
     pl.read = !pl.prime && lb_.input_allowed(x_, y_, r_, r_);  // as CostStage::plan()
     return pl;
   }
@@ -62,7 +64,7 @@ class Median {
   void fire(const MedianPlan& pl, InS& in, OutS& out) {
     // One window step per firing (one read per row memory): a prologue position or an output.
     if (pl.prime || (pl.write && k_ > 1)) win_.step_to(lb_, pl.prime ? prime_ - r_ : x_, y_, k_, k_, r_);
-    if (pl.prime) ++prime_;
+    if (pl.prime) prime_step();
     if (pl.write) {
       // Only the sizes the window registers hold are instantiated (kRows = k of the export).
       out.write(k_ == 1                     ? lb_.at_clamped(x_, y_)
@@ -77,7 +79,7 @@ class Median {
 
   // The control path of fire(pl) alone (see CostStage::step).
   void step(const MedianPlan& pl) {
-    if (pl.prime) ++prime_;
+    if (pl.prime) prime_step();
     if (pl.write) advance();
     if (pl.read) lb_.skip_push();
   }
@@ -93,7 +95,10 @@ class Median {
     v(done_);
     lb_.visit(v);
   }
-  void resync() { lb_.resync(); }
+  void resync() {
+    lb_.resync();
+    corner_.sync(y_ + r_, x_ + prime_, width_px_, height_px_);
+  }
 
   // Schedule of one firing (resources.hpp): the raster counters (the line buffer's accesses are
   // counted: accesses.hpp).
@@ -103,6 +108,21 @@ class Median {
     s.chain(kOpAdd, bits_for(uint64_t(width_px_)), 1);
     s.chain(kOpCompare, bits_for(uint64_t(width_px_)), 1);
     s.chain(kOpRegister, bits_for(uint64_t(width_px_)), 1);
+    // The plan (issue 41, N3): the window corner compared with the line buffer's input position
+    // (a compare of column counters; its and/or with the row compare and the firing's enables),
+    // the counters' next-value select and their register.
+    const int col_bits = bits_for(uint64_t(width_px_));
+    s.recurrence("plan_window_ready", 1);
+    s.chain(kOpCompare, col_bits, 1);
+    s.chain(kOpXor, 1, 2);
+    s.chain(kOpMux, col_bits, 1);
+    s.chain(kOpRegister, col_bits, 1);
+    // The corner's column: a saturating increment under the firing's enable.
+    s.recurrence("window_corner", 1);
+    s.chain(kOpAdd, col_bits, 1);
+    s.chain(kOpCompare, col_bits, 1);
+    s.chain(kOpMux, col_bits, 2);
+    s.chain(kOpRegister, col_bits, 1);
   }
 
   // Resources of this configuration (resources.hpp) for values of value_bits: the k-row line
@@ -247,18 +267,26 @@ class Median {
   // The window size the registers hold for a median of k (fire(): only those are instantiated).
   static constexpr int fitted(int k) { return kRows < k ? 1 : k; }
 
+  void prime_step() {
+    ++prime_;
+    corner_.next_col(width_px_);
+  }
   void advance() {
     if (++x_ == width_px_) {
       x_ = 0;
       prime_ = 0;
+      corner_.next_row(height_px_);
       if (++y_ == height_px_) done_ = true;
+    } else {
+      corner_.next_col(width_px_);
     }
   }
 
   int k_ = 1, r_ = 0, width_px_ = 0, height_px_ = 0;
   bool wide_ = false;  // rank keys of 32 bits (PX_MEDIAN_WIDE_KEYS)
   int x_ = 0, y_ = 0;
-  int prime_ = 0;  // prologue steps of this row's window registers done (of r)
+  int prime_ = 0;        // prologue steps of this row's window registers done (of r)
+  WindowCorner corner_;  // the last pixel the next window step needs
   bool done_ = true;
   LineBuffer<DispCode, Caps::max_width_px, kRows, Caps::count_accesses> lb_;
   WindowRegs<DispCode, kRows, kRows, Caps::fixed> win_;  // the k x k window registers of the output position

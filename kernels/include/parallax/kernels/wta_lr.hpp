@@ -21,6 +21,7 @@
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/common.hpp"
 #include "parallax/kernels/resources.hpp"
+#include "parallax/kernels/shift_reg.hpp"
 
 namespace parallax {
 namespace kern {
@@ -74,6 +75,11 @@ class WtaLr {
   static constexpr uint64_t kNoneCost = uint64_t(1) << 32;
 
   void configure(const StereoParams& p, bool reverse) {
+    left_d_.name("left_disparities");
+    left_frac_.name("left_fractions");
+    right_cost_.name("right_candidate_costs");
+    right_d_.name("right_candidate_disparities");
+    finished_d_.name("right_disparities");
     p_ = p;
     reverse_ = reverse;
     d_ = Caps::disparities(p.disparities);
@@ -168,7 +174,13 @@ class WtaLr {
       s.chain(kOpRegister, ab + 1, 1);
     }
     if (p_.lr_check) {
-      s.recurrence("right_candidates", 1);
+      // An open candidate updated at chunk c of pixel x is next updated, one entry further
+      // after the pixel's shift, at chunk c (c - 1 for lane 0 in reverse) of pixel x + 1: C - 1
+      // firings later at the least (1 when PU = D). The chain: the shift's select, the read of
+      // the entry (the count adds its mux when lanes reach entries at run time), the compare,
+      // the select and the write (the count adds its decoder).
+      s.recurrence("right_candidates", max_int(1, chunks_ - 1));
+      s.via("right_candidate_costs");
       s.chain(kOpMux, ab, 1);
       s.chain(kOpCompare, ab, 1);
       s.chain(kOpMux, ab, 1);
@@ -459,11 +471,12 @@ class WtaLr {
   // Shift registers (common.hpp): the left WTA results of the last D columns (entry k: k columns
   // back), the open right candidates' running minimum and its disparity, the finished right
   // disparities (D - 1 used).
-  ShiftReg<DispCode, kMaxD, Caps::fixed> left_d_;
-  ShiftReg<DispCode, kMaxD, Caps::fixed> left_frac_;  // sub-pixel: each left result's biased offset
-  ShiftReg<uint32_t, kMaxD, Caps::fixed> right_cost_;
-  ShiftReg<DispCode, kMaxD, Caps::fixed> right_d_;
-  ShiftReg<DispCode, kMaxD, Caps::fixed> finished_d_;
+  ShiftReg<DispCode, kMaxD, Caps::fixed, Caps::count_accesses> left_d_;
+  ShiftReg<DispCode, kMaxD, Caps::fixed, Caps::count_accesses>
+      left_frac_;  // sub-pixel: each left result's biased offset
+  ShiftReg<uint32_t, kMaxD, Caps::fixed, Caps::count_accesses> right_cost_;
+  ShiftReg<DispCode, kMaxD, Caps::fixed, Caps::count_accesses> right_d_;
+  ShiftReg<DispCode, kMaxD, Caps::fixed, Caps::count_accesses> finished_d_;
 
  public:
   // Storage descriptor (resources.hpp) of the members above: the best cost and disparity of the

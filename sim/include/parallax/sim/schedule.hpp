@@ -38,6 +38,7 @@ struct MemoryPorts {
   int storage = -1;              // kern::StorageType of a counted memory; -1: declared
   int banks = 1;                 // banks the count reached
   int runtime_banked_sites = 0;  // sites whose bank is chosen at run time (counted on every bank they reach)
+  int max_banks_per_site = 1;    // the widest such site's fan-in: its read mux or write decoder
   int mii() const;               // the smallest II the accesses fit the ports at
   std::string describe() const;  // "memory NAME (ram_s2p, counted): R reads + W writes per bank and firing"
 };
@@ -52,7 +53,13 @@ struct Recurrence {
   std::string name;
   int distance = 1;
   std::vector<ChainOp> chain;
+  // Counted register files the chain passes through (the kernel's schedule() names them): when
+  // the count shows a site choosing among B > 1 of their registers at run time, the chain gains
+  // the read mux (one LUT level per 4 inputs) and the write decoder (a compare of the index).
+  std::vector<std::string> via;
   double delay_ns() const;
+  // The smallest II at which the chain fits `distance` firings of budget_ns each.
+  int ii_at(double budget_ns) const;
 };
 
 // A stage's declarations and what follows from them at one clock.

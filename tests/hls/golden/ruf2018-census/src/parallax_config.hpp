@@ -78,10 +78,18 @@ constexpr int kDepthSum = 30;
 constexpr int kDepthDispLr = 2;
 constexpr int kDepthDispOut = 2;
 
+// The access count of the C simulation (`make csim` defines PARALLAX_COUNT_ACCESSES; README.md):
+// the kernels' arrays are then counted stand-ins of the same elements (parallax/kernels/access.hpp).
+// Never in synthesis.
+#if defined(PARALLAX_COUNT_ACCESSES) && !defined(__SYNTHESIS__) && !defined(PARALLAX_HLS_SUBSET_CHECK)
+constexpr bool kCountAccesses = true;
+#else
+constexpr bool kCountAccesses = false;
+#endif
 // The kernels' capacities: this design's exact sizes, fixed (the kernels use these constants, not
 // the runtime values, so lane addresses and trip counts are compile-time).
 typedef parallax::kern::Caps<kWidthPx, kDisparities, kParallelUnits, kWindowH, kMedianRows, kKindMask, true,
-                             kMinDisparity>
+                             kMinDisparity, kCountAccesses>
     DesignCaps;
 // Aggregation word: the narrowest of 16 or 32 bits that holds kAggregateBits.
 typedef uint16_t AggWord;

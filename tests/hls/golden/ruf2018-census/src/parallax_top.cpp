@@ -146,6 +146,7 @@ cost_loop:
 #endif
     const kern::CostPlan pl = stage.plan();
     if (!pl.read && !pl.write && !pl.prime) break;
+    PX_COUNT_FIRING("cost")
     stage.fire(pl, left_px, right_px, cost);
   }
 }
@@ -167,6 +168,7 @@ wta_lr_loop:
 #endif
     const kern::WtaPlan pl = stage.plan();
     if (!pl.read && !pl.write && !pl.prime) break;
+    PX_COUNT_FIRING("wta_lr")
     stage.fire(pl, sum, disp);
   }
 }
@@ -186,6 +188,7 @@ median_loop:
 #endif
     const kern::MedianPlan pl = stage.plan();
     if (!pl.read && !pl.write && !pl.prime) break;
+    PX_COUNT_FIRING("median")
     stage.fire(pl, in, out);
   }
 }
@@ -206,6 +209,7 @@ aggregate_loop:
 #pragma HLS LOOP_TRIPCOUNT min=102400 max=102400 avg=102400
 #endif
     const kern::AggPlan pl = stage.plan();
+    PX_COUNT_FIRING("aggregate")
     stage.fire(pl, cost, no_forward, sum, no_tee);
   }
 }

@@ -8,7 +8,13 @@
 // order with the right framing (nothing extra). Writes tb/csim_disparity.pgm (the last frame).
 // Built with PARALLAX_REDUCED_FRAME (the reduced frame: the pair's first kHeightPx rows), it
 // compares with tb/golden_disparity_reduced.pgm and writes tb/csim_disparity_reduced.pgm.
-// Exit status 0 when bit-exact, 1 otherwise. Usage: parallax_tb [TB_DIR] (default: tb).
+// Built with PARALLAX_COUNT_ACCESSES (`make csim`, `make csim-reduced`), the kernels' arrays count
+// their reads and writes per bank and firing over the first frame (parallax/kernels/access.hpp);
+// the testbench writes them with the stages' declared II and recurrences to
+// TB_DIR/csim_accesses.json (csim_accesses_reduced.json) and fails when a memory's counts or a
+// recurrence need a larger II than the stage's PIPELINE pragma states.
+// Exit status 0 when bit-exact (and, counting, every stage within its II), 1 otherwise.
+// Usage: parallax_tb [TB_DIR] (default: tb).
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -25,10 +31,12 @@ using namespace parallax_design;
 #ifdef PARALLAX_REDUCED_FRAME
 const char kGoldenFile[] = "golden_disparity_reduced.pgm";  // the simulator's codes for the first kHeightPx rows
 const char kOutputFile[] = "csim_disparity_reduced.pgm";
+const char kAccessFile[] = "csim_accesses_reduced.json";
 const char kFrameNote[] = " (reduced frame: the pair's first rows)";
 #else
 const char kGoldenFile[] = "golden_disparity.pgm";
 const char kOutputFile[] = "csim_disparity.pgm";
+const char kAccessFile[] = "csim_accesses.json";
 const char kFrameNote[] = "";
 #endif
 
@@ -93,6 +101,88 @@ void feed(hls::stream<pixel_beat_t>& s, const Image& img) {
     }
 }
 
+#ifdef PARALLAX_COUNT_ACCESSES
+namespace kern = parallax::kern;
+
+kern::AccessStage stage(const char* name, int ii_declared) {
+  kern::AccessStage s;
+  s.name = name;
+  s.ii_declared = ii_declared;
+  return s;
+}
+kern::AccessRecurrence recurrence(const char* name, std::vector<std::string> operators, double delay_ns,
+                                  double budget_ns, int distance, int ii_forced) {
+  kern::AccessRecurrence r;
+  r.name = name;
+  r.operators = std::move(operators);
+  r.delay_ns = delay_ns;
+  r.budget_ns = budget_ns;
+  r.distance = distance;
+  r.ii_forced = ii_forced;
+  return r;
+}
+
+// The kernel stages' PIPELINE II (the pragmas of src/parallax_top.cpp) and their loop-carried
+// recurrences with the delays of their operator chains, as `parallax export-hls` derived them.
+std::vector<kern::AccessStage> declared_stages() {
+  std::vector<kern::AccessStage> stages;
+  stages.push_back(stage("cost", 1));
+  stages.back().recurrences.push_back(recurrence("raster_counters", {"add 4 bits x 1", "compare 4 bits x 1", "register 4 bits x 1"}, 2.240, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("plan_window_ready", {"compare 10 bits x 1", "xor 1 bits x 2", "mux 10 bits x 1", "register 10 bits x 1"}, 2.460, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("window_corner", {"add 10 bits x 1", "compare 10 bits x 1", "mux 10 bits x 2", "register 10 bits x 1"}, 3.210, 3.650, 1, 1));
+  stages.push_back(stage("aggregate", 2));
+  stages.back().recurrences.push_back(recurrence("pixel_path_minimum", {"add 8 bits x 1", "compare 8 bits x 1", "mux 8 bits x 1", "compare 7 bits x 1", "mux 7 bits x 1", "register 7 bits x 1"}, 4.080, 3.650, 1, 2));
+  stages.back().recurrences.push_back(recurrence("running_minimum", {"compare 7 bits x 1", "mux 7 bits x 1", "register 7 bits x 1"}, 1.800, 3.650, 1, 1));
+  stages.push_back(stage("wta_lr", 1));
+  stages.back().recurrences.push_back(recurrence("best_cost", {"compare 9 bits x 1", "mux 9 bits x 1", "register 9 bits x 1"}, 1.800, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("right_candidates", {"mux 9 bits x 1", "compare 9 bits x 1", "mux 9 bits x 1", "register 9 bits x 1", "mux 9 bits x 2", "compare 4 bits x 1"}, 4.020, 3.650, 9, 1));
+  stages.push_back(stage("median", 1));
+  stages.back().recurrences.push_back(recurrence("raster_counters", {"add 10 bits x 1", "compare 10 bits x 1", "register 10 bits x 1"}, 2.310, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("plan_window_ready", {"compare 10 bits x 1", "xor 1 bits x 2", "mux 10 bits x 1", "register 10 bits x 1"}, 2.460, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("window_corner", {"add 10 bits x 1", "compare 10 bits x 1", "mux 10 bits x 2", "register 10 bits x 1"}, 3.210, 3.650, 1, 1));
+  return stages;
+}
+
+// Writes DIR/kAccessFile and checks every counted memory and recurrence against its stage's
+// declared II; prints what does not fit. True when all fit.
+bool report_accesses(const std::string& dir) {
+  const std::vector<kern::AccessStage> stages = declared_stages();
+  const std::string path = dir + "/" + kAccessFile;
+  FILE* f = fopen(path.c_str(), "w");
+  const std::string json = kern::access_report_json("ruf2018-census", stages);
+  if (!f || fputs(json.c_str(), f) < 0 || fclose(f) != 0) {
+    fprintf(stderr, "%s: cannot write\n", path.c_str());
+    return false;
+  }
+  bool fits = true;
+  int memories = 0;
+  for (const kern::MemoryAccesses& m : kern::AccessRegistry::get().report()) {
+    ++memories;
+    int declared = 0;
+    for (const kern::AccessStage& s : stages)
+      if (s.name == m.stage) declared = s.ii_declared;
+    if (declared == 0) {
+      fprintf(stderr, "parallax_tb: stage %s (memory %s) has no declared II\n", m.stage.c_str(), m.name.c_str());
+      fits = false;
+    } else if (m.ii_forced > declared) {
+      fprintf(stderr, "parallax_tb: stage %s, memory %s: %d reads and %d writes per bank and firing need II %d, the pragma states %d\n",
+              m.stage.c_str(), m.name.c_str(), m.max_reads_per_bank_per_firing, m.max_writes_per_bank_per_firing,
+              m.ii_forced, declared);
+      fits = false;
+    }
+  }
+  for (const kern::AccessStage& s : stages)
+    for (const kern::AccessRecurrence& r : s.recurrences)
+      if (r.ii_forced > s.ii_declared) {
+        fprintf(stderr, "parallax_tb: stage %s, recurrence %s: %.2f ns needs II %d, the pragma states %d\n",
+                s.name.c_str(), r.name.c_str(), r.delay_ns, r.ii_forced, s.ii_declared);
+        fits = false;
+      }
+  printf("parallax_tb: %d counted memories of %zu stages in %s: %s\n", memories, stages.size(), path.c_str(),
+         fits ? "every stage's accesses and recurrences fit its declared II" : "II EXCEEDED");
+  return fits;
+}
+#endif
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -143,7 +233,15 @@ int main(int argc, char** argv) {
   // frame's, which proves pass 2 reads the other buffer.
   Image black = left;
   black.px.assign(black.px.size(), 0);
+#ifdef PARALLAX_COUNT_ACCESSES
+  // The count covers the first frame: the calls that run every stage on it (a two-pass design's
+  // pass 2 of frame 0 runs in the second call).
+  const int counted_calls = PARALLAX_DESIGN_TWO_PASS ? 2 : 1;
+#endif
   for (int call = 0; call < calls; ++call) {
+#ifdef PARALLAX_COUNT_ACCESSES
+    parallax::kern::AccessRegistry::get().set_enabled(call < counted_calls);
+#endif
     const bool flush = call == frames;
     hls::stream<pixel_beat_t> left_in("left_in"), right_in("right_in");
     feed(left_in, flush ? black : left);
@@ -207,5 +305,10 @@ int main(int argc, char** argv) {
   if (!exact)
     printf("parallax_tb: %lld different, %lld missing, %lld extra, %lld badly framed pixel(s)\n", mismatches, missing,
            extra, framing);
-  return exact ? 0 : 1;
+#ifdef PARALLAX_COUNT_ACCESSES
+  const bool fits = report_accesses(dir);
+#else
+  const bool fits = true;
+#endif
+  return exact && fits ? 0 : 1;
 }
