@@ -104,7 +104,10 @@ struct Collector {
 // What the counted banking implies for the recurrences that pass through a register file
 // (Recurrence::via). B registers reached by one site at run time are a B:1 read mux, ceil(log4 B)
 // levels of LUT6 (a LUT6 selects among 4), and a write decoder comparing the index
-// (ceil(log2 B) bits), both at the chain's width.
+// (ceil(log2 B) bits), both at the chain's width. And the scheduler cannot tell which register a
+// run-time index reaches: a write in one firing may be the register the next firing reads, so
+// the chain's distance is 1 whatever the kernel's own (a pixel's chunks apart, say). A kernel
+// earns its distance back by indexing the registers with constants (a rotating register file).
 void add_banking_muxes(StageSchedule& s) {
   for (Recurrence& r : s.recurrences)
     for (const std::string& name : r.via)
@@ -115,6 +118,7 @@ void add_banking_muxes(StageSchedule& s) {
         const int width = r.chain.empty() ? 1 : r.chain.front().width_bits;
         r.chain.push_back({kern::kOpMux, width, (select_bits + 1) / 2});
         r.chain.push_back({kern::kOpCompare, select_bits, 1});
+        r.distance = 1;
       }
 }
 

@@ -68,9 +68,9 @@ struct ArrayOf {
 template <bool COUNT, int N>
 struct ShiftPorts {
   typedef int Index;
-  static int read(int k) { return k; }
-  static int write(int k) { return k; }
-  static void name(const char*) {}
+  int read(int k) const { return k; }
+  int write(int k) const { return k; }
+  void name(const char*) {}
 };
 
 // Layout statements on a raw array: nothing (the pragma is the statement).

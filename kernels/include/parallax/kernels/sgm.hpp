@@ -18,6 +18,7 @@
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/common.hpp"
 #include "parallax/kernels/resources.hpp"
+#include "parallax/kernels/shift_reg.hpp"
 #include "parallax/kernels/sgm_kinds.hpp"
 
 namespace parallax {
@@ -95,6 +96,8 @@ class SgmAggregate {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=p2k_ type=complete dim=1")
     PX_BIND_RAM_S2P_ANY(row_px_)
     access_name(pix_, "pixel_path_previous");
+    pix_q_.name("pixel_path_previous");
+    pix_q_.clear();
     access_name(lag_, "row_left_delay");
     access_name(row_, "row_path");
     access_name(row_min_, "row_min");
@@ -332,7 +335,7 @@ class SgmAggregate {
       PX_PRAGMA("HLS UNROLL")
       const int d = nlo + i;
       if (straight) {
-        next_a[i] = pix_[d];
+        next_a[i] = pix_read(d, i);
         next_b[i] = row_[m][row_word(nx, nc)][row_lane(nlo, i)];
       } else {
         const Word ahead = row_[m][row_word(nxr, nc)][row_lane(nlo, i)];
@@ -382,7 +385,7 @@ class SgmAggregate {
       PX_PRAGMA("HLS UNROLL")
       row_[m][row_word(x_, chunk_)][row_lane(lo, i)] = lr[i];
       if (straight) {
-        pix_[lo + i] = lr[i];
+        if (!kRotatingPix) pix_[lo + i] = lr[i];
         if (last && chunks_ == 1) next_a[i] = lr[i];  // the next pixel's predecessor is this one
         if (kNarrowRows && last && chunks_ == 1 && nx == x_) next_b[i] = lr[i];
       } else {
@@ -393,6 +396,7 @@ class SgmAggregate {
         }
       }
     }
+    if (straight) pix_push(lr);
     if (last) {
       row_min_[m][x_] = Word(run_min);
       if (straight) pix_min_ = Word(run_min);
@@ -422,6 +426,31 @@ class SgmAggregate {
     t = t < e ? t : e;
     const Word mm = t < wm_p2 ? t : wm_p2;
     return uint32_t(Word(mm - wm));
+  }
+
+  // The pixel path's previous-pixel Lr (N2, issue 41). Software instantiations index pix_ by
+  // disparity. The exported and counting ones keep the chunks written as a shift register, PU
+  // entries per firing: a firing fetches the chunk written C - 1 firings before it (the previous
+  // pixel's next chunk, or this pixel's chunk 0 at its last chunk), which is entry
+  // (C - 1) PU - 1 - i for lane i before this firing's push, a constant per lane: no run-time
+  // mux, and the scheduler sees no dependence from one firing's write to the next one's read.
+  // With one chunk (C = 1) the fetch is this firing's own Lr, which the store supplies.
+  static constexpr bool kRotatingPix = Caps::fixed || Caps::count_accesses;
+  PX_INLINE Word pix_read(int d, int i) const {
+    if (!kRotatingPix) return pix_[d];
+    const int pu = Caps::parallel_units(lanes_);
+    const int c = Caps::disparities(d_) / pu;
+    return c > 1 ? pix_q_.at((c - 1) * pu - 1 - i) : Word(0);
+  }
+  PX_INLINE void pix_push(const Word* lr) {
+    if (!kRotatingPix) return;
+    const int pu = Caps::parallel_units(lanes_);
+    const int d = Caps::disparities(d_);
+  agg_pix_push:
+    for (int i = 0; i < kLanes; ++i) {
+      PX_PRAGMA("HLS UNROLL")
+      if (i < pu) pix_q_.shift_in(lr[i], d);
+    }
   }
 
   // Lr(p, d) = C(p, d) + min(Lr(q, d), Lr(q, d±1) + P1, M + P2) - M over the lanes of this firing for path kind k,
@@ -474,7 +503,7 @@ class SgmAggregate {
       PX_PRAGMA("HLS UNROLL")
       const int d = nlo + i;
       if (k == kKindPixel) {
-        next[i] = pix_[d];
+        next[i] = pix_read(d, i);
       } else if (k == kKindRowUp) {
         next[i] = row_[m][row_word(nx, nc)][row_lane(nlo, i)];
       } else if (k == kKindRowLeft) {
@@ -542,7 +571,7 @@ class SgmAggregate {
     for (int i = 0; i < trip; ++i) {
       PX_PRAGMA("HLS UNROLL")
       if (k == kKindPixel) {
-        pix_[lo + i] = lr[i];
+        if (!kRotatingPix) pix_[lo + i] = lr[i];
         if (last && chunks_ == 1) next[i] = lr[i];  // the next pixel's predecessor is this one
       } else {
         row_[m][row_word(x_, chunk_)][row_lane(lo, i)] = lr[i];
@@ -556,6 +585,7 @@ class SgmAggregate {
         }
       }
     }
+    if (k == kKindPixel) pix_push(lr);
     if (last) {
       if (k == kKindPixel)
         pix_min_ = Word(run_min);
@@ -649,6 +679,9 @@ class SgmAggregate {
   Word mq_[kKindCount];
   uint32_t run_min_[kKindCount];
   Array<Word, kMaxD> pix_;  // pixel path: the previous pixel's Lr (this pixel's, lanes already done)
+  // The same in the exported and counting instantiations (kRotatingPix): a shift register of the
+  // chunks written, PU entries pushed per firing (pix_push), so lane i reads a fixed entry.
+  ShiftReg<Word, kMaxD, Caps::fixed, Caps::count_accesses> pix_q_;
   Word pix_min_ = 0;        // pixel path: the previous pixel's minimum
   Array<Word, kMaxD> lag_;  // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
   Word mlag_ = 0;           // row-left path: the previous row's minimum of column x - 1
@@ -692,7 +725,10 @@ class SgmAggregate {
   agg_storage_kinds:
     for (int k = 0; k < kKindCount; ++k) {
       if (((dk >> k) & 1u) == 0) {  // an inactive kind's state is never written: no hardware
-        if (k == kKindPixel) v.unused("pixel_path_previous", pix_);
+        if (k == kKindPixel) {
+          v.unused("pixel_path_previous", pix_);
+          pix_q_.storage(v, "pixel_path_previous_chunks", 0, pb);
+        }
         if (k == kKindRowLeft) v.unused("row_left_delay", lag_);
         if (k != kKindPixel) v.unused("row_path", row_[k - 1]);
         if (k != kKindPixel) v.unused("row_min", row_min_[k - 1]);
@@ -701,6 +737,7 @@ class SgmAggregate {
       }
       if (k == kKindPixel) {
         v.registers("pixel_path_previous", pix_, d_, pb);
+        pix_q_.storage(v, "pixel_path_previous_chunks", 0, pb);  // the same registers (see pix_read)
         v.registers("pixel_path_min", pix_min_, 1, pb);
       } else {
         const int m = k - 1;

@@ -49,7 +49,36 @@ void sgm_schedule(const A& a, S& s) {
       s.chain(kOpMux, pb, 1);
       s.chain(kOpRegister, pb, 1);
     }
+    // The previous pixel's Lr in the register files pix_ (and the window win_): read C - 1
+    // firings after its write; through a run-time-indexed register file the scheduler takes
+    // distance 1 (the derivation's via). The chain of one firing: the read (the via adds its
+    // mux), Lr(q, d +- 1) + P1, two compare-selects, the P2 clamp, - M, the average, + C, the
+    // path-start select, the write (the via adds its decoder).
+    if ((dk & (1u << kKindPixel)) != 0) {
+      s.recurrence("mgm_previous_pixel_registers", max_int(1, a.disparity_count() / lanes - 1));
+      s.via("pixel_path_previous");
+      s.via("mgm_window");
+      s.chain(kOpAdd, pb, 1);
+      s.chain(kOpCompare, pb, 3);
+      s.chain(kOpMux, pb, 3);
+      s.chain(kOpAdd, pb + 1, 3);
+      s.chain(kOpMux, pb, 1);
+      s.chain(kOpRegister, pb, 1);
+    }
   } else if ((dk & (1u << kKindPixel)) != 0) {
+    // The previous pixel's Lr in the register file pix_, read C - 1 firings after its write;
+    // through a run-time-indexed register file the scheduler takes distance 1 (the derivation's
+    // via). The chain of one firing: the read (the via adds its mux), Lr(q, d +- 1) + P1, two
+    // compare-selects (with the other candidates, then with M + P2), - M, + C, the path-start
+    // select, the write (the via adds its decoder).
+    s.recurrence("pixel_path_registers", max_int(1, a.disparity_count() / lanes - 1));
+    s.via("pixel_path_previous");
+    s.chain(kOpAdd, pb, 1);
+    s.chain(kOpCompare, pb, 2);
+    s.chain(kOpMux, pb, 2);
+    s.chain(kOpAdd, pb + 1, 2);
+    s.chain(kOpMux, pb, 1);
+    s.chain(kOpRegister, pb, 1);
     s.recurrence("pixel_path_minimum", 1);
     s.chain(kOpAdd, pb + 1, 1);      // min_d (C_d + t_d) - M
     s.chain(kOpCompare, pb + 1, 1);  // min with min_d C_d + P2

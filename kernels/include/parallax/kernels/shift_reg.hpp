@@ -28,14 +28,21 @@ namespace kern {
 template <class T, int N, bool LITERAL, bool COUNT = false>
 class ShiftReg;
 
+// The ports are a base (empty outside counting: no storage of their own).
 template <class T, int N, bool COUNT>
-class ShiftReg<T, N, true, COUNT> {
-  typedef typename ShiftPorts<COUNT, N>::Index Index;
+class ShiftReg<T, N, true, COUNT> : private ShiftPorts<COUNT, N> {
+  typedef ShiftPorts<COUNT, N> Ports;
+  typedef typename Ports::Index Index;
 
  public:
   ShiftReg() { PX_PRAGMA("HLS ARRAY_PARTITION variable=v_ type=complete dim=1") }
   // The report's name of the registers (counting instantiations).
-  void name(const char* n) { ports_.name(n); }
+  void name(const char* n) { Ports::name(n); }
+  // Every entry 0 (not counted: initialisation, outside the pipelined loop).
+  void clear() {
+  shift_reg_clear:
+    for (int k = 0; k < N; ++k) v_[k] = T(0);
+  }
   // Entries 1 .. n-1 take their predecessor's value, entry 0 takes x.
   void shift_in(const T& x, int n) {
   shift_reg_in:
@@ -54,8 +61,8 @@ class ShiftReg<T, N, true, COUNT> {
     }
     v_[n - 1] = x;
   }
-  const T& at(Index k) const { return v_[ports_.read(k)]; }
-  void set(Index k, const T& x) { v_[ports_.write(k)] = x; }
+  const T& at(Index k) const { return v_[Ports::read(k)]; }
+  void set(Index k, const T& x) { v_[Ports::write(k)] = x; }
   // Storage descriptor (resources.hpp): entries 0 .. used-1 are registers of width_bits; used is
   // N (the whole register) or less when the last entries are never shifted into (n < N).
   template <class V>
@@ -70,15 +77,19 @@ class ShiftReg<T, N, true, COUNT> {
 
  private:
   T v_[N];
-  ShiftPorts<COUNT, N> ports_;
 };
 
 template <class T, int N, bool COUNT>
-class ShiftReg<T, N, false, COUNT> {
-  typedef typename ShiftPorts<COUNT, N>::Index Index;
+class ShiftReg<T, N, false, COUNT> : private ShiftPorts<COUNT, N> {
+  typedef ShiftPorts<COUNT, N> Ports;
+  typedef typename Ports::Index Index;
 
  public:
-  void name(const char* n) { ports_.name(n); }
+  void name(const char* n) { Ports::name(n); }
+  void clear() {
+    for (long k = 0; k < kSpan; ++k) v_[k] = T(0);
+    base_ = (kSpan - N) / 2;
+  }
   void shift_in(const T& x, int) {
     if (base_ == 0) relocate(kSpan - N);
     --base_;
@@ -89,8 +100,8 @@ class ShiftReg<T, N, false, COUNT> {
     ++base_;
     v_[base_ + n - 1] = x;
   }
-  const T& at(Index k) const { return v_[base_ + ports_.read(k)]; }
-  void set(Index k, const T& x) { v_[base_ + ports_.write(k)] = x; }
+  const T& at(Index k) const { return v_[base_ + Ports::read(k)]; }
+  void set(Index k, const T& x) { v_[base_ + Ports::write(k)] = x; }
   // Storage descriptor (resources.hpp): the hardware is the literal form's used registers.
   template <class V>
   void storage(V& v, const char* name, int used, int width_bits) const {
@@ -112,7 +123,6 @@ class ShiftReg<T, N, false, COUNT> {
   // long, not int: a store to an entry (of any 32-bit or narrower T) cannot alias the base, so
   // loops over at()/set() keep it in a register.
   long base_ = (kSpan - N) / 2;
-  ShiftPorts<COUNT, N> ports_;
 };
 
 }  // namespace kern
