@@ -301,7 +301,48 @@ int finish_sim(const SimOptions& o, const Invocation& inv, config::PipelineConfi
   return 0;
 }
 
-// --accesses FILE: the counting run on the same pair (sim/accesses.hpp), csim_accesses.json.
+// csim_accesses.json as Markdown (docs/hls.md's per-stage tables): per stage its declared II,
+// then one row per counted memory and per recurrence.
+std::string accesses_markdown(const std::string& text) {
+  const json j = json::parse(text);
+  std::string o = "Design `" + j.at("design").get<std::string>() + "`:\n\n" +
+                  "| stage | II declared (forced) | firings | memory or recurrence | kind, banks, ports per bank | "
+                  "largest reads + writes per bank and firing, or chain and delay | sites banked at run time | "
+                  "II forced |\n|---|---|---|---|---|---|---|---|\n";
+  char buf[256];
+  for (const auto& s : j.at("stages")) {
+    std::snprintf(buf, sizeof buf, "| %s | %d (%d) | %lld |", s.at("name").get<std::string>().c_str(),
+                  s.at("ii_declared").get<int>(), s.at("ii_forced").get<int>(), s.at("firings").get<long long>());
+    const std::string head = buf;
+    bool first = true;
+    for (const auto& m : s.at("memories")) {
+      const int rp = m.at("read_ports").get<int>(), wp = m.at("write_ports").get<int>();
+      std::snprintf(
+          buf, sizeof buf, " %s | %s, %d, %s | %d + %d | %d (widest %d) | %d |\n",
+          m.at("name").get<std::string>().c_str(), m.at("kind").get<std::string>().c_str(), m.at("banks").get<int>(),
+          rp == 0 ? "any" : (std::to_string(rp) + "R " + std::to_string(wp) + "W").c_str(),
+          m.at("max_reads_per_bank_per_firing").get<int>(), m.at("max_writes_per_bank_per_firing").get<int>(),
+          m.at("runtime_banked_sites").get<int>(), m.at("max_banks_per_site").get<int>(), m.at("ii_forced").get<int>());
+      o += (first ? head : std::string("| | | |")) + buf;
+      first = false;
+    }
+    for (const auto& r : s.at("recurrences")) {
+      std::string ops;
+      for (const auto& op : r.at("operators")) ops += (ops.empty() ? "" : ", ") + op.get<std::string>();
+      std::snprintf(buf, sizeof buf, " recurrence %s | distance %d | %.2f ns over %d firing(s) of %.2f ns: ",
+                    r.at("name").get<std::string>().c_str(), r.at("distance").get<int>(),
+                    r.at("delay_ns").get<double>(), r.at("distance").get<int>(), r.at("budget_ns").get<double>());
+      o += (first ? head : std::string("| | | |")) + buf + ops + " | | " +
+           std::to_string(r.at("ii_forced").get<int>()) + " |\n";
+      first = false;
+    }
+    if (first) o += head + " (none counted) | | | | |\n";
+  }
+  return o;
+}
+
+// --accesses FILE: the counting run on the same pair (sim/accesses.hpp), csim_accesses.json, or
+// its Markdown tables when FILE ends in .md.
 void write_accesses(const std::string& path, const config::PipelineConfig& cfg, int clock, const cv::Mat& l,
                     const cv::Mat& r) {
   std::fprintf(stderr, "parallax: counting every kernel array's accesses per firing (%dx%d)...\n", l.cols, l.rows);
@@ -309,8 +350,10 @@ void write_accesses(const std::string& path, const config::PipelineConfig& cfg, 
   ao.design = cfg.name;
   ao.clock_hz = clock * 1e6;
   ao.rectify = cfg.rectify_params(l.cols, l.rows);
-  write_text_file(path,
-                  sim::count_accesses_json(to_grey_image(l), to_grey_image(r), cfg.stereo_params(l.cols, l.rows), ao));
+  const std::string text =
+      sim::count_accesses_json(to_grey_image(l), to_grey_image(r), cfg.stereo_params(l.cols, l.rows), ao);
+  const bool markdown = path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0;
+  write_text_file(path, markdown ? accesses_markdown(text) : text);
 }
 
 int run_sim(const SimOptions& o, const Invocation& inv) {
@@ -355,7 +398,7 @@ Command add_sim(CLI::App& app) {
   simc->add_flag("--json", o->json, "Print JSON");
   simc->add_option("--accesses", o->accesses,
                    "Also count every kernel array's reads and writes per bank and firing on the pair and write the "
-                   "report (csim_accesses.json, docs/hls.md) here")
+                   "report (csim_accesses.json, docs/hls.md) here; a FILE ending in .md gets Markdown tables")
       ->check(OutputFile());
   simc->add_flag("--no-sizing", o->no_sizing, "Skip the second run that finds stall-free FIFO depths");
   simc->add_flag("--coupled", o->coupled,
