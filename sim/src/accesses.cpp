@@ -41,7 +41,7 @@ GreyImage probe_image(int width_px, int height_px, int shift_px) {
       v = uint8_t(state >> 24);
     }
     for (int x = 0; x < width_px; ++x)
-      g.px[std::size_t(y) * std::size_t(width_px) + std::size_t(x)] = row[std::size_t(x + shift_px)];
+      g.px[std::size_t(y) * std::size_t(width_px) + std::size_t(x)] = row[std::size_t(x) + std::size_t(shift_px)];
   }
   return g;
 }

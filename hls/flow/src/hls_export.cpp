@@ -22,6 +22,25 @@ std::string device_for_part(const std::string& part) {
   return best;
 }
 
+namespace {
+
+// The cycles of one call of the IP, which takes one call per frame (ap_ctrl_hs: the next call
+// starts when this one is done). A one-pass call lasts the frame's latency; a two-pass call runs
+// pass 1 of its frame beside pass 2 of the previous one, so it lasts the longer pass.
+int64_t call_cycles(const config::PipelineConfig& cfg, const sim::CycleReport& cycle) {
+  const int64_t latency = cycle.last_pixel_cycle - cycle.first_input_cycle;
+  if (!kern::two_pass_paths(cfg.path_mask)) return latency;
+  int64_t pass1_end = -1, pass2_start = -1;
+  for (const auto& s : cycle.stages) {
+    if (s.name == "ddr_write") pass1_end = s.last_fire_cycle + 1;
+    if (s.name == "ddr_read") pass2_start = s.first_fire_cycle;
+  }
+  if (pass1_end <= 0 || pass2_start < 0) return latency;
+  return std::max(pass1_end - cycle.first_input_cycle, cycle.last_pixel_cycle - pass2_start);
+}
+
+}  // namespace
+
 hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const cv::Mat& left, const cv::Mat& right,
                                    const std::string& origin, const std::string& pair_source,
                                    const ExportOptions& opt) {
@@ -80,20 +99,8 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   pr.cycles_per_frame = res.cycle.cycles_per_frame;
   pr.bottleneck = res.cycle.bottleneck;
   pr.fpga_latency_ms = double(pr.last_pixel_cycle) / (r.clock_mhz * 1e3);
-  // The IP takes one call per frame (ap_ctrl_hs: the next call starts when this one is done). A
-  // one-pass call lasts the frame's latency; a two-pass call runs pass 1 of its frame beside pass 2
-  // of the previous one, so it lasts the longer pass. Never shorter than the busiest stage.
-  int64_t call_cycles = pr.last_pixel_cycle;
-  if (kern::two_pass_paths(cfg.path_mask)) {
-    int64_t pass1_end = -1, pass2_start = -1;
-    for (const auto& s : res.cycle.stages) {
-      if (s.name == "ddr_write") pass1_end = s.last_fire_cycle + 1;
-      if (s.name == "ddr_read") pass2_start = s.first_fire_cycle;
-    }
-    if (pass1_end > 0 && pass2_start >= 0)
-      call_cycles = std::max(pass1_end - res.cycle.first_input_cycle, res.cycle.last_pixel_cycle - pass2_start);
-  }
-  const int64_t interval = std::max(pr.cycles_per_frame, call_cycles);
+  // Never shorter than the busiest stage.
+  const int64_t interval = std::max(pr.cycles_per_frame, call_cycles(cfg, res.cycle));
   pr.fps = interval > 0 ? r.clock_mhz * 1e6 / double(interval) : 0.0;
   const int64_t extra = pr.last_pixel_cycle - (sized.unbounded_last_pixel_cycle - sized.cycle.first_input_cycle);
   for (auto& f : r.fifos)

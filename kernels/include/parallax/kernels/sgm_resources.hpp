@@ -154,5 +154,56 @@ agg_declare_paths:
   r.registers("sum_token", pu * ab, 1);
 }
 
+// SgmAggregate::storage (declared in sgm.hpp with its contract).
+template <class Caps, class Word>
+template <class V>
+void SgmAggregate<Caps, Word>::storage(V& v) const {
+  const int pb = path_bits(p_);
+  const int64_t words = int64_t(p_.width_px) * chunks_;
+  v.unused("software_lane_pad", pad_);  // read only where !Caps::fixed
+  const unsigned dk = datapaths();
+agg_storage_kinds:
+  for (int k = 0; k < kKindCount; ++k) {
+    if (((dk >> k) & 1u) == 0) {  // an inactive kind's state is never written: no hardware
+      if (k == kKindPixel) {
+        v.unused("pixel_path_previous", pix_);
+        pix_q_.storage(v, "pixel_path_previous_chunks", 0, pb);
+      }
+      if (k == kKindRowLeft) v.unused("row_left_delay", lag_);
+      if (k != kKindPixel) v.unused("row_path", row_[k - 1]);
+      if (k != kKindPixel) v.unused("row_min", row_min_[k - 1]);
+      v.unused("path_predecessor_lanes", ahead_[k]);
+      continue;
+    }
+    if (k == kKindPixel) {
+      v.registers("pixel_path_previous", pix_, d_, pb);
+      pix_q_.storage(v, "pixel_path_previous_chunks", 0, pb);  // the same registers (see pix_read)
+      v.registers("pixel_path_min", pix_min_, 1, pb);
+    } else {
+      const int m = k - 1;
+      v.memory(k == kKindRowLeft ? "row_path_left"
+               : k == kKindRowUp ? "row_path_up"
+                                 : "row_path_right",
+               row_[m], words, lanes_ * pb, 1, false, lanes_);
+      v.memory(k == kKindRowLeft ? "row_min_left"
+               : k == kKindRowUp ? "row_min_up"
+                                 : "row_min_right",
+               row_min_[m], p_.width_px, pb, 1, false, 1);
+      if (k == kKindRowLeft && !mgm()) {  // MGM's row-left reads x - 1 from its window instead
+        v.registers("row_left_delay", lag_, d_, pb);
+        v.registers("row_left_delay_min", mlag_, 1, pb);
+      } else if (k == kKindRowLeft) {
+        v.unused("row_left_delay", lag_);
+        v.unused("row_left_delay_min", mlag_);
+      }
+    }
+    v.registers_part("path_predecessor_lanes", ahead_[k], lanes_ + 1, pb);
+    v.registers("path_min_previous", mq_[k], 1, pb);
+    v.registers("path_min_running", run_min_[k], 1, pb);
+  }
+  mgm_storage(v, words);
+  intensity_storage(v);
+}
+
 }  // namespace kern
 }  // namespace parallax
