@@ -101,27 +101,6 @@ struct Collector {
   }
 };
 
-// What the counted banking implies for the recurrences that pass through a register file
-// (Recurrence::via). B registers reached by one site at run time are a B:1 read mux, ceil(log4 B)
-// levels of LUT6 (a LUT6 selects among 4), and a write decoder comparing the index
-// (ceil(log2 B) bits), both at the chain's width. And the scheduler cannot tell which register a
-// run-time index reaches: a write in one firing may be the register the next firing reads, so
-// the chain's distance is 1 whatever the kernel's own (a pixel's chunks apart, say). A kernel
-// earns its distance back by indexing the registers with constants (a rotating register file).
-void add_banking_muxes(StageSchedule& s) {
-  for (Recurrence& r : s.recurrences)
-    for (const std::string& name : r.via)
-      for (const MemoryPorts& m : s.memories) {
-        if (m.name != name || m.max_banks_per_site < 2) continue;
-        int select_bits = 0;
-        while ((1 << select_bits) < m.max_banks_per_site) ++select_bits;
-        const int width = r.chain.empty() ? 1 : r.chain.front().width_bits;
-        r.chain.push_back({kern::kOpMux, width, (select_bits + 1) / 2});
-        r.chain.push_back({kern::kOpCompare, select_bits, 1});
-        r.distance = 1;
-      }
-}
-
 // The counted memories of stage `name` (every array the counting run saw it access).
 void add_counted(StageSchedule& s, const std::vector<kern::MemoryAccesses>& counted) {
   for (const kern::MemoryAccesses& m : counted) {
@@ -202,6 +181,27 @@ std::string MemoryPorts::describe() const {
     d += ", " + std::to_string(runtime_banked_sites) + " site(s) banked at run time over " + std::to_string(banks) +
          " banks";
   return d;
+}
+
+// What the counted banking implies for the recurrences that pass through a register file
+// (Recurrence::via). B registers reached by one site at run time are a B:1 read mux, ceil(log4 B)
+// levels of LUT6 (a LUT6 selects among 4), and a write decoder comparing the index
+// (ceil(log2 B) bits), both at the chain's width. And the scheduler cannot tell which register a
+// run-time index reaches: a write in one firing may be the register the next firing reads, so
+// the chain's distance is 1 whatever the kernel's own (a pixel's chunks apart, say). A kernel
+// earns its distance back by indexing the registers with constants (a rotating register file).
+void add_banking_muxes(StageSchedule& s) {
+  for (Recurrence& r : s.recurrences)
+    for (const std::string& name : r.via)
+      for (const MemoryPorts& m : s.memories) {
+        if (m.name != name || m.max_banks_per_site < 2) continue;
+        int select_bits = 0;
+        while ((1 << select_bits) < m.max_banks_per_site) ++select_bits;
+        const int width = r.chain.empty() ? 1 : r.chain.front().width_bits;
+        r.chain.push_back({kern::kOpMux, width, (select_bits + 1) / 2});
+        r.chain.push_back({kern::kOpCompare, select_bits, 1});
+        r.distance = 1;
+      }
 }
 
 void derive_ii(StageSchedule& s, double clock_hz) {

@@ -43,6 +43,22 @@ class ShiftReg<T, N, true, COUNT> : private ShiftPorts<COUNT, N> {
   shift_reg_clear:
     for (int k = 0; k < N; ++k) v_[k] = T(0);
   }
+  // Entries 0 .. n-1 move `by` places towards 0, the first `by` wrapping to the end: entry k
+  // takes entry (k + by) mod n (0 < by < n). Wires, like a shift: not counted.
+  void rotate(int by, int n) {
+    T old[N];
+    PX_PRAGMA("HLS ARRAY_PARTITION variable=old type=complete dim=1")
+  shift_reg_rotate_copy:
+    for (int k = 0; k < N; ++k) {
+      PX_PRAGMA("HLS UNROLL")
+      old[k] = v_[k];
+    }
+  shift_reg_rotate:
+    for (int k = 0; k < N; ++k) {
+      PX_PRAGMA("HLS UNROLL")
+      if (k < n) v_[k] = old[k + by < n ? k + by : k + by - n];
+    }
+  }
   // Entries 1 .. n-1 take their predecessor's value, entry 0 takes x.
   void shift_in(const T& x, int n) {
   shift_reg_in:
@@ -89,6 +105,11 @@ class ShiftReg<T, N, false, COUNT> : private ShiftPorts<COUNT, N> {
   void clear() {
     for (long k = 0; k < kSpan; ++k) v_[k] = T(0);
     base_ = (kSpan - N) / 2;
+  }
+  void rotate(int by, int n) {
+    T old[N];
+    for (int k = 0; k < n; ++k) old[k] = v_[base_ + k];
+    for (int k = 0; k < n; ++k) v_[base_ + k] = old[k + by < n ? k + by : k + by - n];
   }
   void shift_in(const T& x, int) {
     if (base_ == 0) relocate(kSpan - N);

@@ -94,6 +94,7 @@ class WtaLr {
     x_ = 0;
     y_ = 0;
     chunk_ = 0;
+    rot_ = 0;
     next_emit_ = 0;
     in_row_done_ = false;
     done_ = false;
@@ -150,7 +151,7 @@ class WtaLr {
     v(in_row_done_);
     v(done_);
   }
-  void resync() {}
+  void resync() { rot_ = kRotatingRight ? chunk_ * lanes_ : 0; }
 
   // Resources of this configuration (resources.hpp): the min tree and first-lane encoder over
   // PU lanes, the left results delayed by D - 1 columns for the check (a shift register), and
@@ -395,12 +396,31 @@ class WtaLr {
     for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
       const int d = lo + i;
+      const int e = kRotatingRight ? i : d;  // the register of open entry d (see right_entry)
       const uint32_t s = t.v[i];
-      const uint32_t c = right_cost_.at(d);
+      const uint32_t c = right_cost_.at(e);
       const bool better = i < n && (s < c || (rev && s == c));
-      right_cost_.set(d, better ? s : c);
-      right_d_.set(d, better ? DispCode(d) : right_d_.at(d));
+      right_cost_.set(e, better ? s : c);
+      right_d_.set(e, better ? DispCode(d) : right_d_.at(e));
     }
+    if (kRotatingRight) {  // the next chunk's entries to registers 0 .. PU - 1
+      right_cost_.rotate(lanes_, d_);
+      right_d_.rotate(lanes_, d_);
+      rot_ += lanes_;
+      if (rot_ >= d_) rot_ -= d_;
+    }
+  }
+
+  // Open right entries (N2, issue 41). Software instantiations keep open entry e in register e.
+  // The exported and counting ones rotate the registers by PU after each chunk, so chunk c's
+  // lanes always update registers 0 .. PU - 1 (fixed wiring, no run-time mux): open entry e is
+  // in register (e - rot_) mod D, rot_ = c PU between chunks, 0 at a pixel's start, where the
+  // column shift runs.
+  static constexpr bool kRotatingRight = Caps::fixed || Caps::count_accesses;
+  int right_entry(int e) const {
+    if (!kRotatingRight) return e;
+    const int r = e - rot_;
+    return r < 0 ? r + d_ : r;
   }
 
   // The oldest left pixel not yet emitted, checked against the right pixel it points to. After
@@ -422,10 +442,10 @@ class WtaLr {
       int dr;
       if (!reverse_) {
         const int age = lag + d;
-        dr = age < d_ ? right_d_.at(age) : finished_d_.at(age - d_);
+        dr = age < d_ ? right_d_.at(right_entry(age)) : finished_d_.at(age - d_);
       } else {
         const int ahead = d - lag;
-        dr = ahead >= 0 ? right_d_.at(ahead) : finished_d_.at(-ahead - 1);
+        dr = ahead >= 0 ? right_d_.at(right_entry(ahead)) : finished_d_.at(-ahead - 1);
       }
       const int diff = d > dr ? d - dr : dr - d;
       if (diff > p_.lr_tolerance) return invalid;
@@ -460,6 +480,7 @@ class WtaLr {
   StereoParams p_;
   bool reverse_ = false;
   int d_ = 1, lanes_ = 1, chunks_ = 1, delay_ = 0, m_ = 0, f_ = 0;
+  int rot_ = 0;  // open right entries: the rotation of their registers (right_entry)
   int x_ = 0, y_ = 0, chunk_ = 0, next_emit_ = 0;
   int time_ = 0;  // stream column of the last column shift (flushing firings count on past W - 1)
   bool in_row_done_ = false, done_ = true;

@@ -76,6 +76,9 @@ struct StageSchedule {
 
 // II of one stage from its declarations at clock_hz.
 void derive_ii(StageSchedule& s, double clock_hz);
+// Adds to each recurrence that passes through a register file the count shows banked at run
+// time its read mux and write decoder, and sets its distance to 1 (the scheduler's view).
+void add_banking_muxes(StageSchedule& s);
 
 // The schedules of the design's kernel stages (cost, aggregate, aggregate_back for two passes,
 // wta_lr, median, rectify_left/right when rectifying), derived at clock_hz: the memories as the

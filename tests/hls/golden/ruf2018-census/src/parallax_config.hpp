@@ -74,7 +74,7 @@ constexpr unsigned kDefaultUniquenessPct = 0;
 constexpr int kDepthLeftPx = 2;
 constexpr int kDepthRightPx = 2;
 constexpr int kDepthCost = 2;
-constexpr int kDepthSum = 2;
+constexpr int kDepthSum = 30;
 constexpr int kDepthDispLr = 2;
 constexpr int kDepthDispOut = 2;
 

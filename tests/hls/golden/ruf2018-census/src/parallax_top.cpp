@@ -160,7 +160,7 @@ void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_b
   stage.configure(wta_lr_params(lr_tolerance, uniqueness_pct), kTwoPass || kRowReverse);
 wta_lr_loop:
   while (!stage.done()) {
-#pragma HLS PIPELINE II=2
+#pragma HLS PIPELINE II=1
 #ifndef PARALLAX_REDUCED_FRAME
 #pragma HLS LOOP_TRIPCOUNT min=2325240 max=2325240 avg=2325240
 #else
@@ -251,8 +251,8 @@ void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_bea
 #pragma HLS STREAM variable=cost depth=2
 #pragma HLS BIND_STORAGE variable=cost type=fifo impl=srl
   hls::stream<SumBeat> sum("sum");
-#pragma HLS STREAM variable=sum depth=2
-#pragma HLS BIND_STORAGE variable=sum type=fifo impl=srl
+#pragma HLS STREAM variable=sum depth=30
+#pragma HLS BIND_STORAGE variable=sum type=fifo impl=bram
   hls::stream<CodeBeat> disp_lr("disp_lr");
 #pragma HLS STREAM variable=disp_lr depth=2
 #pragma HLS BIND_STORAGE variable=disp_lr type=fifo impl=srl

@@ -134,9 +134,9 @@ std::vector<kern::AccessStage> declared_stages() {
   stages.back().recurrences.push_back(recurrence("pixel_path_registers", {"add 7 bits x 1", "compare 7 bits x 2", "mux 7 bits x 2", "add 8 bits x 2", "mux 7 bits x 1", "register 7 bits x 1"}, 6.380, 3.650, 9, 1));
   stages.back().recurrences.push_back(recurrence("pixel_path_minimum", {"add 8 bits x 1", "compare 8 bits x 1", "mux 8 bits x 1", "compare 7 bits x 1", "mux 7 bits x 1", "register 7 bits x 1"}, 4.080, 3.650, 1, 2));
   stages.back().recurrences.push_back(recurrence("running_minimum", {"compare 7 bits x 1", "mux 7 bits x 1", "register 7 bits x 1"}, 1.800, 3.650, 1, 1));
-  stages.push_back(stage("wta_lr", 2));
+  stages.push_back(stage("wta_lr", 1));
   stages.back().recurrences.push_back(recurrence("best_cost", {"compare 9 bits x 1", "mux 9 bits x 1", "register 9 bits x 1"}, 1.800, 3.650, 1, 1));
-  stages.back().recurrences.push_back(recurrence("right_candidates", {"mux 9 bits x 1", "compare 9 bits x 1", "mux 9 bits x 1", "register 9 bits x 1", "mux 9 bits x 2", "compare 4 bits x 1"}, 4.020, 3.650, 1, 2));
+  stages.back().recurrences.push_back(recurrence("right_candidates", {"mux 9 bits x 1", "compare 9 bits x 1", "mux 9 bits x 1", "register 9 bits x 1"}, 2.250, 3.650, 9, 1));
   stages.push_back(stage("median", 1));
   stages.back().recurrences.push_back(recurrence("raster_counters", {"add 10 bits x 1", "compare 10 bits x 1", "register 10 bits x 1"}, 2.310, 3.650, 1, 1));
   stages.back().recurrences.push_back(recurrence("plan_window_ready", {"compare 10 bits x 1", "xor 1 bits x 2", "mux 10 bits x 1", "register 10 bits x 1"}, 2.460, 3.650, 1, 1));
