@@ -32,6 +32,25 @@ struct WindowCorner {
     row = min_int(row + 1, height_px - 1);
     col = 0;
   }
+  // The loop-carried chains a stage with a corner declares (its schedule(), resources.hpp): the
+  // plan, the corner compared with the line buffer's input position (a compare of column
+  // counters, its and/or with the row compare and the firing's enables), the counters'
+  // next-value select and their register; and the corner's column, a saturating increment
+  // under the firing's enable.
+  template <class S>
+  static void schedule(S& s, int width_px) {
+    const int col_bits = bits_for(uint64_t(width_px));
+    s.recurrence("plan_window_ready", 1);
+    s.chain(kOpCompare, col_bits, 1);
+    s.chain(kOpXor, 1, 2);
+    s.chain(kOpMux, col_bits, 1);
+    s.chain(kOpRegister, col_bits, 1);
+    s.recurrence("window_corner", 1);
+    s.chain(kOpAdd, col_bits, 1);
+    s.chain(kOpCompare, col_bits, 1);
+    s.chain(kOpMux, col_bits, 2);
+    s.chain(kOpRegister, col_bits, 1);
+  }
   // From the counters (a scheduler that wrote them: resync()).
   void sync(int y_plus_ry, int x_plus_steps, int width_px, int height_px) {
     row = min_int(y_plus_ry, height_px - 1);

@@ -108,21 +108,7 @@ class Median {
     s.chain(kOpAdd, bits_for(uint64_t(width_px_)), 1);
     s.chain(kOpCompare, bits_for(uint64_t(width_px_)), 1);
     s.chain(kOpRegister, bits_for(uint64_t(width_px_)), 1);
-    // The plan (issue 41, N3): the window corner compared with the line buffer's input position
-    // (a compare of column counters; its and/or with the row compare and the firing's enables),
-    // the counters' next-value select and their register.
-    const int col_bits = bits_for(uint64_t(width_px_));
-    s.recurrence("plan_window_ready", 1);
-    s.chain(kOpCompare, col_bits, 1);
-    s.chain(kOpXor, 1, 2);
-    s.chain(kOpMux, col_bits, 1);
-    s.chain(kOpRegister, col_bits, 1);
-    // The corner's column: a saturating increment under the firing's enable.
-    s.recurrence("window_corner", 1);
-    s.chain(kOpAdd, col_bits, 1);
-    s.chain(kOpCompare, col_bits, 1);
-    s.chain(kOpMux, col_bits, 2);
-    s.chain(kOpRegister, col_bits, 1);
+    WindowCorner::schedule(s, width_px_);  // the plan and the corner (issue 41, N3)
   }
 
   // Resources of this configuration (resources.hpp) for values of value_bits: the k-row line
