@@ -25,6 +25,7 @@ struct ap_bits {
 template <int W>
 class ap_uint {
  public:
+  static const int width = W;
   ap_uint() : v_(0) {}
   ap_uint(bool v) : v_(v ? 1u : 0u) {}
   ap_uint(int v) : v_(uint64_t(int64_t(v)) & parallax_compat::ap_bits<W>::mask) {}
@@ -50,6 +51,7 @@ class ap_uint {
 template <int W>
 class ap_int {
  public:
+  static const int width = W;
   ap_int() : v_(0) {}
   ap_int(int v) : v_(wrap(int64_t(v))) {}
   ap_int(unsigned v) : v_(wrap(int64_t(v))) {}

@@ -114,4 +114,17 @@ void loop_values(const ExportRequest& r, std::map<std::string, std::string>& v) 
   v["ACCESS_STAGES"] = access_stage_table(r);
 }
 
+void priced_width_values(const res::Inventory& inv, std::map<std::string, std::string>& v) {
+  auto quoted = [](const std::string& t) { return "\"" + t + "\""; };
+  std::string o;
+  auto row = [&](const std::string& stage, const std::string& name, bool memory, int bits) {
+    o += "      {" + quoted(stage) + ", " + quoted(name) + ", " + (memory ? "true" : "false") + ", " +
+         std::to_string(bits) + "},\n";
+  };
+  for (const res::MemoryItem& m : inv.memories)
+    if (m.kind == res::MemoryKind::array) row(m.stage, m.name, true, m.width_bits);
+  for (const res::RegisterItem& g : inv.registers) row(g.stage, g.name, false, g.width_bits);
+  v["PRICED_WIDTHS"] = o;
+}
+
 }  // namespace parallax::hlsx::detail

@@ -21,6 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using parallax::test::expect_accesses_fit;
+using parallax::test::expect_storage_fits;
 using parallax::test::export_design;
 using parallax::test::fresh_dir;
 using parallax::test::read_file;
@@ -108,6 +109,7 @@ void expect_reduced_frame_bit_exact(const fs::path& out) {
   EXPECT_NE(golden.find(" 16\n"), std::string::npos) << "16 rows";
   EXPECT_EQ(read_file(out / "tb/csim_disparity_reduced.pgm"), golden);
   expect_accesses_fit(out, "csim_accesses_reduced.json");
+  expect_storage_fits(out, "csim_storage_reduced.json");
 }
 
 // The LOOP_TRIPCOUNT of every `while (!stage.done())` loop is its actual trip count: the top,
@@ -187,6 +189,9 @@ TEST_P(HlsCsim, BuildsAndMatchesTheSimulatorBitForBit) {
   EXPECT_NE(csim.output.find("every stage's accesses and recurrences fit its declared II"), std::string::npos)
       << csim.output;
   expect_accesses_fit(out);
+  // Its members store the widths the resource model prices: every memory's word exactly (N6).
+  EXPECT_NE(csim.output.find("every memory stores the word the model prices"), std::string::npos) << csim.output;
+  expect_storage_fits(out);
   // The check can fail: the seed's aggregation declared at II 1 (its path-minimum recurrence
   // needs 2 at 200 MHz) stops the testbench, naming the recurrence.
   if (std::string(d.id) == "census") {

@@ -67,4 +67,24 @@ inline void expect_accesses_fit(const std::filesystem::path& project, const char
   EXPECT_GE(counted, 3) << "line buffers and path-cost rows at least";
 }
 
+// The C simulation's storage widths (tb/csim_storage.json, written beside csim_accesses.json):
+// every memory stores the word the resource model prices (so the BRAM the tool reports is the
+// BRAM of the code), and every member has a price.
+inline void expect_storage_fits(const std::filesystem::path& project, const char* file = "csim_storage.json") {
+  std::ifstream in(project / "tb" / file);
+  ASSERT_TRUE(in.good()) << (project / "tb" / file);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  int memories = 0;
+  for (const auto& w : j.at("storage")) {
+    const std::string what = w.at("stage").get<std::string>() + " " + w.at("name").get<std::string>();
+    EXPECT_TRUE(w.at("fits").get<bool>()) << what;
+    EXPECT_GE(w.at("priced_word_bits").get<int>(), 1) << what << ": not priced";
+    if (w.at("kind") == "memory") {
+      ++memories;
+      EXPECT_EQ(w.at("stored_word_bits").get<int>(), w.at("priced_word_bits").get<int>()) << what;
+    }
+  }
+  EXPECT_GE(memories, 3) << "line buffers and path-cost rows at least";
+}
+
 }  // namespace parallax::test

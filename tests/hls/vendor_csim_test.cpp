@@ -20,6 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using parallax::test::expect_accesses_fit;
+using parallax::test::expect_storage_fits;
 using parallax::test::export_design;
 using parallax::test::fresh_dir;
 using parallax::test::read_file;
@@ -123,6 +124,8 @@ TEST_P(HlsVendorCsim, MatchesTheCompatBuildAndTheGoldenBitForBit) {
   EXPECT_NE(vend.output.find("every stage's accesses and recurrences fit its declared II"), std::string::npos)
       << vend.output;
   expect_accesses_fit(out);
+  EXPECT_NE(vend.output.find("every memory stores the word the model prices"), std::string::npos) << vend.output;
+  expect_storage_fits(out);
   // The reduced frame of C/RTL co-simulation, against the vendor's headers too.
   const Shell reduced = shell("make -C " + out.string() + " csim-reduced WERROR=1 HLS_INCLUDE=" + vendor.string());
   ASSERT_EQ(reduced.status, 0) << reduced.output;

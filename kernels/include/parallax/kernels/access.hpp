@@ -123,6 +123,11 @@ inline void access_name(A&, const char*) {}
 #define PX_BIND_RAM_T2P(VAR, IMPL)                                          \
   PX_PRAGMA_TEXT_(HLS BIND_STORAGE variable=VAR type=ram_t2p impl=IMPL) \
   ::parallax::kern::access_bind(VAR, #VAR, ::parallax::kern::kStorageRamT2p);
+// No dependence between firings through the array VAR (DEPENDENCE inter false). Stated in the
+// per-firing member function that accesses VAR, not in a constructor: the stage functions inline
+// their kernels' calls (INLINE recursive), so the pragma lands in the body of the stage's
+// pipelined loop, the scope UG1399 gives DEPENDENCE (issue 41, review R3).
+#define PX_NO_DEPENDENCE(VAR) PX_PRAGMA_TEXT_(HLS DEPENDENCE variable=VAR type=inter dependent=false)
 // A counted array that is a memory but whose binding comes from elsewhere (the export's
 // configuration header): the counting statement alone.
 #define PX_COUNT_BIND(VAR, STORAGE) ::parallax::kern::access_bind(VAR, #VAR, STORAGE);
@@ -134,11 +139,16 @@ inline void access_name(A&, const char*) {}
 // synthesis, nothing.
 #if defined(PARALLAX_COUNT_ACCESSES) && !defined(__SYNTHESIS__) && !defined(PARALLAX_HLS_SUBSET_CHECK)
 #define PX_COUNT_FIRING(STAGE) const ::parallax::kern::AccessFiring px_access_firing_(STAGE);
+// The stage's kernel KERNEL after configure(): its storage members' widths against its storage
+// descriptor's (storage_widths.hpp; extra arguments go to KERNEL.storage()).
+#define PX_COUNT_STORAGE(STAGE, ...) ::parallax::kern::record_storage_widths(STAGE, __VA_ARGS__);
 #else
 #define PX_COUNT_FIRING(STAGE)
+#define PX_COUNT_STORAGE(STAGE, ...)
 #endif
 // clang-format on
 
 #if !defined(__SYNTHESIS__) && !defined(PARALLAX_HLS_SUBSET_CHECK)
 #include "parallax/kernels/access_count.hpp"
+#include "parallax/kernels/storage_widths.hpp"
 #endif

@@ -552,6 +552,7 @@ class CountedRef;
 template <class A, int L>
 class CountedRef<A, L, false> {
  public:
+  typedef typename A::value_type element_type;  // store.hpp: StoredBits
   CountedRef(A* a, long flat, const char* file, int line) : a_(a), flat_(flat), file_(file), line_(line) {}
   CountedRef<A, L + 1> operator[](long i) const {
     return CountedRef<A, L + 1>(a_, flat_ * A::dim(L) + i, file_, line_);
@@ -568,6 +569,7 @@ template <class A, int L>
 class CountedRef<A, L, true> {
  public:
   typedef typename A::value_type T;
+  typedef T element_type;  // store.hpp: StoredBits
   CountedRef(A* a, long flat, const char* file, int line) : a_(a), flat_(flat), file_(file), line_(line) {}
   // NOLINTNEXTLINE(google-explicit-constructor): reading the element is the conversion
   operator T() const { return a_->read(flat_, file_, line_); }
@@ -588,10 +590,17 @@ class CountedRef<A, L, true> {
   int line_;
 };
 
+// The value a counted element holds (store.hpp: from_store reads through this).
+template <class A, int L>
+typename A::value_type store_value(const CountedRef<A, L, true>& r) {
+  return r;
+}
+
 template <class T, int... N>
 class Counted {
  public:
   typedef T value_type;
+  typedef T element_type;  // store.hpp: StoredBits
   static constexpr int kRank = int(sizeof...(N));
   static constexpr long kSize = access_detail::product(N...);
   static int dim(int k) {

@@ -5,6 +5,7 @@
 
 #include "parallax/kernels/access.hpp"
 #include "parallax/kernels/params.hpp"
+#include "parallax/kernels/store.hpp"
 
 namespace parallax {
 namespace kern {
@@ -24,11 +25,14 @@ namespace kern {
 // simulator's counting run and the exported C simulation, never synthesis); software
 // instantiations then also run their lane loops to PU exactly (no SIMD rounding), as the
 // hardware's unrolled copies do.
+// STORE: the element types of the kernels' memories and register files (store.hpp): the built-in
+// integers of the arithmetic (HostStore), or the export's ap_uint at the model's widths.
 template <int MAX_W, int MAX_D, int LANES, int WINDOW_ROWS = kMaxWindow, int MEDIAN_ROWS = kMaxMedian,
           unsigned KIND_MASK = 0xFu, bool FIXED = false, int MAX_MIN_D = (FIXED ? 0 : kMaxMinDisparity),
-          bool COUNT = false>
+          bool COUNT = false, class STORE = HostStore>
 struct Caps {
   static constexpr bool count_accesses = COUNT;
+  typedef STORE store;
   // A member array T[N0][N1]... of a kernel instantiated with these capacities.
   template <class T, int... N>
   using array = typename ArrayOf<COUNT, T, N...>::type;

@@ -80,13 +80,13 @@ class CensusMatcher {
   // where x - m - d < 0. Contract: d0 is a multiple of PU and n = PU.
   template <class LB>
   void costs(const LB&, const LB&, int x, int, int d0, int n, uint16_t* PX_RESTRICT out) const {
-    const uint64_t lc = left_code_;
+    const uint64_t lc = from_store<uint64_t>(left_code_);
   census_hamming:
     for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
       if (i < n) {
         const int k = m_ + d0 + i;  // right column x - k
-        out[i] = k <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ right_codes_.at(k))) : cost_max_;
+        out[i] = k <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ from_store<uint64_t>(right_codes_.at(k)))) : cost_max_;
       }
     }
   }
@@ -131,9 +131,11 @@ class CensusMatcher {
 
   int w_ = 5, h_ = 5, kind_ = kCensusFull, d_ = 1, m_ = 0;
   uint16_t cost_max_ = 24;
-  uint64_t left_code_ = 0;
-  // The right codes of columns x .. x - m - D + 1: a shift register (one register per entry).
-  ShiftReg<uint64_t, kMaxSpan, Caps::fixed, Caps::count_accesses> right_codes_;
+  // The left code and the right codes of columns x .. x - m - D + 1 (a shift register, one register per entry),
+  // census_bits wide in the export (store.hpp).
+  typedef typename Caps::store::census CodeStore;
+  CodeStore left_code_ = 0;
+  ShiftReg<CodeStore, kMaxSpan, Caps::fixed, Caps::count_accesses> right_codes_;
   Window left_win_, right_win_;  // the window registers of the two images
   int code_bits() const { return census_bits(kind_, w_, h_); }
 

@@ -50,6 +50,7 @@ class CostStage {
   bool done() const { return out_done_; }
 
   CostPlan plan() const {
+    PX_PRAGMA("HLS INLINE")
     CostPlan pl;
     pl.prime = false;
     if (chunk_ != 0) {  // the rest of a pixel's chunks: its window was ready at chunk 0
@@ -73,6 +74,7 @@ class CostStage {
 
   template <class InS, class OutS>
   void fire(const CostPlan& pl, InS& left_in, InS& right_in, OutS& out) {
+    PX_PRAGMA("HLS INLINE")
     // One window step per firing (one read per row memory): a prologue position or the pixel's
     // first chunk, never both (plan()).
     const bool pixel = pl.write && chunk_ == 0;

@@ -8,6 +8,7 @@
 #include "parallax/kernels/access.hpp"
 #include "parallax/kernels/common.hpp"
 #include "parallax/kernels/resources.hpp"
+#include "parallax/kernels/store.hpp"
 
 namespace parallax {
 namespace kern {
@@ -58,7 +59,8 @@ struct WindowCorner {
   }
 };
 
-template <class T, int MAX_W, int SLOTS, bool COUNT = false>
+// T: the values pushed and read; S: the element type the memories store them in (store.hpp).
+template <class T, int MAX_W, int SLOTS, bool COUNT = false, class S = T>
 class LineBuffer {
  public:
   static constexpr int kSlots = SLOTS;
@@ -72,7 +74,6 @@ class LineBuffer {
   // memory sees one read and one write per firing (counted: issue 41).
   LineBuffer() {
     PX_PARTITION_COMPLETE(mem_, 1)
-    PX_PRAGMA("HLS DEPENDENCE variable=mem_ type=inter dependent=false")
 #ifdef PX_HLS_LINE_BUFFER_STORAGE
     PX_PRAGMA(PX_HLS_LINE_BUFFER_STORAGE)
 #endif
@@ -98,6 +99,7 @@ class LineBuffer {
 
   // Appends the next input pixel in raster order.
   void push(T v) {
+    PX_NO_DEPENDENCE(mem_)
     mem_[in_slot_][in_col_] = v;
     skip_push();
   }
@@ -153,10 +155,11 @@ class LineBuffer {
   // Column x of every row memory in use (x not clamped): one read per memory, whatever rows the
   // caller then selects (slot_clamped()).
   void column(int x, T out[SLOTS]) const {
+    PX_NO_DEPENDENCE(mem_)
   line_buffer_column:
     for (int s = 0; s < SLOTS; ++s) {
       PX_PRAGMA("HLS UNROLL")
-      out[s] = s < rows_ ? T(mem_[s][x]) : T(0);
+      out[s] = s < rows_ ? from_store<T>(mem_[s][x]) : T(0);
     }
   }
   // The slot of image row clamp(y).
@@ -202,7 +205,7 @@ class LineBuffer {
   }
 
  private:
-  typename ArrayOf<COUNT, T, SLOTS, MAX_W>::type mem_;
+  typename ArrayOf<COUNT, S, SLOTS, MAX_W>::type mem_;
   int width_px_ = 0;
   int height_px_ = 0;
   int rows_ = 1;

@@ -50,6 +50,7 @@ class Median {
   bool done() const { return done_; }
 
   MedianPlan plan() const {
+    PX_PRAGMA("HLS INLINE")
     MedianPlan pl;
     // A row starts with r prologue steps of the window registers (positions -r .. -1).
     const bool priming = !done_ && x_ == 0 && prime_ < r_;
@@ -62,6 +63,7 @@ class Median {
 
   template <class InS, class OutS>
   void fire(const MedianPlan& pl, InS& in, OutS& out) {
+    PX_PRAGMA("HLS INLINE")
     // One window step per firing (one read per row memory): a prologue position or an output.
     if (pl.prime || (pl.write && k_ > 1)) win_.step_to(lb_, pl.prime ? prime_ - r_ : x_, y_, k_, k_, r_);
     if (pl.prime) prime_step();
@@ -274,7 +276,7 @@ class Median {
   int prime_ = 0;        // prologue steps of this row's window registers done (of r)
   WindowCorner corner_;  // the last pixel the next window step needs
   bool done_ = true;
-  LineBuffer<DispCode, Caps::max_width_px, kRows, Caps::count_accesses> lb_;
+  LineBuffer<DispCode, Caps::max_width_px, kRows, Caps::count_accesses, typename Caps::store::code> lb_;
   WindowRegs<DispCode, kRows, kRows, Caps::fixed> win_;  // the k x k window registers of the output position
 };
 

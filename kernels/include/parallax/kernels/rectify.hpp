@@ -29,7 +29,6 @@ class Rectify {
   // after the outputs that read it (the plan), so no dependence between iterations.
   Rectify() {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=lb_ type=complete dim=1")
-    PX_PRAGMA("HLS DEPENDENCE variable=lb_ type=inter dependent=false")
 #ifdef PX_HLS_RECTIFY_STORAGE
     PX_PRAGMA(PX_HLS_RECTIFY_STORAGE)
 #endif
@@ -95,6 +94,7 @@ class Rectify {
   }
 
   RectifyPlan plan() const {
+    PX_PRAGMA("HLS INLINE")
     RectifyPlan pl;
     const int last_row = min_int(y_ + ahead_, p_.height_px - 1);
     pl.write = !done_ && in_row_ > last_row;
@@ -104,6 +104,8 @@ class Rectify {
 
   template <class PixIn, class MapIn, class PixOut>
   void fire(const RectifyPlan& pl, PixIn& in, MapIn& map_in, PixOut& out) {
+    PX_PRAGMA("HLS INLINE")
+    PX_NO_DEPENDENCE(lb_)
     if (pl.write) {
       const MapEntry m = map_in.read();
       out.write(p_.mode == kRectifyBilinear ? bilinear(m) : nearest(m));

@@ -54,6 +54,7 @@ class RowReverseControl {
   }
   bool done() const { return out_row_ >= h_; }
   RowReversePlan plan() const {
+    PX_PRAGMA("HLS INLINE")
     RowReversePlan pl;
     pl.prime = false;
     pl.read = in_row_ < h_;
@@ -114,7 +115,10 @@ class RowReverseStage {
  public:
   void start_frame() { ctl_.start_frame(); }
   bool done() const { return ctl_.done(); }
-  RowReversePlan plan() const { return ctl_.plan(); }
+  RowReversePlan plan() const {
+    PX_PRAGMA("HLS INLINE")
+    return ctl_.plan();
+  }
   void step(const RowReversePlan& pl) { ctl_.advance(pl); }
   template <class V>
   void visit(V& v) {
@@ -139,6 +143,9 @@ class RowReverse : public RowReverseStage {
  public:
   typedef CostLanes<Caps::lanes> CostToken;
   typedef Lanes<Word, Caps::lanes> SumToken;
+  // Element types of the memories and bypass registers (store.hpp): cost_bits and aggregate_bits wide in the export.
+  typedef typename Caps::store::cost CostStore;
+  typedef typename Caps::store::template sum<Word>::type SumStore;
   static constexpr int kMaxW = Caps::max_width_px;
   static constexpr int kMaxD = Caps::max_disparities;
   static constexpr int kLanes = Caps::lanes;
@@ -159,10 +166,7 @@ class RowReverse : public RowReverseStage {
     PX_BIND_RAM_S2P_ANY(cost_)
     PX_BIND_RAM_S2P_ANY(sum_)
 #endif
-    PX_PRAGMA("HLS DEPENDENCE variable=cost_ type=inter dependent=false")
-    PX_PRAGMA("HLS DEPENDENCE variable=sum_ type=inter dependent=false")
     PX_BIND_RAM_S2P_ANY(px_)
-    PX_PRAGMA("HLS DEPENDENCE variable=px_ type=inter dependent=false")
     PX_PARTITION_COMPLETE(last_cost_, 1)
     PX_PARTITION_COMPLETE(last_sum_, 1)
     access_name(cost_, "row_reverse_cost");
@@ -183,6 +187,10 @@ class RowReverse : public RowReverseStage {
   // at the same address when both happen (or the same bypass registers, when W = 1).
   template <class CostIn, class SumIn, class CostOut, class SumOut>
   void fire(const RowReversePlan& pl, CostIn& cost_in, SumIn& sum_in, CostOut& cost_out, SumOut& sum_out) {
+    PX_PRAGMA("HLS INLINE")
+    PX_NO_DEPENDENCE(cost_)
+    PX_NO_DEPENDENCE(sum_)
+    PX_NO_DEPENDENCE(px_)
     const int trip = Caps::trip(lanes_, kLanes);
     if (pl.write) {
       const int xs = ctl_.out_slot();
@@ -198,8 +206,8 @@ class RowReverse : public RowReverseStage {
       for (int i = 0; i < trip; ++i) {
         PX_PRAGMA("HLS UNROLL")
         const int w = Caps::fixed ? c : 0, l = Caps::fixed ? i : c * lanes_ + i;
-        ct.v[i] = bypass ? last_cost_[c * lanes_ + i] : cost_[xs][w][l];
-        st.v[i] = bypass ? last_sum_[c * lanes_ + i] : sum_[xs][w][l];
+        ct.v[i] = bypass ? from_store<uint16_t>(last_cost_[c * lanes_ + i]) : from_store<uint16_t>(cost_[xs][w][l]);
+        st.v[i] = bypass ? from_store<Word>(last_sum_[c * lanes_ + i]) : from_store<Word>(sum_[xs][w][l]);
       }
       cost_out.write(ct);
       sum_out.write(st);
@@ -272,10 +280,10 @@ class RowReverse : public RowReverseStage {
   int d_ = 1, lanes_ = 1;
   template <class T, int... N>
   using Array = typename ArrayOf<Caps::count_accesses, T, N...>::type;
-  Array<uint16_t, kMaxW, kWords, kPerWord> cost_;
-  Array<Word, kMaxW, kWords, kPerWord> sum_;
-  Array<uint16_t, kMaxD> last_cost_;
-  Array<Word, kMaxD> last_sum_;
+  Array<CostStore, kMaxW, kWords, kPerWord> cost_;
+  Array<SumStore, kMaxW, kWords, kPerWord> sum_;
+  Array<CostStore, kMaxD> last_cost_;
+  Array<SumStore, kMaxD> last_sum_;
   Array<uint8_t, kMaxW> px_;  // the buffered row's left intensities, one per pixel slot
   uint8_t last_px_ = 0, out_px_ = 0;
 };
@@ -296,7 +304,6 @@ class RowReverseCodes : public RowReverseStage {
     PX_BIND_RAM_S2P_ANY(codes_)
 #endif
     access_name(codes_, "row_reverse_codes");
-    PX_PRAGMA("HLS DEPENDENCE variable=codes_ type=inter dependent=false")
   }
 
   void configure(const StereoParams& p) {
@@ -306,7 +313,9 @@ class RowReverseCodes : public RowReverseStage {
 
   template <class In, class Out>
   void fire(const RowReversePlan& pl, In& in, Out& out) {
-    if (pl.write) out.write(ctl_.out_first() ? last_ : codes_[ctl_.out_slot()]);
+    PX_PRAGMA("HLS INLINE")
+    PX_NO_DEPENDENCE(codes_)
+    if (pl.write) out.write(ctl_.out_first() ? last_ : from_store<DispCode>(codes_[ctl_.out_slot()]));
     if (pl.read) {
       const DispCode c = in.read();
       if (ctl_.in_last())
@@ -334,7 +343,7 @@ class RowReverseCodes : public RowReverseStage {
 
  private:
   StereoParams p_;
-  typename ArrayOf<Caps::count_accesses, DispCode, kMaxW>::type codes_;
+  typename ArrayOf<Caps::count_accesses, typename Caps::store::code, kMaxW>::type codes_;  // disparity_bits wide
   DispCode last_ = 0;
 };
 

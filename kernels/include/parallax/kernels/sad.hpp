@@ -116,7 +116,7 @@ class SadMatcher {
   sad_keep:
     for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
-      if (i < n_valid) last_[d0 + i] = uint32_t(out[i]);
+      if (i < n_valid) last_[d0 + i] = out[i];
     }
   }
 
@@ -129,7 +129,7 @@ class SadMatcher {
   sad_slide_init:
     for (int i = 0; i < Caps::trip(n, kLanes); ++i) {
       PX_PRAGMA("HLS UNROLL")
-      acc[i] = i < n ? int32_t(last_[d0 + i]) : 0;
+      acc[i] = i < n ? from_store<int32_t>(last_[d0 + i]) : 0;
     }
   sad_slide_rows:
     for (int j = 0; j < Caps::trip(h_, Caps::window_rows); ++j) {
@@ -163,8 +163,8 @@ class SadMatcher {
   WindowRegs<uint8_t, kMaxWindow + 1, Caps::window_rows, Caps::fixed> left_;
   WindowRegs<uint8_t, Caps::max_min_disparity + Caps::max_disparities + kMaxWindow, Caps::window_rows, Caps::fixed>
       right_;
-  typename ArrayOf<Caps::count_accesses, uint32_t, Caps::max_disparities>::type
-      last_;  // S(x - 1, d) of this row, where it was a real sum
+  typename ArrayOf<Caps::count_accesses, typename Caps::store::cost, Caps::max_disparities>::type
+      last_;  // S(x - 1, d) of this row, where it was a real sum (cost_bits wide in the export, store.hpp)
 
  public:
   // Storage descriptor (resources.hpp) of the members above: the left window's w + 1 columns and

@@ -28,7 +28,7 @@ namespace kern {
 // row_reverse.hpp): no row memory, so one column of capacity.
 template <class C>
 using PixelPathCaps = Caps<1, C::max_disparities, C::lanes, C::window_rows, C::median_rows, 1u << kKindPixel, C::fixed,
-                           C::max_min_disparity, C::count_accesses>;
+                           C::max_min_disparity, C::count_accesses, typename C::store>;
 
 struct AggPlan {
   bool read_cost;     // one cost token
@@ -42,6 +42,8 @@ class SgmAggregate {
  public:
   typedef CostLanes<Caps::lanes> CostToken;
   typedef Lanes<Word, Caps::lanes> SumToken;
+  // The element type of the row memories (store.hpp): Word in software, path_bits wide in the export.
+  typedef typename Caps::store::template path<Word>::type PathStore;
   // A member array (raw, or counted when Caps count accesses: access.hpp).
   template <class T, int... N>
   using Array = typename Caps::template array<T, N...>;
@@ -89,8 +91,6 @@ class SgmAggregate {
 #else
     PX_BIND_RAM_S2P_ANY(row_)
 #endif
-    PX_PRAGMA("HLS DEPENDENCE variable=row_ type=inter dependent=false")
-    PX_PRAGMA("HLS DEPENDENCE variable=row_min_ type=inter dependent=false")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=up_px_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=head_px_ type=complete dim=1")
     PX_PRAGMA("HLS ARRAY_PARTITION variable=p2k_ type=complete dim=1")
@@ -104,13 +104,13 @@ class SgmAggregate {
     access_name(win_, "mgm_window");
     access_name(win_head_, "mgm_window_head");
     access_name(row_px_, "row_intensity");
-    PX_PRAGMA("HLS DEPENDENCE variable=row_px_ type=inter dependent=false")
     // Software instantiations read the don't-care lanes past PU (simd_trip): give them values once. (Nothing to do in
     // the export, where every lane is a design lane.)
     if (!Caps::fixed) {
     agg_clear_memories:
       for (int d = 0; d < kMaxD; ++d) {
-        pix_[d] = lag_[d] = 0;
+        pix_[d] = 0;
+        lag_[d] = 0;
         win_[0][d] = win_[1][d] = win_head_[d] = 0;
       }
       for (int x = 0; x < kMaxW; ++x) row_px_[x] = 0;
@@ -178,6 +178,7 @@ class SgmAggregate {
   }
 
   AggPlan plan() const {
+    PX_PRAGMA("HLS INLINE")
     AggPlan pl;
     pl.read_cost = !done_;
     pl.read_forward = !done_ && add_forward_;
@@ -192,6 +193,10 @@ class SgmAggregate {
   // + PU. So every memory sees one read and one write per lane bank and firing (docs/kernels.md).
   template <class CostIn, class FwdIn, class SumOut, class TeeOut>
   void fire(const AggPlan& pl, CostIn& cost_in, FwdIn& fwd_in, SumOut& sum_out, TeeOut& tee_out) {
+    PX_PRAGMA("HLS INLINE")
+    PX_NO_DEPENDENCE(row_)
+    PX_NO_DEPENDENCE(row_min_)
+    PX_NO_DEPENDENCE(row_px_)
     (void)pl;
     const CostToken c = cost_in.read();
     const int trip = lane_trip();  // the lanes every loop of this firing runs
@@ -317,9 +322,9 @@ class SgmAggregate {
     if (first) {  // both predecessors' minima, read once per pixel
       if (straight) {
         mq_[k] = pix_min_;
-        mq2_[k] = row_min_[m][x_];
+        mq2_[k] = from_store<Word>(row_min_[m][x_]);
       } else {
-        const Word ahead_min = row_min_[m][xr];
+        const Word ahead_min = from_store<Word>(row_min_[m][xr]);
         mq_[k] = win_min_[1];
         win_min_[1] = x_ == 0 ? win_head_min_ : win_min_[0];
         win_min_[0] = ahead_min;
@@ -336,9 +341,9 @@ class SgmAggregate {
       const int d = nlo + i;
       if (straight) {
         next_a[i] = pix_read(d, i);
-        next_b[i] = row_[m][row_word(nx, nc)][row_lane(nlo, i)];
+        next_b[i] = from_store<Word>(row_[m][row_word(nx, nc)][row_lane(nlo, i)]);
       } else {
-        const Word ahead = row_[m][row_word(nxr, nc)][row_lane(nlo, i)];
+        const Word ahead = from_store<Word>(row_[m][row_word(nxr, nc)][row_lane(nlo, i)]);
         next_a[i] = win_[1][d];
         win_[1][d] = nx == 0 ? win_head_[d] : win_[0][d];
         win_[0][d] = ahead;
@@ -440,7 +445,7 @@ class SgmAggregate {
     if (!kRotatingPix) return pix_[d];
     const int pu = Caps::parallel_units(lanes_);
     const int c = Caps::disparities(d_) / pu;
-    return c > 1 ? pix_q_.at((c - 1) * pu - 1 - i) : Word(0);
+    return c > 1 ? from_store<Word>(pix_q_.at((c - 1) * pu - 1 - i)) : Word(0);
   }
   PX_INLINE void pix_push(const Word* lr) {
     if (!kRotatingPix) return;
@@ -489,9 +494,9 @@ class SgmAggregate {
         mq_[k] = pix_min_;
       } else if (k == kKindRowLeft) {
         mq_[k] = mlag_;
-        mlag_ = row_min_[m][x_];
+        mlag_ = from_store<Word>(row_min_[m][x_]);
       } else {
-        mq_[k] = row_min_[m][k == kKindRowUp ? x_ : xr];
+        mq_[k] = from_store<Word>(row_min_[m][k == kKindRowUp ? x_ : xr]);
       }
     }
 
@@ -505,12 +510,12 @@ class SgmAggregate {
       if (k == kKindPixel) {
         next[i] = pix_read(d, i);
       } else if (k == kKindRowUp) {
-        next[i] = row_[m][row_word(nx, nc)][row_lane(nlo, i)];
+        next[i] = from_store<Word>(row_[m][row_word(nx, nc)][row_lane(nlo, i)]);
       } else if (k == kKindRowLeft) {
-        next[i] = lag_[d];
-        lag_[d] = row_[m][row_word(nx, nc)][row_lane(nlo, i)];
+        next[i] = from_store<Word>(lag_[d]);
+        lag_[d] = from_store<Word>(row_[m][row_word(nx, nc)][row_lane(nlo, i)]);
       } else {
-        next[i] = row_[m][row_word(nxr, nc)][row_lane(nlo, i)];
+        next[i] = from_store<Word>(row_[m][row_word(nxr, nc)][row_lane(nlo, i)]);
       }
     }
 
@@ -680,13 +685,16 @@ class SgmAggregate {
   uint32_t run_min_[kKindCount];
   Array<Word, kMaxD> pix_;  // pixel path: the previous pixel's Lr (this pixel's, lanes already done)
   // The same in the exported and counting instantiations (kRotatingPix): a shift register of the
-  // chunks written, PU entries pushed per firing (pix_push), so lane i reads a fixed entry.
-  ShiftReg<Word, kMaxD, Caps::fixed, Caps::count_accesses> pix_q_;
+  // chunks written, PU entries pushed per firing (pix_push), so lane i reads a fixed entry; path_bits wide in the
+  // export, as lag_ (store.hpp).
+  ShiftReg<PathStore, kMaxD, Caps::fixed, Caps::count_accesses> pix_q_;
   Word pix_min_ = 0;        // pixel path: the previous pixel's minimum
-  Array<Word, kMaxD> lag_;  // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
+  Array<PathStore, kMaxD> lag_;  // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
   Word mlag_ = 0;           // row-left path: the previous row's minimum of column x - 1
-  Array<Word, kRowMemories, kRowWords, kRowLanes> row_;  // row kinds (and MGM's pixel kind): previous-row Lr per column
-  Array<Word, kRowMemories, kMaxW> row_min_;             // the same kinds: previous-row min_d Lr per column
+  // Row kinds (and MGM's pixel kind): the previous row's Lr per column and its min_d Lr per column, stored at
+  // path_bits in the export (PathStore, store.hpp).
+  Array<PathStore, kRowMemories, kRowWords, kRowLanes> row_;
+  Array<PathStore, kRowMemories, kMaxW> row_min_;
   // MGM (aggregate_kind_mgm): each datapath's second predecessor lanes and minimum; the row-left datapath's window over
   // its previous row ([0] column x, [1] column x - 1 of the next firing's pixel; lanes of chunks not yet fetched one
   // pixel behind), the row's column 0, and the same for the minima (at the current pixel).

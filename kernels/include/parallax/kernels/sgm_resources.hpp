@@ -176,8 +176,15 @@ agg_storage_kinds:
       continue;
     }
     if (k == kKindPixel) {
-      v.registers("pixel_path_previous", pix_, d_, pb);
-      pix_q_.storage(v, "pixel_path_previous_chunks", 0, pb);  // the same registers (see pix_read)
+      // The same D registers, as a plain register file or (exported and counting instantiations)
+      // the shift register of the chunks written (pix_read).
+      if (kRotatingPix) {
+        v.unused("pixel_path_previous_flat", pix_);
+        pix_q_.storage(v, "pixel_path_previous", d_, pb);
+      } else {
+        v.registers("pixel_path_previous", pix_, d_, pb);
+        pix_q_.storage(v, "pixel_path_previous_chunks", 0, pb);
+      }
       v.registers("pixel_path_min", pix_min_, 1, pb);
     } else {
       const int m = k - 1;

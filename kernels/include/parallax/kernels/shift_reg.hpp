@@ -35,6 +35,7 @@ class ShiftReg<T, N, true, COUNT> : private ShiftPorts<COUNT, N> {
   typedef typename Ports::Index Index;
 
  public:
+  typedef T element_type;  // store.hpp: StoredBits
   ShiftReg() { PX_PRAGMA("HLS ARRAY_PARTITION variable=v_ type=complete dim=1") }
   // The report's name of the registers (counting instantiations).
   void name(const char* n) { Ports::name(n); }
@@ -101,6 +102,7 @@ class ShiftReg<T, N, false, COUNT> : private ShiftPorts<COUNT, N> {
   typedef typename Ports::Index Index;
 
  public:
+  typedef T element_type;  // store.hpp: StoredBits
   void name(const char* n) { Ports::name(n); }
   void clear() {
     for (long k = 0; k < kSpan; ++k) v_[k] = T(0);

@@ -102,6 +102,7 @@ class WtaLr {
   bool done() const { return done_; }
 
   WtaPlan plan() const {
+    PX_PRAGMA("HLS INLINE")
     WtaPlan pl;
     pl.prime = false;
     if (done_) {
@@ -121,6 +122,7 @@ class WtaLr {
 
   template <class InS, class OutS>
   void fire(const WtaPlan& pl, InS& in, OutS& out) {
+    PX_PRAGMA("HLS INLINE")
     if (pl.read) {
       consume(in.read());
     } else {  // a flushing firing: one more column passes with no candidates
@@ -398,10 +400,10 @@ class WtaLr {
       const int d = lo + i;
       const int e = kRotatingRight ? i : d;  // the register of open entry d (see right_entry)
       const uint32_t s = t.v[i];
-      const uint32_t c = right_cost_.at(e);
+      const uint32_t c = from_store<uint32_t>(right_cost_.at(e));
       const bool better = i < n && (s < c || (rev && s == c));
       right_cost_.set(e, better ? s : c);
-      right_d_.set(e, better ? DispCode(d) : right_d_.at(e));
+      right_d_.set(e, better ? DispCode(d) : from_store<DispCode>(right_d_.at(e)));
     }
     if (kRotatingRight) {  // the next chunk's entries to registers 0 .. PU - 1
       right_cost_.rotate(lanes_, d_);
@@ -432,7 +434,7 @@ class WtaLr {
   DispCode emit() {
     const int xs = next_emit_++;
     const int lag = in_row_done_ ? time_ - xs : delay_;
-    const int d = left_d_.at(lag);
+    const int d = from_store<int>(left_d_.at(lag));
     const int x_img = reverse_ ? p_.width_px - 1 - xs : xs;
     const DispCode invalid = DispCode(d_ << f_);
     // The code with the fraction (biased by 2^(f-1) in left_frac_).
@@ -442,10 +444,10 @@ class WtaLr {
       int dr;
       if (!reverse_) {
         const int age = lag + d;
-        dr = age < d_ ? right_d_.at(right_entry(age)) : finished_d_.at(age - d_);
+        dr = from_store<int>(age < d_ ? right_d_.at(right_entry(age)) : finished_d_.at(age - d_));
       } else {
         const int ahead = d - lag;
-        dr = ahead >= 0 ? right_d_.at(right_entry(ahead)) : finished_d_.at(-ahead - 1);
+        dr = from_store<int>(ahead >= 0 ? right_d_.at(right_entry(ahead)) : finished_d_.at(-ahead - 1));
       }
       const int diff = d > dr ? d - dr : dr - d;
       if (diff > p_.lr_tolerance) return invalid;
@@ -492,12 +494,16 @@ class WtaLr {
   // Shift registers (common.hpp): the left WTA results of the last D columns (entry k: k columns
   // back), the open right candidates' running minimum and its disparity, the finished right
   // disparities (D - 1 used).
-  ShiftReg<DispCode, kMaxD, Caps::fixed, Caps::count_accesses> left_d_;
+  // Integer disparities and open right costs, stored at disparity_int_bits and aggregate_bits + 1 in the export
+  // (store.hpp; a right cost's all-ones value is the mark of none, above every cost).
+  typedef typename Caps::store::disparity DispStore;
+  typedef typename Caps::store::sum_or_none CostOrNone;
+  ShiftReg<DispStore, kMaxD, Caps::fixed, Caps::count_accesses> left_d_;
   ShiftReg<DispCode, kMaxD, Caps::fixed, Caps::count_accesses>
       left_frac_;  // sub-pixel: each left result's biased offset
-  ShiftReg<uint32_t, kMaxD, Caps::fixed, Caps::count_accesses> right_cost_;
-  ShiftReg<DispCode, kMaxD, Caps::fixed, Caps::count_accesses> right_d_;
-  ShiftReg<DispCode, kMaxD, Caps::fixed, Caps::count_accesses> finished_d_;
+  ShiftReg<CostOrNone, kMaxD, Caps::fixed, Caps::count_accesses> right_cost_;
+  ShiftReg<DispStore, kMaxD, Caps::fixed, Caps::count_accesses> right_d_;
+  ShiftReg<DispStore, kMaxD, Caps::fixed, Caps::count_accesses> finished_d_;
 
  public:
   // Storage descriptor (resources.hpp) of the members above: the best cost and disparity of the
@@ -533,7 +539,7 @@ class WtaLr {
     left_d_.storage(v, "left_disparities", delay_ + 1, db);
     left_frac_.storage(v, "left_fractions", f_ > 0 ? delay_ + 1 : 0, f_ + 1);
     const int lr = p_.lr_check ? 1 : 0;  // without the check: never written (no hardware)
-    right_cost_.storage(v, "right_candidate_costs", lr * d_, ab);
+    right_cost_.storage(v, "right_candidate_costs", lr * d_, ab + 1);  // + the mark of none
     right_d_.storage(v, "right_candidate_disparities", lr * d_, db);
     finished_d_.storage(v, "right_disparities", lr * (d_ - 1), db);
   }

@@ -4,6 +4,7 @@
 
 #include <stdint.h>
 
+#include <ap_int.h>
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/params.hpp"
 
@@ -60,6 +61,7 @@ constexpr unsigned kKindMask = 15u;  // stream path kinds of the aggregation sta
 constexpr int kCostBits = 5;
 constexpr int kPenaltyBits = 6;
 constexpr int kPathBits = 7;
+constexpr int kCensusBits = 24;  // a census code (1 in SAD designs: no census stage)
 constexpr int kAggregateBits = 9;
 constexpr int kDisparityBits = 6;
 constexpr int kOutBits = 8;
@@ -88,8 +90,26 @@ constexpr bool kCountAccesses = false;
 #endif
 // The kernels' capacities: this design's exact sizes, fixed (the kernels use these constants, not
 // the runtime values, so lane addresses and trip counts are compile-time).
+// The element types the kernels' memories and register files store values in: ap_uint at the
+// widths the resource model prices (parallax/kernels/store.hpp); the C simulation checks each
+// storage member's width against the model's (tb/csim_storage.json).
+struct DesignStore {
+  typedef ap_uint<kCostBits> cost;
+  typedef ap_uint<kDisparityBits> code;
+  typedef ap_uint<kCensusBits> census;
+  typedef ap_uint<parallax::kern::bits_for(uint64_t(kDisparities))> disparity;
+  typedef ap_uint<kAggregateBits + 1> sum_or_none;
+  template <class Word>
+  struct path {
+    typedef ap_uint<kPathBits> type;
+  };
+  template <class Word>
+  struct sum {
+    typedef ap_uint<kAggregateBits> type;
+  };
+};
 typedef parallax::kern::Caps<kWidthPx, kDisparities, kParallelUnits, kWindowH, kMedianRows, kKindMask, true,
-                             kMinDisparity, kCountAccesses>
+                             kMinDisparity, kCountAccesses, DesignStore>
     DesignCaps;
 // Aggregation word: the narrowest of 16 or 32 bits that holds kAggregateBits.
 typedef uint16_t AggWord;

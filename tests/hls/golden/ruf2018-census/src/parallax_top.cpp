@@ -13,9 +13,11 @@
 // the stage can never progress; the loop then stops rather than spin (the C simulation then
 // reports the tokens left behind).
 //
-// Storage directives (ARRAY_PARTITION, BIND_STORAGE, DEPENDENCE) of the kernels' member arrays
-// sit in the kernels' constructors, with the PX_HLS_* strings of parallax_config.hpp; the
-// FIFOs' STREAM depth and BIND_STORAGE are below, with their declarations.
+// Storage directives (ARRAY_PARTITION, BIND_STORAGE) of the kernels' member arrays sit in the
+// kernels' constructors, with the PX_HLS_* strings of parallax_config.hpp; their DEPENDENCE
+// pragmas sit in the per-firing member functions that access the arrays, which each stage
+// function inlines (INLINE recursive) into its pipelined loop, so the pragmas apply to that loop.
+// The FIFOs' STREAM depth and BIND_STORAGE are below, with their declarations.
 #include "parallax_top.hpp"
 
 #include "parallax/kernels/census.hpp"
@@ -133,9 +135,12 @@ read_pixels_loop:
 // The stages take only the registers their kernels read: none (cost, median), P1 and P2 (the
 // aggregation), the tolerance and the uniqueness margin (the WTA / left-right check).
 void cost_stage(hls::stream<uint8_t>& left_px, hls::stream<uint8_t>& right_px, hls::stream<CostBeat>& cost_beats) {
+  // The kernel's calls dissolve into this process's pipelined loop (its pragmas land in the loop body).
+#pragma HLS INLINE recursive
   CostStageT stage;
   CostStream cost(cost_beats);
   stage.configure(structure_params());
+  PX_COUNT_STORAGE("cost", stage)
 cost_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
@@ -153,11 +158,14 @@ cost_loop:
 
 void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_beats, unsigned lr_tolerance,
                   unsigned uniqueness_pct) {
+  // The kernel's calls dissolve into this process's pipelined loop (its pragmas land in the loop body).
+#pragma HLS INLINE recursive
   WtaLrT stage;
   SumStream sum(sum_beats);
   CodeStream disp(disp_beats);
   // Two passes, or the 180-degree path in one: the stream runs right to left.
   stage.configure(wta_lr_params(lr_tolerance, uniqueness_pct), kTwoPass || kRowReverse);
+  PX_COUNT_STORAGE("wta_lr", stage)
 wta_lr_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
@@ -174,10 +182,13 @@ wta_lr_loop:
 }
 
 void median_stage(hls::stream<CodeBeat>& in_beats, hls::stream<CodeBeat>& out_beats) {
+  // The kernel's calls dissolve into this process's pipelined loop (its pragmas land in the loop body).
+#pragma HLS INLINE recursive
   MedianT stage;
   CodeStream in(in_beats);
   CodeStream out(out_beats);
   stage.configure(structure_params());
+  PX_COUNT_STORAGE("median", stage, kDisparityBits)
 median_loop:
   while (!stage.done()) {
 #pragma HLS PIPELINE II=1
@@ -194,10 +205,13 @@ median_loop:
 }
 
 void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& sum_beats, unsigned p1, unsigned p2) {
+  // The kernel's calls dissolve into this process's pipelined loop (its pragmas land in the loop body).
+#pragma HLS INLINE recursive
   AggregateT stage;
   CostStream cost(cost_beats);
   SumStream sum(sum_beats);
   stage.configure(aggregate_params(p1, p2), kern::stream_kinds(kPathMask, false), false, false);
+  PX_COUNT_STORAGE("aggregate", stage)
   kern::NoStream<SumToken> no_forward;
   kern::NoStream<CostToken> no_tee;
 aggregate_loop:

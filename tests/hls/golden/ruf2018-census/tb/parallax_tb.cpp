@@ -32,11 +32,13 @@ using namespace parallax_design;
 const char kGoldenFile[] = "golden_disparity_reduced.pgm";  // the simulator's codes for the first kHeightPx rows
 const char kOutputFile[] = "csim_disparity_reduced.pgm";
 const char kAccessFile[] = "csim_accesses_reduced.json";
+const char kStorageFile[] = "csim_storage_reduced.json";
 const char kFrameNote[] = " (reduced frame: the pair's first rows)";
 #else
 const char kGoldenFile[] = "golden_disparity.pgm";
 const char kOutputFile[] = "csim_disparity.pgm";
 const char kAccessFile[] = "csim_accesses.json";
+const char kStorageFile[] = "csim_storage.json";
 const char kFrameNote[] = "";
 #endif
 
@@ -183,6 +185,89 @@ bool report_accesses(const std::string& dir) {
          fits ? "every stage's accesses and recurrences fit its declared II" : "II EXCEEDED");
   return fits;
 }
+
+// Writes DIR/kStorageFile: each stage's storage members, the element width the resource model
+// prices and the width the kernel's type stores (parallax/kernels/storage_widths.hpp). False
+// when a memory stores another width than the model's (its BRAM would differ from the report).
+bool report_storage(const std::string& dir) {
+  // The storage the resource model prices for this design (`parallax export-hls`): stage, name,
+  // memory or registers, bits per word or register.
+  static const std::vector<kern::PricedWidth> priced = {
+      {"cost", "left_line_buffer", true, 8},
+      {"cost", "right_line_buffer", true, 8},
+      {"aggregate", "row_path_left", true, 42},
+      {"aggregate", "row_min_left", true, 7},
+      {"aggregate", "row_path_up", true, 42},
+      {"aggregate", "row_min_up", true, 7},
+      {"aggregate", "row_path_right", true, 42},
+      {"aggregate", "row_min_right", true, 7},
+      {"median", "median_line_buffer", true, 6},
+      {"cost", "counters", false, 23},
+      {"cost", "census_left_window", false, 8},
+      {"cost", "census_right_window", false, 8},
+      {"cost", "census_left_code", false, 24},
+      {"cost", "right_codes", false, 24},
+      {"cost", "cost_token", false, 30},
+      {"aggregate", "counters", false, 23},
+      {"aggregate", "pixel_path_previous", false, 7},
+      {"aggregate", "pixel_path_min", false, 7},
+      {"aggregate", "path_predecessor_lanes", false, 7},
+      {"aggregate", "path_min_previous", false, 7},
+      {"aggregate", "path_min_running", false, 7},
+      {"aggregate", "row_left_delay", false, 7},
+      {"aggregate", "row_left_delay_min", false, 7},
+      {"aggregate", "path_predecessor_lanes", false, 7},
+      {"aggregate", "path_min_previous", false, 7},
+      {"aggregate", "path_min_running", false, 7},
+      {"aggregate", "path_predecessor_lanes", false, 7},
+      {"aggregate", "path_min_previous", false, 7},
+      {"aggregate", "path_min_running", false, 7},
+      {"aggregate", "path_predecessor_lanes", false, 7},
+      {"aggregate", "path_min_previous", false, 7},
+      {"aggregate", "path_min_running", false, 7},
+      {"aggregate", "cost_in", false, 30},
+      {"aggregate", "sum_token", false, 54},
+      {"wta_lr", "counters", false, 23},
+      {"wta_lr", "wta_best_cost", false, 9},
+      {"wta_lr", "wta_best_disparity", false, 6},
+      {"wta_lr", "left_disparities", false, 6},
+      {"wta_lr", "right_candidate_costs", false, 10},
+      {"wta_lr", "right_candidate_disparities", false, 6},
+      {"wta_lr", "right_disparities", false, 6},
+      {"median", "counters", false, 20},
+      {"median", "median_window", false, 6},
+      {"median", "median_out", false, 6},
+  };
+  std::vector<kern::StorageWidth> rows = kern::storage_width_rows();
+  kern::apply_priced_widths(rows, priced);
+  const std::string path = dir + "/" + kStorageFile;
+  FILE* f = fopen(path.c_str(), "w");
+  const std::string json = kern::storage_widths_json("ruf2018-census", rows);
+  if (!f || fputs(json.c_str(), f) < 0 || fclose(f) != 0) {
+    fprintf(stderr, "%s: cannot write\n", path.c_str());
+    return false;
+  }
+  bool fits = !rows.empty();
+  int memories = 0, wider_registers = 0;
+  for (const kern::StorageWidth& w : rows) {
+    if (w.memory) ++memories;
+    if (!w.memory && w.priced_bits >= 0 && w.stored_bits > w.priced_bits) ++wider_registers;
+    if (w.priced_bits < 0) {
+      fprintf(stderr, "parallax_tb: stage %s, %s %s: the resource model prices no such storage\n", w.stage.c_str(),
+              w.memory ? "memory" : "registers", w.name.c_str());
+      fits = false;
+    } else if (!w.fits()) {
+      fprintf(stderr, "parallax_tb: stage %s, %s %s stores %d bits per %s; the resource model prices %d\n",
+              w.stage.c_str(), w.memory ? "memory" : "registers", w.name.c_str(), w.stored_word_bits(),
+              w.memory ? "word" : "register", w.priced_bits);
+      fits = false;
+    }
+  }
+  printf("parallax_tb: %d memories and %zu register files in %s: %s; %d register file(s) stored wider than priced\n",
+         memories, rows.size() - std::size_t(memories), path.c_str(),
+         fits ? "every memory stores the word the model prices" : "WIDTH MISMATCH", wider_registers);
+  return fits;
+}
 #endif
 }  // namespace
 
@@ -307,7 +392,8 @@ int main(int argc, char** argv) {
     printf("parallax_tb: %lld different, %lld missing, %lld extra, %lld badly framed pixel(s)\n", mismatches, missing,
            extra, framing);
 #ifdef PARALLAX_COUNT_ACCESSES
-  const bool fits = report_accesses(dir);
+  const bool accesses_fit = report_accesses(dir);
+  const bool fits = report_storage(dir) && accesses_fit;
 #else
   const bool fits = true;
 #endif
