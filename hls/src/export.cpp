@@ -244,7 +244,8 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["COST_BITS"] = std::to_string(kern::cost_bits(p));
   v["PENALTY_BITS"] = std::to_string(kern::penalty_bits(p));
   v["PATH_BITS"] = std::to_string(kern::path_bits(p));
-  v["CENSUS_BITS"] = std::to_string(p.cost == kern::kCostCensus ? kern::census_bits(p.census, p.window_w, p.window_h) : 1);
+  v["CENSUS_BITS"] =
+      std::to_string(p.cost == kern::kCostCensus ? kern::census_bits(p.census, p.window_w, p.window_h) : 1);
   v["AGGREGATE_BITS"] = std::to_string(kern::aggregate_bits(p));
   v["DISPARITY_BITS"] = std::to_string(kern::disparity_bits(p));
   v["OUT_BITS"] = std::to_string(((kern::disparity_bits(p) + 7) / 8) * 8);

@@ -107,14 +107,15 @@ struct StorageCheck {
 
 // Registers a kernel declares that are no member (stream tokens, raster counters, outputs).
 bool non_member(const std::string& name) {
-  for (const char* n : {"counters", "cost_token", "cost_in", "sum_token", "median_out", "map_entry", "taps",
-                        "rectify_out", "row_reverse_tokens"})
+  for (const char* n : {"counters", "window_corner", "input_gate", "cost_token", "cost_in", "sum_token", "median_out",
+                        "map_entry", "taps", "rectify_out", "row_reverse_tokens"})
     if (name == n) return true;
   return false;
 }
 
-// The undescribed bytes of a kernel object: its control scalars (StereoParams, counters).
-constexpr int64_t kControlBytes = 256;
+// The undescribed bytes of a kernel object: its control scalars (StereoParams, the raster
+// counters, the window corner and input gate, the line buffers' input positions).
+constexpr int64_t kControlBytes = 288;
 
 // (2) and (3): the declared registers and memories of one stage are the description's.
 std::vector<std::string> compare(const res::Inventory& inv, const std::string& stage, const StorageCheck& c,

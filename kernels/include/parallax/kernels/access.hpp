@@ -123,11 +123,15 @@ inline void access_name(A&, const char*) {}
 #define PX_BIND_RAM_T2P(VAR, IMPL)                                          \
   PX_PRAGMA_TEXT_(HLS BIND_STORAGE variable=VAR type=ram_t2p impl=IMPL) \
   ::parallax::kern::access_bind(VAR, #VAR, ::parallax::kern::kStorageRamT2p);
-// No dependence between firings through the array VAR (DEPENDENCE inter false). Stated in the
-// per-firing member function that accesses VAR, not in a constructor: the stage functions inline
-// their kernels' calls (INLINE recursive), so the pragma lands in the body of the stage's
-// pipelined loop, the scope UG1399 gives DEPENDENCE (issue 41, review R3).
-#define PX_NO_DEPENDENCE(VAR) PX_PRAGMA_TEXT_(HLS DEPENDENCE variable=VAR type=inter dependent=false)
+// No read-after-write dependence between firings through the array VAR (DEPENDENCE inter RAW
+// false): no firing reads an element that a recent firing wrote (the kernel states why, and how
+// many firings apart the nearest such pair is). Only RAW: a write-after-read between consecutive
+// firings, as the SGM rows have (firing t reads the word t + 1 overwrites), stays ordered.
+// Stated in the per-firing member function that accesses VAR, not in a constructor: the stage
+// functions inline their kernels' calls (INLINE recursive), so the pragma lands in the body of
+// the stage's pipelined loop, the scope UG1399 gives DEPENDENCE (issue 41, reviews R3, S1, S2).
+#define PX_NO_DEPENDENCE(VAR) \
+  PX_PRAGMA_TEXT_(HLS DEPENDENCE variable=VAR type=inter direction=RAW dependent=false)
 // A counted array that is a memory but whose binding comes from elsewhere (the export's
 // configuration header): the counting statement alone.
 #define PX_COUNT_BIND(VAR, STORAGE) ::parallax::kern::access_bind(VAR, #VAR, STORAGE);

@@ -86,7 +86,8 @@ class CensusMatcher {
       PX_PRAGMA("HLS UNROLL")
       if (i < n) {
         const int k = m_ + d0 + i;  // right column x - k
-        out[i] = k <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ from_store<uint64_t>(right_codes_.at(k)))) : cost_max_;
+        out[i] =
+            k <= x ? uint16_t(popcount_tree<kMaxCensusBits>(lc ^ from_store<uint64_t>(right_codes_.at(k)))) : cost_max_;
       }
     }
   }

@@ -44,7 +44,7 @@ class CostStage {
     y_ = 0;
     chunk_ = 0;
     prime_ = 0;
-    corner_.start(ry_, p_.height_px);
+    corner_.start(ry_, p_.height_px, matcher_.columns_behind());
     out_done_ = false;
   }
   bool done() const { return out_done_; }
@@ -68,7 +68,7 @@ class CostStage {
     }
     // A prologue step reads no input: a row then takes as many input pixels as it has outputs, so
     // the input does not drift ahead row after row (the schedule stays periodic).
-    pl.read = !pl.prime && left_.input_allowed(x_, y_, matcher_.columns_behind(), ry_) && (chunk_ == 0 || !pl.write);
+    pl.read = !pl.prime && left_.input_allowed(corner_) && (chunk_ == 0 || !pl.write);
     return pl;
   }
 
@@ -125,7 +125,7 @@ class CostStage {
   void resync() {
     left_.resync();
     right_.resync();
-    corner_.sync(y_ + ry_, x_ + prime_, p_.width_px, p_.height_px);
+    corner_.sync(y_, ry_, x_, prime_, matcher_.columns_behind(), p_.width_px, p_.height_px);
   }
 
   // Resources of this configuration (resources.hpp): raster control, the two line buffers of
@@ -133,6 +133,7 @@ class CostStage {
   template <class R>
   void declare(R& r) const {
     declare_raster_control(r, p_.width_px, p_.height_px, chunks_);
+    WindowCorner::declare(r, p_.width_px, p_.height_px);
     left_.declare(r, "left_line_buffer", 8);
     right_.declare(r, "right_line_buffer", 8);
     matcher_.declare(r, p_);
@@ -161,11 +162,12 @@ class CostStage {
     chunk_ = 0;
     if (++x_ < p_.width_px) {
       corner_.next_col(p_.width_px);
+      corner_.next_output_col();
       return;
     }
     x_ = 0;
     prime_ = 0;
-    corner_.next_row(p_.height_px);
+    corner_.next_row(p_.height_px, matcher_.columns_behind());
     if (++y_ < p_.height_px) return;
     out_done_ = true;
   }

@@ -21,23 +21,38 @@ namespace kern {
 // recurrence.
 struct WindowCorner {
   int row = 0, col = 0;
+  // The input gate of the next output (x_out, y_out) with a window of (gate_rx, ry) behind it
+  // (LineBuffer::input_allowed): top = y_out - ry, first = max(0, top), left = x_out - gate_rx,
+  // counted with the stage's own counters like the corner, so the plan compares counters only
+  // (review S3: computed there, the subtractions and max sat on the plan's loop-carried path).
+  int top = 0, first = 0, left = 0;
   // A frame's first row.
-  void start(int ry, int height_px) {
+  void start(int ry, int height_px, int gate_rx) {
     row = min_int(ry, height_px - 1);
     col = 0;
+    top = -ry;
+    first = 0;
+    left = -gate_rx;
   }
+  // The next output column (the gate; prologue steps move the corner alone).
+  void next_output_col() { ++left; }
   // The next prologue step or output column.
   void next_col(int width_px) { col = min_int(col + 1, width_px - 1); }
   // The next output row (its prologue starts at column 0).
-  void next_row(int height_px) {
+  void next_row(int height_px, int gate_rx) {
     row = min_int(row + 1, height_px - 1);
     col = 0;
+    first = top >= -1 ? top + 1 : 0;
+    ++top;
+    left = -gate_rx;
   }
   // The loop-carried chains a stage with a corner declares (its schedule(), resources.hpp): the
   // plan, the corner compared with the line buffer's input position (a compare of column
   // counters, its and/or with the row compare and the firing's enables), the counters'
-  // next-value select and their register; and the corner's column, a saturating increment
-  // under the firing's enable.
+  // next-value select and their register; the corner's column, a saturating increment under the
+  // firing's enable; the input gate (input_allowed: three compares of counters in parallel, their
+  // and/or with the input's end and the plan's other enables, the input counters' next-value
+  // select and register); and the gate's column, an increment or the row's reset under the enable.
   template <class S>
   static void schedule(S& s, int width_px) {
     const int col_bits = bits_for(uint64_t(width_px));
@@ -51,11 +66,38 @@ struct WindowCorner {
     s.chain(kOpCompare, col_bits, 1);
     s.chain(kOpMux, col_bits, 2);
     s.chain(kOpRegister, col_bits, 1);
+    s.recurrence("plan_input_allowed", 1);
+    s.chain(kOpCompare, col_bits, 1);
+    s.chain(kOpXor, 1, 3);
+    s.chain(kOpMux, col_bits, 1);
+    s.chain(kOpRegister, col_bits, 1);
+    s.recurrence("input_gate", 1);
+    s.chain(kOpAdd, col_bits, 1);
+    s.chain(kOpMux, col_bits, 2);
+    s.chain(kOpRegister, col_bits, 1);
   }
-  // From the counters (a scheduler that wrote them: resync()).
-  void sync(int y_plus_ry, int x_plus_steps, int width_px, int height_px) {
-    row = min_int(y_plus_ry, height_px - 1);
-    col = min_int(x_plus_steps, width_px - 1);
+  // Resources (resources.hpp) of the corner and gate counters and the plan's compares with the line
+  // buffer's input position: the corner's row and column, the gate's top, first and left (one bit
+  // more: they start below 0), the line buffer's oldest row; two saturating increments, the gate's
+  // increments; the window-ready compares (row greater, row equal, column greater) and the input
+  // gate's (oldest below first, oldest equal to top, column below left).
+  template <class R>
+  static void declare(R& r, int width_px, int height_px) {
+    const int col_bits = bits_for(uint64_t(width_px)), row_bits = bits_for(uint64_t(height_px));
+    r.registers("window_corner", row_bits + col_bits, 1);
+    r.registers("input_gate", 2 * (row_bits + 1) + col_bits + 1 + row_bits + 1, 1);
+    r.op("window_corner_steps", kOpAdd, col_bits, 2);
+    r.op("input_gate_steps", kOpAdd, row_bits + 1, 3);
+    r.op("plan_compares", kOpCompare, col_bits + 1, 6);
+  }
+  // From the counters (a scheduler that wrote them: resync()): the corner of output row y + ry after
+  // x + steps window steps, the gate of output (x, y).
+  void sync(int y, int ry, int x, int steps, int gate_rx, int width_px, int height_px) {
+    row = min_int(y + ry, height_px - 1);
+    col = min_int(x + steps, width_px - 1);
+    top = y - ry;
+    first = max_int(0, top);
+    left = x - gate_rx;
   }
 };
 
@@ -68,7 +110,11 @@ class LineBuffer {
   // rows: slots in use (<= SLOTS), at least the window's height. Contract: the caller writes
   // only when input_allowed() says so.
   // One memory per row slot; a write of the incoming row never meets a read of the window's
-  // rows in the same slot and column (input_allowed()), hence no dependence between iterations.
+  // rows in the same slot and column within a firing (input_allowed()). Between firings it can:
+  // a stage waiting for input steps its window, at the next firing, onto the column the last
+  // firing pushed (a read-after-write at distance 1). So the memories carry no DEPENDENCE
+  // pragma: Vitis keeps that order, which costs no II (no recurrence runs through them: the
+  // values come from the stream, the addresses from counters). Review S1, docs/hls-review.md.
   // The window reads every row memory once per step, at one column (column()), and selects its
   // rows from those values by slot: a read's memory never depends on run-time state, so each
   // memory sees one read and one write per firing (counted: issue 41).
@@ -95,11 +141,11 @@ class LineBuffer {
     in_row_ = 0;
     in_col_ = 0;
     in_slot_ = 0;
+    oldest_ = -rows_;
   }
 
   // Appends the next input pixel in raster order.
   void push(T v) {
-    PX_NO_DEPENDENCE(mem_)
     mem_[in_slot_][in_col_] = v;
     skip_push();
   }
@@ -109,6 +155,7 @@ class LineBuffer {
     if (++in_col_ < width_px_) return;
     in_col_ = 0;
     ++in_row_;
+    ++oldest_;
     if (++in_slot_ == rows_) in_slot_ = 0;
   }
   int64_t written() const {
@@ -126,6 +173,7 @@ class LineBuffer {
   }
   void resync() {
     in_slot_ = slot(in_row_);
+    oldest_ = in_row_ - rows_;
   }
 
   // Hardware: one memory per row slot (the window reads all rows in one cycle), W words deep
@@ -155,7 +203,6 @@ class LineBuffer {
   // Column x of every row memory in use (x not clamped): one read per memory, whatever rows the
   // caller then selects (slot_clamped()).
   void column(int x, T out[SLOTS]) const {
-    PX_NO_DEPENDENCE(mem_)
   line_buffer_column:
     for (int s = 0; s < SLOTS; ++s) {
       PX_PRAGMA("HLS UNROLL")
@@ -196,12 +243,12 @@ class LineBuffer {
   // window still to come, or when it is the top row of output row y_out's windows (and of no
   // later row's) and the column lies left of the window at x_out. Rows near the top are shared
   // by several output rows through clamping (y_out < ry), so they are not overwritten early.
-  bool input_allowed(int x_out, int y_out, int rx, int ry) const {
-    if (input_done()) return false;
-    const int oldest = in_row_ - rows_;
-    const int first_needed = max_int(0, y_out - ry);
-    if (oldest < first_needed) return true;
-    return oldest == y_out - ry && in_col_ < x_out - rx;
+  // The window's rows and columns come from the stage's counted gate (WindowCorner: first =
+  // max(0, y_out - ry), top = y_out - ry, left = x_out - rx) and the row written over from a
+  // counter (oldest_ = in_row - rows), so the plan compares counters only.
+  template <class C>
+  bool input_allowed(const C& gate) const {
+    return !input_done() && (oldest_ < gate.first || (oldest_ == gate.top && in_col_ < gate.left));
   }
 
  private:
@@ -211,6 +258,7 @@ class LineBuffer {
   int rows_ = 1;
   int64_t written_ = 0;
   int in_row_ = 0, in_col_ = 0, in_slot_ = 0;  // position of the next input pixel: row, column, slot
+  int oldest_ = 0;                             // the row the next input pixel writes over: in_row_ - rows_
   uint32_t reciprocal_ = 65536u;               // ceil(2^16 / rows)
 };
 

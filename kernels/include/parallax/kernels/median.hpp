@@ -44,7 +44,7 @@ class Median {
     x_ = 0;
     y_ = 0;
     prime_ = 0;
-    corner_.start(r_, height_px_);
+    corner_.start(r_, height_px_, r_);
     done_ = false;
   }
   bool done() const { return done_; }
@@ -57,7 +57,7 @@ class Median {
     // The window's last pixel is counted (corner_: window_ready(prime_ - r_ or x_, y_, r_, r_)).
     pl.prime = priming && lb_.corner_resident(corner_);
     pl.write = !priming && !done_ && lb_.corner_resident(corner_);
-    pl.read = !pl.prime && lb_.input_allowed(x_, y_, r_, r_);  // as CostStage::plan()
+    pl.read = !pl.prime && lb_.input_allowed(corner_);  // as CostStage::plan()
     return pl;
   }
 
@@ -99,7 +99,7 @@ class Median {
   }
   void resync() {
     lb_.resync();
-    corner_.sync(y_ + r_, x_ + prime_, width_px_, height_px_);
+    corner_.sync(y_, r_, x_, prime_, r_, width_px_, height_px_);
   }
 
   // Schedule of one firing (resources.hpp): the raster counters (the line buffer's accesses are
@@ -121,6 +121,7 @@ class Median {
   template <class R>
   void declare(R& r, int value_bits) const {
     declare_raster_control(r, width_px_, height_px_, 1);
+    WindowCorner::declare(r, width_px_, height_px_);
     declare_storage(r, *this, value_bits);
     const RankNetwork net = rank_network();
     if (net.keys > 1) {
@@ -263,10 +264,11 @@ class Median {
     if (++x_ == width_px_) {
       x_ = 0;
       prime_ = 0;
-      corner_.next_row(height_px_);
+      corner_.next_row(height_px_, r_);
       if (++y_ == height_px_) done_ = true;
     } else {
       corner_.next_col(width_px_);
+      corner_.next_output_col();
     }
   }
 

@@ -26,7 +26,9 @@ class Rectify {
   // produces an output pixel (reads), never both (plan()), and fire() keeps the two in exclusive
   // branches: per firing a row memory sees one write, or the reads of the one tap row it may
   // hold: its columns ix (and ix + 1 for bilinear, the second port). A row is overwritten only
-  // after the outputs that read it (the plan), so no dependence between iterations.
+  // after the outputs that read it (the plan), but an output may read the pixel the previous
+  // firing wrote (a read-after-write at distance 1), so the memories carry no DEPENDENCE pragma:
+  // Vitis keeps that order at no II (no recurrence runs through them).
   Rectify() {
     PX_PRAGMA("HLS ARRAY_PARTITION variable=lb_ type=complete dim=1")
 #ifdef PX_HLS_RECTIFY_STORAGE
@@ -105,7 +107,6 @@ class Rectify {
   template <class PixIn, class MapIn, class PixOut>
   void fire(const RectifyPlan& pl, PixIn& in, MapIn& map_in, PixOut& out) {
     PX_PRAGMA("HLS INLINE")
-    PX_NO_DEPENDENCE(lb_)
     if (pl.write) {
       const MapEntry m = map_in.read();
       out.write(p_.mode == kRectifyBilinear ? bilinear(m) : nearest(m));

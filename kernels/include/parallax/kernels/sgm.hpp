@@ -685,14 +685,12 @@ class SgmAggregate {
   uint32_t run_min_[kKindCount];
   Array<Word, kMaxD> pix_;  // pixel path: the previous pixel's Lr (this pixel's, lanes already done)
   // The same in the exported and counting instantiations (kRotatingPix): a shift register of the
-  // chunks written, PU entries pushed per firing (pix_push), so lane i reads a fixed entry; path_bits wide in the
-  // export, as lag_ (store.hpp).
+  // chunks written, PU entries pushed per firing (pix_push), so lane i reads a fixed entry (PathStore: store.hpp).
   ShiftReg<PathStore, kMaxD, Caps::fixed, Caps::count_accesses> pix_q_;
-  Word pix_min_ = 0;        // pixel path: the previous pixel's minimum
+  Word pix_min_ = 0;             // pixel path: the previous pixel's minimum
   Array<PathStore, kMaxD> lag_;  // row-left path: the previous row's Lr of column x - 1 (x, lanes already read)
-  Word mlag_ = 0;           // row-left path: the previous row's minimum of column x - 1
-  // Row kinds (and MGM's pixel kind): the previous row's Lr per column and its min_d Lr per column, stored at
-  // path_bits in the export (PathStore, store.hpp).
+  Word mlag_ = 0;                // row-left path: the previous row's minimum of column x - 1
+  // Row kinds (and MGM's pixel kind): the previous row's Lr and min_d Lr per column, path_bits wide in the export.
   Array<PathStore, kRowMemories, kRowWords, kRowLanes> row_;
   Array<PathStore, kRowMemories, kMaxW> row_min_;
   // MGM (aggregate_kind_mgm): each datapath's second predecessor lanes and minimum; the row-left datapath's window over

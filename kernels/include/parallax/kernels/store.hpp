@@ -24,9 +24,9 @@ namespace kern {
 
 // Software element types. Word is the aggregation word of the instantiation (sgm.hpp).
 struct HostStore {
-  typedef uint16_t cost;  // a matching cost (cost_bits)
-  typedef uint16_t code;  // a disparity code (disparity_bits)
-  typedef uint64_t census;  // a census code (census_bits)
+  typedef uint16_t cost;       // a matching cost (cost_bits)
+  typedef uint16_t code;       // a disparity code (disparity_bits)
+  typedef uint64_t census;     // a census code (census_bits)
   typedef uint16_t disparity;  // an integer disparity of the WTA (disparity_int_bits)
   // An aggregated cost or the mark of none, above every cost (aggregate_bits + 1): the WTA's open
   // right candidates.

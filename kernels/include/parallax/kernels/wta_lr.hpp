@@ -538,7 +538,7 @@ class WtaLr {
     }
     left_d_.storage(v, "left_disparities", delay_ + 1, db);
     left_frac_.storage(v, "left_fractions", f_ > 0 ? delay_ + 1 : 0, f_ + 1);
-    const int lr = p_.lr_check ? 1 : 0;  // without the check: never written (no hardware)
+    const int lr = p_.lr_check ? 1 : 0;                                // without the check: never written (no hardware)
     right_cost_.storage(v, "right_candidate_costs", lr * d_, ab + 1);  // + the mark of none
     right_d_.storage(v, "right_candidate_disparities", lr * d_, db);
     finished_d_.storage(v, "right_disparities", lr * (d_ - 1), db);

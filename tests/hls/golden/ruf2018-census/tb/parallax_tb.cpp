@@ -132,6 +132,8 @@ std::vector<kern::AccessStage> declared_stages() {
   stages.back().recurrences.push_back(recurrence("raster_counters", {"add 4 bits x 1", "compare 4 bits x 1", "register 4 bits x 1"}, 2.240, 3.650, 1, 1));
   stages.back().recurrences.push_back(recurrence("plan_window_ready", {"compare 10 bits x 1", "xor 1 bits x 2", "mux 10 bits x 1", "register 10 bits x 1"}, 2.460, 3.650, 1, 1));
   stages.back().recurrences.push_back(recurrence("window_corner", {"add 10 bits x 1", "compare 10 bits x 1", "mux 10 bits x 2", "register 10 bits x 1"}, 3.210, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("plan_input_allowed", {"compare 10 bits x 1", "xor 1 bits x 3", "mux 10 bits x 1", "register 10 bits x 1"}, 2.790, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("input_gate", {"add 10 bits x 1", "mux 10 bits x 2", "register 10 bits x 1"}, 2.340, 3.650, 1, 1));
   stages.push_back(stage("aggregate", 2));
   stages.back().recurrences.push_back(recurrence("pixel_path_registers", {"add 7 bits x 1", "compare 7 bits x 2", "mux 7 bits x 2", "add 8 bits x 2", "mux 7 bits x 1", "register 7 bits x 1"}, 6.380, 3.650, 9, 1));
   stages.back().recurrences.push_back(recurrence("pixel_path_minimum", {"add 8 bits x 1", "compare 8 bits x 1", "mux 8 bits x 1", "compare 7 bits x 1", "mux 7 bits x 1", "register 7 bits x 1"}, 4.080, 3.650, 1, 2));
@@ -143,6 +145,8 @@ std::vector<kern::AccessStage> declared_stages() {
   stages.back().recurrences.push_back(recurrence("raster_counters", {"add 10 bits x 1", "compare 10 bits x 1", "register 10 bits x 1"}, 2.310, 3.650, 1, 1));
   stages.back().recurrences.push_back(recurrence("plan_window_ready", {"compare 10 bits x 1", "xor 1 bits x 2", "mux 10 bits x 1", "register 10 bits x 1"}, 2.460, 3.650, 1, 1));
   stages.back().recurrences.push_back(recurrence("window_corner", {"add 10 bits x 1", "compare 10 bits x 1", "mux 10 bits x 2", "register 10 bits x 1"}, 3.210, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("plan_input_allowed", {"compare 10 bits x 1", "xor 1 bits x 3", "mux 10 bits x 1", "register 10 bits x 1"}, 2.790, 3.650, 1, 1));
+  stages.back().recurrences.push_back(recurrence("input_gate", {"add 10 bits x 1", "mux 10 bits x 2", "register 10 bits x 1"}, 2.340, 3.650, 1, 1));
   return stages;
 }
 
@@ -203,6 +207,8 @@ bool report_storage(const std::string& dir) {
       {"aggregate", "row_min_right", true, 7},
       {"median", "median_line_buffer", true, 6},
       {"cost", "counters", false, 23},
+      {"cost", "window_corner", false, 19},
+      {"cost", "input_gate", false, 41},
       {"cost", "census_left_window", false, 8},
       {"cost", "census_right_window", false, 8},
       {"cost", "census_left_code", false, 24},
@@ -235,6 +241,8 @@ bool report_storage(const std::string& dir) {
       {"wta_lr", "right_candidate_disparities", false, 6},
       {"wta_lr", "right_disparities", false, 6},
       {"median", "counters", false, 20},
+      {"median", "window_corner", false, 19},
+      {"median", "input_gate", false, 41},
       {"median", "median_window", false, 6},
       {"median", "median_out", false, 6},
   };
