@@ -13,7 +13,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 PACKAGES=(build-essential cmake ninja-build pkg-config git
           libopencv-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
           libceres-dev libeigen3-dev libsqlite3-dev libpugixml-dev chromium libmuparser-dev
-          clang-format clang-tidy universal-ctags)
+          clang-format clang-tidy universal-ctags
+          yosys python3)  # yosys: the operator table of the resource model (models/resources/tools)
 # Optional: the MPI mode of `parallax sweep` is built when OpenMPI is present; node and npm
 # fetch the independent MAVLink decoder the tests cross-check with.
 OPTIONAL_PACKAGES=(libopenmpi-dev openmpi-bin)
