@@ -50,11 +50,15 @@ std::string tripcount_pragma(const std::map<std::string, int64_t>& fires, const 
          " avg=" + std::to_string(avg) + "\n";
 }
 
+// A C string literal of a simulator or model identifier (no character needs escaping).
+std::string quoted(const std::string& t) {
+  return "\"" + t + "\"";
+}
+
 // The testbench's table of the kernel stages' declared II and recurrences (access_stages), to
 // which its C simulation adds the counted memories (csim_accesses.json). Names and operator
 // texts are the simulator's identifiers: no character needs escaping in a C string.
 std::string access_stage_table(const ExportRequest& r) {
-  auto quoted = [](const std::string& t) { return "\"" + t + "\""; };
   auto number = [](double x) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.3f", x);
@@ -115,7 +119,6 @@ void loop_values(const ExportRequest& r, std::map<std::string, std::string>& v) 
 }
 
 void priced_width_values(const res::Inventory& inv, std::map<std::string, std::string>& v) {
-  auto quoted = [](const std::string& t) { return "\"" + t + "\""; };
   std::string o;
   auto row = [&](const std::string& stage, const std::string& name, bool memory, int bits) {
     o += "      {" + quoted(stage) + ", " + quoted(name) + ", " + (memory ? "true" : "false") + ", " +

@@ -157,18 +157,24 @@ std::vector<OperatorRow> parse_operator_table(const std::string& csv_text, std::
   return rows;
 }
 
-const std::vector<OperatorRow>& operator_table() {
-  static const std::vector<OperatorRow> t = parse_operator_table(data::operators_csv);
+namespace {
+// The compiled-in table and its Yosys version, parsed once.
+struct CompiledTable {
+  std::string yosys;
+  std::vector<OperatorRow> rows = parse_operator_table(data::operators_csv, &yosys);
+};
+const CompiledTable& compiled_table() {
+  static const CompiledTable t;
   return t;
+}
+}  // namespace
+
+const std::vector<OperatorRow>& operator_table() {
+  return compiled_table().rows;
 }
 
 const std::string& operator_table_yosys() {
-  static const std::string v = [] {
-    std::string s;
-    parse_operator_table(data::operators_csv, &s);
-    return s;
-  }();
-  return v;
+  return compiled_table().yosys;
 }
 
 MappedCost mapped_cost(const std::vector<OperatorRow>& t, const std::string& kind, int width_bits, int fan_in,

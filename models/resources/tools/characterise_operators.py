@@ -145,6 +145,8 @@ def main():
     ap.add_argument("--only", default="", help="comma-separated kinds")
     ap.add_argument("--sample", type=int, default=0, help="every N-th row only; print instead of writing")
     a = ap.parse_args()
+    if a.jobs < 1 or a.sample < 0:
+        sys.exit("characterise_operators: --jobs must be at least 1 and --sample at least 0")
     try:
         version = yosys_version()
     except (OSError, subprocess.CalledProcessError) as e:
@@ -176,8 +178,11 @@ def main():
     if a.sample > 0:
         sys.stdout.write(text)
         return
-    with open(a.out, "w") as f:
-        f.write(text)
+    try:
+        with open(a.out, "w") as f:
+            f.write(text)
+    except OSError as e:
+        sys.exit(f"characterise_operators: {a.out}: cannot write ({e.strerror})")
     print(f"characterise_operators: wrote {len(results)} operators to {a.out} (Yosys {version})", file=sys.stderr)
 
 
