@@ -183,6 +183,16 @@ MappedCost mapped_cost(const std::vector<OperatorRow>& t, const std::string& kin
   if (kind == "mux") return mux_cost(t, w, fan_in);
   if (kind == "decoder") return interpolate(along_fan_in(t, kind), std::max(1, fan_in));
   if (kind == "srl") return interpolate(along_fan_in(t, kind), std::max(1, fan_in)) * double(w);  // per bit
+  if (kind == "mul_fabric") {  // the shape of the nearest area (a x b), scaled to the area
+    const int a = std::max(w, b_bits), b = std::max(1, std::min(w, b_bits > 0 ? b_bits : w));
+    const OperatorRow* best = nullptr;
+    for (const OperatorRow& r : t)
+      if (r.kind == kind && (!best || std::abs(r.width_bits * r.b_bits - a * b) <
+                                          std::abs(best->width_bits * best->b_bits - a * b)))
+        best = &r;
+    if (!best) throw std::invalid_argument("operator table: no mul_fabric rows");
+    return best->cost * (double(a) * b / (double(best->width_bits) * best->b_bits));
+  }
   if (kind == "mul") {  // the smallest characterised shape that holds both operands, else scaled by area
     const int a = std::max(w, b_bits), b = std::max(1, std::min(w, b_bits > 0 ? b_bits : w));
     const OperatorRow* best = nullptr;

@@ -3,12 +3,13 @@
 
 For every operator kind the kernels' declarations use (kern::OpKind in
 kernels/include/parallax/kernels/resources.hpp: adders, comparators, compare-selects, N:1 muxes,
-write decoders, bitwise logic, popcounts, multipliers, registers, shift registers), at the widths
-and fan-ins of the grid below, this script writes a small Verilog module, maps it onto the
-UltraScale+ primitives with Yosys (`synth_xilinx -family xcup`, no I/O buffers, no clock buffer,
-`-widemux 4`: muxes of 4 inputs or more onto LUTs and MUXF7/F8/F9 by cover, as Vivado builds them;
-without it Yosys 0.23 maps some non-power-of-two muxes through chains of route-through LUTs, a
-6:1 byte mux at 64 LUTs) and records the cells it used. The output, models/data/operators.csv, is committed; rerunning the
+write decoders, bitwise logic, popcounts, multipliers on DSP slices and in fabric (`mul_fabric`,
+mapped with -nodsp -abc9), registers, shift registers), at the widths and fan-ins of the grid
+below, this script writes a small Verilog module, maps it onto the UltraScale+ primitives with
+Yosys (`synth_xilinx -family xcup`, no I/O buffers, no clock buffer, `-widemux 4`: muxes of 4
+inputs or more onto LUTs and MUXF7/F8/F9 by cover, as Vivado builds them; without it Yosys 0.23
+maps some non-power-of-two muxes through chains of route-through LUTs, a 6:1 byte mux at 64 LUTs)
+and records the cells it used. The output, models/data/operators.csv, is committed; rerunning the
 script on the same Yosys rewrites it byte for byte.
 
 The grid covers the kernels' range: widths 1-64 bits (the SGM path costs are 5-16 bits, the
@@ -41,6 +42,10 @@ MUX_WIDTHS = [1, 4, 7, 8, 9, 16]
 DECODER_FAN_INS = [2, 4, 6, 8, 10, 16, 32, 64]
 POPCOUNT_WIDTHS = [8, 9, 16, 24, 25, 32, 48, 49, 63, 64]
 MUL_SHAPES = [(8, 8), (10, 10), (12, 12), (16, 8), (16, 16), (18, 18), (24, 16), (27, 18), (32, 16), (32, 32)]
+# Multipliers kept out of DSP slices (BIND_OP impl=fabric, or below the binding threshold): mapped
+# with -nodsp -abc9, so LUTs and carries only (Yosys 0.23's default mapper builds these as trees of
+# MUXF-fed partial products, 8 x 8 bits in 158 LUT and 80 MUXF; ABC9 in 105 LUT).
+MUL_FABRIC_SHAPES = [(3, 3), (4, 4), (6, 6), (8, 4), (8, 8), (10, 10), (12, 8), (12, 12), (16, 8), (16, 16)]
 SRL_DEPTHS = [2, 3, 4, 8, 16, 17, 32, 33, 64, 128, 256]
 
 
@@ -79,7 +84,7 @@ def module(kind, w, n, b):
         ob = clog2(w + 1)
         return (f"module op(input [{w-1}:0] a, output reg [{ob-1}:0] y); integer k; always @* begin y = 0; "
                 f"for (k = 0; k < {w}; k = k + 1) y = y + a[k]; end endmodule")
-    if kind == "mul":
+    if kind in ("mul", "mul_fabric"):
         return (f"module op(input [{w-1}:0] a, input [{b-1}:0] b, output [{w+b-1}:0] y); "
                 f"assign y = a * b; endmodule")
     if kind == "register":
@@ -99,6 +104,7 @@ def grid():
     rows += [("decoder", 1, n, 0) for n in DECODER_FAN_INS]
     rows += [("popcount", w, 1, 0) for w in POPCOUNT_WIDTHS]
     rows += [("mul", a, 1, b) for a, b in MUL_SHAPES]
+    rows += [("mul_fabric", a, 1, b) for a, b in MUL_FABRIC_SHAPES]
     rows += [("srl", 1, n, 0) for n in SRL_DEPTHS]
     return rows
 
@@ -116,7 +122,8 @@ def characterise(row):
         stat = os.path.join(d, "stat.json")
         with open(src, "w") as f:
             f.write(module(kind, w, n, b) + "\n")
-        script = (f"read_verilog {src}; synth_xilinx -family xcup -top op -flatten -noiopad -noclkbuf -widemux 4; "
+        nodsp = " -nodsp -abc9" if kind == "mul_fabric" else ""
+        script = (f"read_verilog {src}; synth_xilinx -family xcup -top op -flatten -noiopad -noclkbuf -widemux 4{nodsp}; "
                   f"tee -q -o {stat} stat -json")
         r = subprocess.run(["yosys", "-q", "-p", script], capture_output=True, text=True)
         if r.returncode != 0:
