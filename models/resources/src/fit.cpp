@@ -66,6 +66,59 @@ int64_t need_int(const YAML::Node& n, const std::string& key, const std::string&
 
 }  // namespace
 
+namespace data {
+extern const char* const excluded_points_yaml;
+}
+
+std::vector<Exclusion> parse_exclusions(const std::string& text, const std::string& file) {
+  YAML::Node doc;
+  try {
+    doc = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw config::ConfigError(file + ": not valid YAML: " + e.what());
+  }
+  if (!doc["rows"] || !doc["rows"].IsSequence()) throw config::ConfigError(file + ": missing list 'rows'");
+  std::vector<Exclusion> out;
+  int i = 0;
+  for (const auto& n : doc["rows"]) {
+    const std::string where = file + ": rows[" + std::to_string(i++) + "]";
+    Exclusion e;
+    for (const char* key : {"kernel", "design", "evidence"})
+      if (!n[key] || !n[key].IsScalar()) throw config::ConfigError(where + ": missing field '" + key + "'");
+    e.kernel = n["kernel"].Scalar();
+    e.design = n["design"].Scalar();
+    e.evidence = n["evidence"].Scalar();
+    if (!n["resources"] || !n["resources"].IsSequence() || n["resources"].size() == 0)
+      throw config::ConfigError(where + ": missing list 'resources'");
+    for (const auto& r : n["resources"]) {
+      int k = 0;
+      while (k < kResourceCount && r.Scalar() != resource_name(k)) ++k;
+      if (k == kResourceCount)
+        throw config::ConfigError(where + ": resources: '" + r.Scalar() + "' is not bram18k, dsp, ff or lut");
+      e.resources |= 1u << k;
+    }
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+const std::vector<Exclusion>& default_exclusions() {
+  static const std::vector<Exclusion> e = parse_exclusions(data::excluded_points_yaml, "models/data/excluded_points.yaml");
+  return e;
+}
+
+int apply_exclusions(std::vector<FitRow>& rows, const std::vector<Exclusion>& exclusions) {
+  int marked = 0;
+  for (auto& row : rows)
+    for (const auto& e : exclusions)
+      if (row.kernel == e.kernel && row.design == e.design) {
+        marked += row.excluded == 0;
+        row.excluded |= e.resources;
+        row.excluded_why += (row.excluded_why.empty() ? "" : "\n") + e.evidence;
+      }
+  return marked;
+}
+
 std::vector<FitRow> load_design_points(const std::string& path, const std::string& root) {
   YAML::Node doc;
   try {
@@ -125,7 +178,7 @@ struct DspScore {
 DspScore score_dsp(const std::vector<FitRow>& rows, const std::vector<bool>& use, const Coefficients& c) {
   DspScore s{0, 0};
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (!use[i] || rows[i].published.dsp < 0) continue;
+    if (!use[i] || rows[i].published.dsp < 0 || (rows[i].excluded >> kResDsp & 1u)) continue;
     const int64_t d = row_dsp(rows[i].inventory, c) - rows[i].published.dsp;
     s.exact += d == 0;
     s.error += d < 0 ? -d : d;
@@ -207,7 +260,7 @@ void fit_one(const std::vector<FitRow>& rows, const std::vector<bool>& use, cons
   ceres::Problem problem;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const int64_t pub = lut ? rows[i].published.lut : rows[i].published.ff;
-    if (!use[i] || pub <= 0) continue;
+    if (!use[i] || pub <= 0 || (rows[i].excluded >> (lut ? kResLut : kResFf) & 1u)) continue;
     const Features f = features(rows[i].inventory, c);
     auto* res = new LogResidual{lut ? f.lut_base : f.ff_base, double(pub), {}};
     for (int k = 0; k < kFeatureCount; ++k) res->f[k] = lut ? f.lut_f[k] : f.ff_f[k];
@@ -244,7 +297,7 @@ ErrorStats stats_of(const std::vector<FitRow>& rows, int r, Usage FitRow::*which
   std::vector<double> pct;
   for (const auto& row : rows) {
     const int64_t pub = pick(row.published, r);
-    if (!row.described || row.validation_only || pub < 0) continue;
+    if (!row.described || row.validation_only || pub < 0 || (row.excluded >> r & 1u)) continue;
     const int64_t pred = pick(row.*which, r);
     ++s.rows;
     s.exact += pred == pub;
@@ -294,6 +347,7 @@ FitResult fit(std::vector<FitRow> rows, const Coefficients& start) {
   r.coefficients = fit_coefficients(rows, trainable, start);
   for (auto& row : rows) {
     r.described_rows += row.described && !row.validation_only;
+    r.excluded_rows += row.described && !row.validation_only && row.excluded != 0;
     if (row.described) row.fitted = estimate(row.inventory, r.coefficients).total;
   }
   // Leave one out: each trainable row; validation rows are already out of every fit.

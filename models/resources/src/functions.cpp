@@ -167,6 +167,10 @@ void instantiate_item(Evaluator& ev, Collector& c, const YAML::Node& item, const
     o.width_bits = int(I("width_bits"));
     o.count = I("count", 1);
     o.bound_dsp = k == kern::kOpAdd && I("dsp", 0) != 0;
+    if (k == kern::kOpMux) {  // fan_in: inputs per mux (count N:1 muxes); 2 by default
+      o.fan_in = int(I("fan_in", 2));
+      if (o.fan_in <= 1) return;
+    }
     c.op_item(o);
   } else if (kind == "adder_tree" || kind == "min_tree" || kind == "max_tree") {
     const bool adder = kind == "adder_tree";
@@ -203,19 +207,30 @@ void instantiate_item(Evaluator& ev, Collector& c, const YAML::Node& item, const
                                     : kFloatConv;
     o.count = I("count", 1);
     c.op_item(o);
-  } else if (kind == "divider") {  // restoring division: one subtract and select per quotient bit
+  } else if (kind == "divider") {  // restoring division: a subtract and a select per quotient bit
     const int64_t n = I("count", 1), q = I("width_bits"), d = I("divisor_bits");
+    // sequential 1: a division outside any pipelined loop, which HLS binds to an iterative core
+    // (`*_seq` dividers, one quotient bit per cycle): one subtract and select, the dividend and
+    // quotient shift register, the partial remainder, the divisor and the step counter.
+    const bool seq = I("sequential", 0) != 0;
     OpItem sub;
     sub.name = name + "_subtract";
     sub.kind = kern::kOpAdd;
     sub.width_bits = int(d + 1);
-    sub.count = q * n;
+    sub.count = (seq ? 1 : q) * n;
     c.op_item(sub);
     OpItem sel = sub;
     sel.name = name + "_select";
     sel.kind = kern::kOpMux;
     sel.width_bits = int(d);
     c.op_item(sel);
+    if (seq) {
+      c.registers((name + "_state").c_str(), int(q + 2 * d + 1), int(n));
+      OpItem step = sub;
+      step.name = name + "_step";
+      step.width_bits = kern::bits_for(uint64_t(q));
+      c.op_item(step);
+    }
   } else if (kind == "axis" || kind == "m_axi" || kind == "s_axilite") {
     c.interface(name.c_str(), kind, int(I("width_bits")), I("count", 1));
   } else {

@@ -20,6 +20,7 @@
 #include "parallax/kernels/sad.hpp"
 #include "parallax/kernels/sgm.hpp"
 #include "parallax/kernels/wta_lr.hpp"
+#include "parallax/resources/operators.hpp"
 
 namespace parallax::res {
 
@@ -69,6 +70,18 @@ void Collector::mul(const char* name, int a_bits, int b_bits, int count) {
   o.kind = kern::kOpMul;
   o.width_bits = std::max(a_bits, b_bits);
   o.b_bits = std::min(a_bits, b_bits);
+  o.count = count;
+  inv_.ops.push_back(o);
+}
+
+void Collector::mux(const char* name, int width_bits, int fan_in, int count) {
+  if (width_bits <= 0 || count <= 0 || fan_in <= 1) return;
+  OpItem o;
+  o.stage = stage_;
+  o.name = name;
+  o.kind = kern::kOpMux;
+  o.width_bits = width_bits;
+  o.fan_in = fan_in;
   o.count = count;
   inv_.ops.push_back(o);
 }
@@ -243,9 +256,8 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
 // --- coefficients -------------------------------------------------------------------------
 
 const char* feature_name(int f) {
-  static const char* const names[kFeatureCount] = {"add",    "compare",   "mux",     "popcount", "xor",
-                                                   "mul",    "mul_const", "dsp_mul", "float",    "register",
-                                                   "memory", "interface", "stage"};
+  static const char* const names[kFeatureCount] = {"stage",    "memory", "fifo", "interface",
+                                                   "pipeline", "dsp",    "float"};
   return f >= 0 && f < kFeatureCount ? names[f] : "unknown";
 }
 
@@ -341,14 +353,14 @@ std::string coefficients_yaml(const Coefficients& c) {
        "  # One DSP48E2 multiplies 27 x 18 bits.\n"
        "  dsp_a_bits: "
     << c.dsp_a_bits << "\n  dsp_b_bits: " << c.dsp_b_bits
-    << "\n  # Priors per feature (docs/resources.md, section 3), from the LUT6/CARRY8 fabric: an adder or\n"
-       "  # comparator one LUT per bit, a 2:1 mux or XOR half (dual-output LUT6), a popcount about one\n"
-       "  # per input bit, a multiplier in LUTs a x b / 2 (by a constant half that again); a register\n"
-       "  # bit one FF. The fit is pulled towards them with a small weight.\n";
+    << "\n  # Priors of the Vitis overhead terms (docs/resources.md, section 3): per process an FSM and\n"
+       "  # handshakes, per memory its address and enable logic, per FIFO its control, per interface bit\n"
+       "  # an adapter's register slice, per operator output bit one pipeline register, per DSP slice its\n"
+       "  # operand registers. The datapath itself is priced from models/data/operators.csv, not fitted.\n";
   write_features(o, "lut_prior", c.lut_prior);
   write_features(o, "ff_prior", c.ff_prior);
-  o << "# Fitted by `parallax fit-resources` (Ceres, Cauchy loss on log residuals, non-negative) and the\n"
-       "# DSP binding thresholds learned from the rows (the most rows exact).\n"
+  o << "# Fitted by `parallax fit-resources` (Ceres, Cauchy loss on log residuals, non-negative) on the\n"
+       "# kept published rows, and the DSP binding thresholds learned from them (the most rows exact).\n"
        "fitted:\n  fitted_on: \""
     << c.fitted_on << "\"\n  dsp_min_bits_var: " << c.dsp_min_bits_var
     << "\n  dsp_min_bits_const: " << c.dsp_min_bits_const << "\n  dsp_per_fmul: " << c.dsp_per_fmul
@@ -385,6 +397,45 @@ int64_t dsp_for(const OpItem& o, const Coefficients& c, int dsp_b_bits) {
 
 namespace {
 
+// Bits an operator hands to the next stage of latency (what a pipeline register holds).
+double output_bits(const OpItem& o) {
+  switch (o.kind) {
+    case kern::kOpCompare:
+      return 1.0;
+    case kern::kOpPopcount:
+      return double(kern::bits_for(uint64_t(o.width_bits)));
+    case kern::kOpMul:
+      return double(o.width_bits + o.b_bits);
+    default:
+      return double(o.width_bits);
+  }
+}
+
+// LUTs of one integer operator in fabric, from the operator table: its LUTs and its MUXF7/F8
+// (a MUXF whose inputs no LUT drives is fed through LUTs used as route-throughs).
+double luts_of(const MappedCost& m) {
+  return m.lut + m.muxf;
+}
+double fabric_luts(const OpItem& o) {
+  switch (o.kind) {
+    case kern::kOpAdd:
+      return luts_of(mapped_cost("add", o.width_bits));
+    case kern::kOpCompare:
+      return luts_of(mapped_cost("compare", o.width_bits));
+    case kern::kOpMux:
+      return luts_of(mapped_cost("mux", o.width_bits, std::max(2, o.fan_in)));
+    case kern::kOpPopcount:
+      return luts_of(mapped_cost("popcount", o.width_bits));
+    case kern::kOpXor:
+      return luts_of(mapped_cost("xor", o.width_bits));
+    default:
+      break;
+  }
+  if (o.constant_operand)  // shift-and-add: about one adder of the product's width per two constant bits
+    return double(std::max(1, o.b_bits / 2)) * luts_of(mapped_cost("add", o.width_bits + o.b_bits));
+  return luts_of(mapped_cost("mul_fabric", o.width_bits, 1, o.b_bits));
+}
+
 void add_op_features(const OpItem& o, const Coefficients& c, int dsp_b_bits, Features& f) {
   const double n = double(o.count);
   if (o.float_kind != 0) {
@@ -393,28 +444,18 @@ void add_op_features(const OpItem& o, const Coefficients& c, int dsp_b_bits, Fea
     f.ff_f[kFeatFloat] += n * kFloatSize[o.float_kind];
     return;
   }
-  if (o.bound_dsp) {
-    f.dsp += dsp_for(o, c, dsp_b_bits);
-    f.lut_f[kFeatDspMul] += double(o.width_bits) * n;
-    f.ff_f[kFeatDspMul] += double(o.width_bits) * n;
-    return;
-  }
-  if (o.kind != kern::kOpMul) {
-    const int k = int(o.kind);  // kOpAdd .. kOpXor are kFeatAdd .. kFeatXor
-    f.lut_f[k] += double(o.width_bits) * n;
-    f.ff_f[k] += double(o.width_bits) * n;
-    return;
-  }
   const int64_t dsp = dsp_for(o, c, dsp_b_bits);
-  if (dsp > 0) {
+  if (dsp > 0) {  // on DSP slices: no fabric datapath, the slices' surroundings are overhead
     f.dsp += dsp;
-    f.lut_f[kFeatDspMul] += double(o.width_bits + o.b_bits) * n;
-    f.ff_f[kFeatDspMul] += double(o.width_bits + o.b_bits) * n;
+    f.lut_f[kFeatDsp] += double(dsp);
+    f.ff_f[kFeatDsp] += double(dsp);
     return;
   }
-  const int k = o.constant_operand ? kFeatMulConst : kFeatMul;
-  f.lut_f[k] += double(o.width_bits) * double(o.b_bits) * n;
-  f.ff_f[k] += double(o.width_bits + o.b_bits) * n;
+  const double luts = fabric_luts(o) * n;
+  f.lut_base += luts;
+  (o.kind == kern::kOpMux ? f.lut_parts.muxes : f.lut_parts.operators) += luts;
+  f.lut_f[kFeatPipeline] += output_bits(o) * n;
+  f.ff_f[kFeatPipeline] += output_bits(o) * n;
 }
 
 Features stage_features(const Inventory& inv, const std::string& stage, const Coefficients& c) {
@@ -425,7 +466,12 @@ Features stage_features(const Inventory& inv, const std::string& stage, const Co
       f.uram += m.uram_per_copy * m.copies;
       f.lut_base += double(m.per_copy.luts * m.copies);
       f.ff_base += double(m.per_copy.ffs * m.copies);
-      if (m.per_copy.storage == Storage::bram) {
+      f.lut_parts.memories += double(m.per_copy.luts * m.copies);
+      f.ff_parts.memories += double(m.per_copy.ffs * m.copies);
+      if (m.kind == MemoryKind::fifo) {
+        f.lut_f[kFeatFifo] += m.copies;
+        f.ff_f[kFeatFifo] += m.copies;
+      } else if (m.per_copy.storage == Storage::bram) {
         f.lut_f[kFeatMemory] += m.copies;
         f.ff_f[kFeatMemory] += m.copies;
       }
@@ -434,8 +480,9 @@ Features stage_features(const Inventory& inv, const std::string& stage, const Co
     if (o.stage == stage) add_op_features(o, c, inv.dsp_b_bits, f);
   for (const auto& r : inv.registers)
     if (r.stage == stage) {
-      f.lut_f[kFeatRegister] += double(r.width_bits) * double(r.count);
-      f.ff_f[kFeatRegister] += double(r.width_bits) * double(r.count);
+      const double bits = double(r.width_bits) * double(r.count);
+      f.ff_base += bits;  // one FDRE per bit (the table's register row), its enable on CE
+      f.ff_parts.registers += bits;
     }
   for (const auto& i : inv.interfaces)
     if (i.stage == stage) {
@@ -448,18 +495,27 @@ Features stage_features(const Inventory& inv, const std::string& stage, const Co
   return f;
 }
 
-Usage usage_of(const Features& f, const Coefficients& c) {
+Usage usage_of(const Features& f, const Coefficients& c, Breakdown* lut_parts = nullptr,
+               Breakdown* ff_parts = nullptr) {
   Usage u;
   u.bram18k = f.bram18k;
   u.uram = f.uram;
   u.dsp = f.dsp;
-  double lut = f.lut_base, ff = f.ff_base;
+  double lut_over = 0, ff_over = 0;
   for (int k = 0; k < kFeatureCount; ++k) {
-    lut += c.lut[k] * f.lut_f[k];
-    ff += c.ff[k] * f.ff_f[k];
+    lut_over += c.lut[k] * f.lut_f[k];
+    ff_over += c.ff[k] * f.ff_f[k];
   }
-  u.lut = int64_t(std::llround(lut));
-  u.ff = int64_t(std::llround(ff));
+  u.lut = int64_t(std::llround(f.lut_base + lut_over));
+  u.ff = int64_t(std::llround(f.ff_base + ff_over));
+  if (lut_parts) {
+    *lut_parts = f.lut_parts;
+    lut_parts->overhead = lut_over;
+  }
+  if (ff_parts) {
+    *ff_parts = f.ff_parts;
+    ff_parts->overhead = ff_over;
+  }
   return u;
 }
 
@@ -490,6 +546,12 @@ Features features(const Inventory& inv, const Coefficients& c) {
     }
     total.lut_base += f.lut_base;
     total.ff_base += f.ff_base;
+    for (auto [to, from] : {std::pair{&total.lut_parts, &f.lut_parts}, std::pair{&total.ff_parts, &f.ff_parts}}) {
+      to->operators += from->operators;
+      to->muxes += from->muxes;
+      to->memories += from->memories;
+      to->registers += from->registers;
+    }
     total.bram18k += f.bram18k;
     total.uram += f.uram;
     total.dsp += f.dsp;
@@ -497,12 +559,83 @@ Features features(const Inventory& inv, const Coefficients& c) {
   return total;
 }
 
+namespace {
+
+// The cost of a one-item inventory of `stage` without the stage's own overhead.
+PricedItem price_alone(const Inventory& one, const Coefficients& c, std::string stage, std::string name,
+                       std::string what) {
+  Features f = stage_features(one, stage, c);
+  f.lut_f[kFeatStage] = f.ff_f[kFeatStage] = 0;
+  const Usage u = usage_of(f, c);
+  PricedItem p{std::move(stage), std::move(name), std::move(what), 0, 0, u.dsp, u.bram18k};
+  p.lut = f.lut_base;
+  p.ff = f.ff_base;
+  for (int k = 0; k < kFeatureCount; ++k) {
+    p.lut += c.lut[k] * f.lut_f[k];
+    p.ff += c.ff[k] * f.ff_f[k];
+  }
+  return p;
+}
+
+std::string times(int64_t n) {
+  return n == 1 ? "" : " x" + std::to_string(n);
+}
+
+}  // namespace
+
+std::vector<PricedItem> priced_items(const Inventory& inv, const Coefficients& c) {
+  std::vector<PricedItem> out;
+  for (const auto& s : inv.stages) {
+    Inventory none;
+    none.stages = {s};
+    Features f = stage_features(none, s, c);
+    if (f.lut_f[kFeatStage] > 0)
+      out.push_back({s, "(process)", "FSM and handshakes", c.lut[kFeatStage], c.ff[kFeatStage], 0, 0});
+    for (const auto& m : inv.memories) {
+      if (m.stage != s) continue;
+      Inventory one;
+      one.memories = {m};
+      out.push_back(price_alone(one, c, s, m.name,
+                                std::string(m.kind == MemoryKind::fifo ? "fifo " : "memory ") +
+                                    std::to_string(m.depth) + "x" + std::to_string(m.width_bits) + "b" +
+                                    times(m.copies)));
+    }
+    for (const auto& o : inv.ops) {
+      if (o.stage != s) continue;
+      Inventory one;
+      one.ops = {o};
+      one.dsp_b_bits = inv.dsp_b_bits;
+      std::string what = o.float_kind ? "float core" : kern::op_kind_name(o.kind);
+      what += " " + std::to_string(o.width_bits) + "b";
+      if (o.kind == kern::kOpMul && !o.float_kind)
+        what += " x " + std::to_string(o.b_bits) + "b" + (o.constant_operand ? " (constant)" : "");
+      if (o.kind == kern::kOpMux && o.fan_in > 2) what += " " + std::to_string(o.fan_in) + ":1";
+      out.push_back(price_alone(one, c, s, o.name, what + times(o.count)));
+    }
+    for (const auto& r : inv.registers) {
+      if (r.stage != s) continue;
+      Inventory one;
+      one.registers = {r};
+      out.push_back(price_alone(one, c, s, r.name, "registers " + std::to_string(r.width_bits) + "b" + times(r.count)));
+    }
+    for (const auto& i : inv.interfaces) {
+      if (i.stage != s) continue;
+      Inventory one;
+      one.interfaces = {i};
+      out.push_back(price_alone(one, c, s, i.name, i.kind + " " + std::to_string(i.width_bits) + "b" + times(i.count)));
+    }
+  }
+  return out;
+}
+
 Estimate estimate(const Inventory& inv, const Coefficients& c, Flavour flavour) {
   Estimate e;
   e.flavour = flavour;
   for (const auto& s : inv.stages) {
     const Features f = stage_features(inv, s, c);
-    StageUsage su{s, usage_of(f, c)};
+    StageUsage su;
+    su.stage = s;
+    su.usage = usage_of(f, c, &su.lut, &su.ff);
     for (const auto& m : inv.memories)
       if (m.stage == s) {
         if (m.per_copy.storage == Storage::lutram) su.usage.lutram_luts += m.per_copy.luts * m.copies;

@@ -47,7 +47,7 @@ class CensusMatcher {
     DeclareStorage<R> st(r);
     storage(st, p);
     r.op("census_compares", kOpCompare, 8, 2 * bits);
-    if (p.disparities > pu) r.op("right_code_select", kOpMux, bits, pu * (p.disparities / pu - 1));
+    if (p.disparities > pu) r.mux("right_code_select", bits, p.disparities / pu, pu);
     r.op("hamming_xor", kOpXor, bits, pu);
     r.op("hamming_popcount", kOpPopcount, bits, pu);
   }

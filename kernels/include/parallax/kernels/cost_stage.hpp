@@ -136,6 +136,8 @@ class CostStage {
     WindowCorner::declare(r, p_.width_px, p_.height_px);
     left_.declare(r, "left_line_buffer", 8);
     right_.declare(r, "right_line_buffer", 8);
+    left_.declare_row_selects(r, 2 * ry_ + 1, 8);
+    right_.declare_row_selects(r, 2 * ry_ + 1, 8);
     matcher_.declare(r, p_);
     r.registers("cost_token", lanes_ * cost_bits(p_), 1);
   }

@@ -187,6 +187,18 @@ class LineBuffer {
     DeclareStorage<R> s(r);
     storage(s, name, value_bits);
   }
+  // The row selects of a window of `window_rows` rows over this buffer (WindowRegs::step_to): per
+  // window row, slot() of its image row (a product by the reciprocal, the quotient times the rows
+  // in use, a subtract; priced at the bits the values need: row < 2^bits(H), reciprocal <= 2^16)
+  // and the rows:1 select of that slot's word among the memories' outputs.
+  template <class R>
+  void declare_row_selects(R& r, int window_rows, int value_bits) const {
+    const int row_bits = bits_for(uint64_t(height_px_));
+    r.mul("slot_by_reciprocal", row_bits, 17, window_rows);
+    r.mul("slot_times_rows", row_bits, bits_for(uint64_t(rows_)), window_rows);
+    r.op("slot_remainder", kOpAdd, row_bits, window_rows);
+    r.mux("slot_select", value_bits, rows_, window_rows);
+  }
   bool input_done() const {
     return in_row_ >= height_px_;
   }

@@ -123,6 +123,7 @@ class Median {
     declare_raster_control(r, width_px_, height_px_, 1);
     WindowCorner::declare(r, width_px_, height_px_);
     declare_storage(r, *this, value_bits);
+    if (k_ > 1) lb_.declare_row_selects(r, k_, value_bits);
     const RankNetwork net = rank_network();
     if (net.keys > 1) {
       // Keys: the value and the window index (bits_for(n - 1) of the kKeyIndexBits the key
@@ -130,7 +131,7 @@ class Median {
       r.op("rank_compares", kOpCompare, value_bits + bits_for(uint64_t(net.keys - 1)), net.pairs);
       r.op("rank_counts", kOpPopcount, net.max_per_key, net.keys);
       r.op("rank_pick", kOpCompare, bits_for(uint64_t(net.keys)), net.keys);
-      r.op("rank_select", kOpMux, value_bits, net.keys);
+      r.mux("rank_select", value_bits, net.keys, 1);  // the key whose rank is the median's, one-hot
     }
     r.registers("median_out", value_bits, 1);
   }

@@ -8,7 +8,9 @@
 //       memory needs two ports that both write or three accesses per cycle;
 //   r.registers(name, width_bits, count)   state and pipeline registers;
 //   r.op(name, kind, width_bits, count)    operators of the datapath and the control counters;
-//   r.mul(name, a_bits, b_bits, count)     multipliers (their operand widths decide DSP binding).
+//   r.mul(name, a_bits, b_bits, count)     multipliers (their operand widths decide DSP binding);
+//   r.mux(name, width_bits, fan_in, count)  count fan_in:1 multiplexers of width_bits (a register
+//       file or partitioned array read at a run-time index: one mux per read port).
 //
 // A stage's schedule(S& s) declares what limits the initiation interval of its pipelined loop
 // (issue 14; sim/ derives II = max(1, ResMII, RecMII) from it, docs/hls.md):

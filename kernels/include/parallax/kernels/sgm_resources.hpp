@@ -107,7 +107,15 @@ void sgm_declare(const A& a, R& r) {
 agg_declare_paths:
   for (int k = 0; k < kKindCount; ++k) {
     if (((dk >> k) & 1u) == 0) continue;
-    if (d > pu) r.op("path_predecessor_select", kOpMux, pb, pu * (d / pu - 1));
+    if (d > pu) r.mux("path_predecessor_select", pb, d / pu, pu);
+    if (k == kKindRowLeft && d > pu) {
+      // lag_ (the previous row's Lr of column x - 1) is indexed by the chunk: per lane a read
+      // select of D/PU entries, per register its two write sources, one enable per chunk
+      // (review S4, docs/hls-review.md).
+      r.mux("row_left_delay_read", pb, d / pu, pu);
+      r.op("row_left_delay_write_select", kOpMux, pb, d);
+      r.op("row_left_delay_write_enable", kOpCompare, bits_for(uint64_t(d / pu)), d / pu);
+    }
     r.op("path_p1_adds", kOpAdd, pb + 1, 2 * pu);
     r.op("path_p2_add", kOpAdd, pb + 1, 1);
     r.op("path_min_of_four", kOpCompare, pb + 1, 3 * pu);
@@ -123,7 +131,7 @@ agg_declare_paths:
   agg_declare_mgm:
     for (int k = 0; k < kKindCount; ++k) {
       if (((dk >> k) & 1u) == 0) continue;
-      if (d > pu) r.op("mgm_second_select", kOpMux, pb, pu * (d / pu - 1));
+      if (d > pu) r.mux("mgm_second_select", pb, d / pu, pu);
       r.op("mgm_second_p1_adds", kOpAdd, pb + 1, 2 * pu);
       r.op("mgm_second_p2_add", kOpAdd, pb + 1, 1);
       r.op("mgm_second_min_of_four", kOpCompare, pb + 1, 3 * pu);

@@ -241,10 +241,12 @@ class WtaLr {
       r.op("uniqueness_test", kOpCompare, ab + 9, 1);
     }
     if (p_.lr_check) {
-      if (d > pu) r.op("right_candidate_select", kOpMux, ab + db, pu * (d / pu - 1));
+      // The lanes update registers 0 .. PU - 1 (rotating, right_entry): no read select; each
+      // register takes its update, its rotated neighbour or holds (a 2:1 mux after the update's).
+      if (d > pu) r.op("right_candidate_rotate", kOpMux, ab + 1 + db, d);
       r.op("right_compare", kOpCompare, ab, pu);
       r.op("right_select", kOpMux, ab + db, pu);
-      r.op("right_disparity_read", kOpMux, db, d - 1);
+      r.mux("right_disparity_read", db, d, 1);  // emit(): the entry the left disparity points to
       r.op("lr_difference", kOpAdd, db, 2);
       r.op("lr_tolerance", kOpCompare, db, 1);
     }

@@ -24,6 +24,10 @@ struct FitRow {
   bool described = false;
   std::string not_described;     // why, when !described
   bool validation_only = false;  // predicted, never fitted on (this project's designs)
+  // Resources (bit r = Resource r) whose published figure contradicts the function's own source
+  // (models/data/excluded_points.yaml): left out of the fit and the error figures, still printed.
+  unsigned excluded = 0;
+  std::string excluded_why;  // the evidence, one line per excluded resource
   Inventory inventory;
   PublishedUsage published;
   Usage fitted;  // with the coefficients fitted on every row
@@ -36,6 +40,19 @@ struct FitRow {
 // variable are kept, marked not described, with the reason).
 std::vector<FitRow> describe_rows(const std::vector<CsvPoint>& points, const std::vector<FunctionDescription>& fns,
                                   const std::string& file);
+
+// Published figures that contradict their own source, with the evidence: `kernel` and `design`
+// match a row's columns exactly, `resources` lists what is left out (bram18k, dsp, ff, lut).
+struct Exclusion {
+  std::string kernel, design, evidence;
+  unsigned resources = 0;  // bit r = Resource r
+};
+// The compiled-in list (models/data/excluded_points.yaml), or one parsed from text. Throws
+// ConfigError naming the file and the entry.
+const std::vector<Exclusion>& default_exclusions();
+std::vector<Exclusion> parse_exclusions(const std::string& yaml_text, const std::string& file);
+// Marks the rows an exclusion matches; returns how many rows were marked.
+int apply_exclusions(std::vector<FitRow>& rows, const std::vector<Exclusion>& exclusions);
 
 // This project's published designs (models/data/published_points.yaml): the design configs are
 // resolved against `root` (the repository). Throws ConfigError naming the file and the field.
@@ -61,7 +78,7 @@ struct FitResult {
   Coefficients coefficients;  // `start` with the fitted values and DSP thresholds replaced
   std::vector<FitRow> rows;   // in input order, validation rows last
   ResourceStats stats[kResourceCount];
-  int described_rows = 0, fitted_rows = 0;
+  int described_rows = 0, fitted_rows = 0, excluded_rows = 0;
 };
 
 // Fits on the described rows that are not validation_only. Throws std::runtime_error when fewer

@@ -20,12 +20,15 @@
 //   window {rows, cols, width_bits, count}          window registers
 //   registers {width_bits, count}
 //   add | compare | mux | popcount | xor {width_bits, count}   (add: dsp 1 when the source binds it
-//                                                   to a DSP slice, core=AddSub_DSP)
+//                                                   to a DSP slice, core=AddSub_DSP; mux: fan_in N,
+//                                                   count N:1 muxes, 2 by default)
 //   adder_tree {inputs, width_bits, count}          inputs - 1 adders, one bit wider per level
 //   min_tree | max_tree {inputs, width_bits, index_bits, count}   inputs - 1 compare-selects
 //   mul | mul_const {a_bits, b_bits, count, unsigned}   by a variable | by a synthesis-time constant
 //   fmul | fadd | fdiv | fexp | fconv {count}        single-precision floating-point cores
-//   divider {width_bits, divisor_bits, count}       quotient bits x (subtract + select)
+//   divider {width_bits, divisor_bits, count, sequential}   quotient bits x (subtract + select);
+//                                                   sequential 1: outside a pipelined loop, an
+//                                                   iterative core (one subtract + select, its state)
 //   axis | m_axi | s_axilite {width_bits, count}    interface adapters
 // Expressions (muparser): + - * / ^, comparisons, && ||, c ? a : b, min, max, abs, rint and
 // ceil(x), floor(x), ceil_div(a, b), bits(n) (bits to hold 0..n), log2c(n) (ceil log2).

@@ -36,6 +36,7 @@ struct OpItem {
   bool unsigned_operands = false;  // multipliers: unsigned operands take one more bit on a signed DSP
   bool bound_dsp = false;          // adders the source binds to a DSP slice (core=AddSub_DSP / BIND_OP)
   int float_kind = 0;              // 0: integer; else a kFloat* core (single precision, count cores)
+  int fan_in = 2;                  // muxes: inputs per mux (2: a 2:1 mux per bit)
   int64_t count = 0;
 };
 // Single-precision floating-point cores: multiply, add/subtract, divide, exp, conversion to or from
@@ -75,6 +76,7 @@ class Collector {
   void registers(const char* name, int width_bits, int count);
   void op(const char* name, kern::OpKind kind, int width_bits, int count);
   void mul(const char* name, int a_bits, int b_bits, int count);
+  void mux(const char* name, int width_bits, int fan_in, int count);  // count N:1 muxes of width_bits
   // Beyond the kernels' vocabulary (function descriptions, models/data/functions):
   void mul_const(const char* name, int a_bits, int b_bits, int64_t count);
   void memory_item(MemoryItem m);
@@ -90,26 +92,23 @@ class Collector {
 // and its FIFOs (named as in the cycle model, with the configured depths).
 Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int height_px);
 
-// The features LUT and FF are linear in (per stage): operator bits per kind (multipliers in
-// LUTs: a x b bit pairs for LUTs, a + b bits for FFs), declared register bits, memory copies in
-// BRAM or URAM (address and enable logic), interface bits, and one per stage (control).
+// LUT and FF of a design are a structural part and a fitted part (issue 42, docs/resources.md
+// section 3). The structural part is the datapath priced operator by operator from the operator
+// table (operators.hpp: what Yosys maps each kind, width and fan-in to on UltraScale+), the
+// declared registers (one FF per bit) and the memories in LUTs or SRLs. The fitted part is what
+// Vitis adds around a datapath, one feature per kind of overhead, each linear in a count the
+// inventory states:
 enum Feature : int {
-  kFeatAdd = 0,
-  kFeatCompare,
-  kFeatMux,
-  kFeatPopcount,
-  kFeatXor,
-  kFeatMul,       // multipliers by a variable mapped to LUTs
-  kFeatMulConst,  // multipliers by a constant mapped to LUTs (shift-and-add)
-  kFeatDspMul,    // multipliers on DSP48 slices (their pipeline registers and operand muxes)
-  kFeatFloat,     // single-precision floating-point cores (per core: alignment, normalisation)
-  kFeatRegister,
-  kFeatMemory,
-  kFeatInterface,
-  kFeatStage,
+  kFeatStage = 0,  // per dataflow process: the pipelined loop's FSM, start/done/continue handshakes
+  kFeatMemory,     // per block or UltraRAM memory: address, enable and output-select logic
+  kFeatFifo,       // per stream FIFO: full/empty control and the valid/ready handshake
+  kFeatInterface,  // per bit of a top-level port adapter (AXI4-Stream, AXI4, AXI4-Lite)
+  kFeatPipeline,   // per bit an operator outputs: the pipeline registers between stages of latency
+  kFeatDsp,        // per DSP slice: operand alignment and the registers outside the slice
+  kFeatFloat,      // per floating-point core (Vitis IP, not mapped here), weighted by kFloatSize
   kFeatureCount
 };
-const char* feature_name(int f);  // "add", ..., "stage"
+const char* feature_name(int f);  // "stage", "memory", ..., "float"
 
 // Estimate flavour: what Vitis HLS C synthesis reports (csynth, like the published rows), or
 // after place and route (routed: csynth x the documented per-resource ratios).
@@ -120,8 +119,8 @@ Flavour parse_flavour(const std::string& name);
 
 // Per-operator cost coefficients (models/data/resource_model.yaml).
 struct Coefficients {
-  // LUT and FF per unit of each feature: the fitted values and the structural priors the fit
-  // is pulled towards where the rows do not pin a feature.
+  // LUT and FF per unit of each overhead feature: the fitted values and the priors the fit is
+  // pulled towards where the rows do not pin a feature.
   double lut[kFeatureCount] = {}, ff[kFeatureCount] = {};
   double lut_prior[kFeatureCount] = {}, ff_prior[kFeatureCount] = {};
   // DSP binding (learned from the rows, `parallax fit-resources`): a multiplier goes to DSP48E2
@@ -151,9 +150,17 @@ struct Usage {
   int64_t bram18k = 0, uram = 0, lut = 0, ff = 0, dsp = 0;
   int64_t lutram_luts = 0, srl_luts = 0;  // of lut: memories in LUTs
 };
+// Where a stage's LUT and FF come from (csynth, before any routed ratio): the datapath operators
+// (adders, comparators, popcounts, XORs, multipliers in fabric), the muxes and write decoders,
+// memories in LUTs or SRLs, the declared registers, and the fitted Vitis overheads.
+struct Breakdown {
+  double operators = 0, muxes = 0, memories = 0, registers = 0, overhead = 0;
+  double total() const { return operators + muxes + memories + registers + overhead; }
+};
 struct StageUsage {
   std::string stage;
   Usage usage;
+  Breakdown lut, ff;
 };
 struct Estimate {
   Flavour flavour = Flavour::csynth;
@@ -167,11 +174,21 @@ Estimate estimate(const Inventory& inv, const Coefficients& c = default_coeffici
 // LUT = lut_base + sum(lut[i] x lut_f[i]), FF = ff_base + sum(ff[i] x ff_f[i]).
 struct Features {
   double lut_f[kFeatureCount] = {}, ff_f[kFeatureCount] = {};
-  double lut_base = 0;  // LUTRAM + SRL LUTs (structural)
-  double ff_base = 0;   // SRL output registers (structural)
+  double lut_base = 0;  // structural: operators, muxes, LUTRAM and SRL LUTs (the operator table)
+  double ff_base = 0;   // structural: declared registers, SRL output registers
+  Breakdown lut_parts, ff_parts;  // lut_base and ff_base by origin (overhead 0 here)
   int64_t bram18k = 0, uram = 0, dsp = 0;
 };
 Features features(const Inventory& inv, const Coefficients& c = default_coefficients());
+// One priced line of a design: an inventory item (or a stage's own overhead, name "(process)")
+// with what it costs under c, csynth; `what` describes it ("add 13b x2", "mux 8b 10:1 x6", ...).
+struct PricedItem {
+  std::string stage, name, what;
+  double lut = 0, ff = 0;
+  int64_t dsp = 0, bram18k = 0;
+};
+std::vector<PricedItem> priced_items(const Inventory& inv, const Coefficients& c = default_coefficients());
+
 // The DSP48 slices one multiplier or floating-point item takes under c's binding rule (0: in
 // LUTs); dsp_b_bits: the device's slice B width when not c's (Inventory::dsp_b_bits).
 int64_t dsp_for(const OpItem& o, const Coefficients& c, int dsp_b_bits = 0);
