@@ -9,6 +9,8 @@
 //   r.registers(name, width_bits, count)   state and pipeline registers;
 //   r.op(name, kind, width_bits, count)    operators of the datapath and the control counters;
 //   r.mul(name, a_bits, b_bits, count)     multipliers (their operand widths decide DSP binding);
+//   r.mul_const(name, a_bits, const_bits, count)   multipliers by a design constant of the export
+//       (shift-and-add unless the binding rule puts them on a slice);
 //   r.mux(name, width_bits, fan_in, count)  count fan_in:1 multiplexers of width_bits (a register
 //       file or partitioned array read at a run-time index: one mux per read port).
 //

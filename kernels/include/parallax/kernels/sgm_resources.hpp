@@ -147,12 +147,15 @@ agg_declare_paths:
   }
   if (p.p2_adaptive > 0) {
     // Per active kind: |I(p) - I(q)| (a subtraction and a negation's select), the product by
-    // the register (8 x 8 bits), P2 minus it with the floor P1 + 1 (a subtraction, a compare
-    // and a select), and the selects of the window's shift.
+    // the design constant a (kP2Adaptive in the export: shift-and-add, review S9), P2 minus it
+    // with the floor P1 + 1 (a subtraction, a compare and a select), and the selects of the
+    // window's shift.
     const int pen = penalty_bits(p);
     r.op("p2_adaptive_step", kOpAdd, 9, 2 * a.steps());
     r.op("p2_adaptive_abs", kOpMux, 8, a.steps());
-    r.mul("p2_adaptive_product", 8, kP2AdaptiveBits, a.steps());
+    const uint64_t factor = uint64_t(p.p2_adaptive);
+    if ((factor & (factor - 1)) != 0)  // a power of two is a shift: wiring
+      r.mul_const("p2_adaptive_product", 8, bits_for(factor), a.steps());
     r.op("p2_adaptive_lower", kOpAdd, pen + 1, a.steps());
     r.op("p2_adaptive_floor", kOpCompare, pen + 1, a.steps());
     r.op("p2_adaptive_floor_select", kOpMux, pen, a.steps());

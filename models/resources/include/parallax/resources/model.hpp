@@ -77,8 +77,8 @@ class Collector {
   void op(const char* name, kern::OpKind kind, int width_bits, int count);
   void mul(const char* name, int a_bits, int b_bits, int count);
   void mux(const char* name, int width_bits, int fan_in, int count);  // count N:1 muxes of width_bits
+  void mul_const(const char* name, int a_bits, int b_bits, int64_t count);  // by a synthesis-time constant
   // Beyond the kernels' vocabulary (function descriptions, models/data/functions):
-  void mul_const(const char* name, int a_bits, int b_bits, int64_t count);
   void memory_item(MemoryItem m);
   void op_item(OpItem o);
   void interface(const char* name, const std::string& kind, int width_bits, int64_t count);
