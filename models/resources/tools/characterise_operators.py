@@ -147,8 +147,10 @@ def characterise(row):
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--out", default=os.path.normpath(os.path.join(here, "..", "..", "data", "operators.csv")))
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--out", default=os.path.normpath(os.path.join(here, "..", "..", "data", "operators.csv")),
+                    help="the table to write (default: models/data/operators.csv, the committed one)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                    help="Yosys runs in parallel (default: the machine's cores)")
     ap.add_argument("--only", default="", help="comma-separated kinds")
     ap.add_argument("--sample", type=int, default=0, help="every N-th row only; print instead of writing")
     a = ap.parse_args()
