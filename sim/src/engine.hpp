@@ -462,6 +462,18 @@ class Engine : private PipelineRun<kTimed> {
     return fe;
   }
 
+  // The SGM and WTA stages as the pipeline description configures them (kern::stage_setup()),
+  // recorded in the report.
+  template <class Agg>
+  void configure_sgm(Agg& agg, const char* stage) {
+    agg.configure(p_, kern::stage_setup(stage, p_.path_mask));
+    if (rep_) rep_->stage_setups.emplace_back(stage, agg.setup());
+  }
+  void configure_wta() {
+    wta_.configure(p_, kern::stage_setup("wta_lr", p_.path_mask));
+    if (rep_) rep_->stage_setups.emplace_back("wta_lr", wta_.setup());
+  }
+
   void collect_front_end(FrontEnd& f) {
     if (f.raw_l) collect(std::move(f.raw_l), std::move(f.raw_r), std::move(f.map_l), std::move(f.map_r));
     if (rep_ && rectifying()) rep_->rectify_window_misses = rect_l_->window_misses() + rect_r_->window_misses();
@@ -482,14 +494,14 @@ class Engine : private PipelineRun<kTimed> {
   };
   std::unique_ptr<BackEnd> one_pass_back_end(Fifo<CostTok>& costs, DisparityCodes& out, int64_t& got) {
     const bool rr = kern::row_reverse_paths(p_.path_mask);
-    agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, rr);
+    configure_sgm(agg_, "aggregate");
     if constexpr (Caps::count_accesses) agg_.count_row_layout();
-    wta_.configure(p_, rr);
+    configure_wta();
     median_.configure(p_);
     auto be = std::make_unique<BackEnd>();
     if (rr) {
       row_rev_.configure(p_);
-      agg_row_.configure(p_, kern::stream_kinds(kern::kPath180, true), true, false);
+      configure_sgm(agg_row_, "aggregate_row");
       code_rev_.configure(p_);
       be->cost_to_row = make_fifo<CostTok>("cost_to_row", kTokenDepth);
       be->fwd_to_row = make_fifo<SumTok>("fwd_to_row", kTokenDepth);
@@ -567,7 +579,7 @@ class Engine : private PipelineRun<kTimed> {
     }
     const Rate ddr = ddr_rate();
     cost.configure(p_);
-    agg_.configure(p_, kern::stream_kinds(p_.path_mask, false), false, true);
+    configure_sgm(agg_, "aggregate");
     if constexpr (Caps::count_accesses) agg_.count_row_layout();
     std::unique_ptr<FrontEnd> fe = front_end(left, right);
     Fifo<uint8_t>& in_l = *fe->out_l;
@@ -592,9 +604,9 @@ class Engine : private PipelineRun<kTimed> {
     }
     if (rep_) rep_->ddr_bytes_written = stored * fl.word_bytes;
     const int64_t pass2_start = n_wr.t_next() + ddr_latency_cycles();
-    agg_.configure(p_, kern::stream_kinds(p_.path_mask, true), true, false);
+    configure_sgm(agg_, "aggregate_back");
     if constexpr (Caps::count_accesses) agg_.count_row_layout();
-    wta_.configure(p_, true);
+    configure_wta();
     median_.configure(p_);
     auto back_c = make_fifo<CostTok>("cost_from_ddr", kTokenDepth);
     auto back_f = make_fifo<SumTok>("fwd_from_ddr", kTokenDepth);

@@ -250,19 +250,20 @@ std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const ke
     out.push_back(collect("cost", *cost, clock_hz, counted));
   }
   {
+    // The SGM and WTA stages with the configure() arguments of the pipeline description.
     auto agg = make_stage<kern::SgmAggregate<ScheduleCaps, uint32_t>>();
-    agg->configure(p, kern::stream_kinds(p.path_mask, false), false, false);
-    out.push_back(collect("aggregate", *agg, clock_hz, counted));
-    if (kern::two_pass_paths(p.path_mask)) {
-      agg->configure(p, kern::stream_kinds(p.path_mask, true), true, false);
-      out.push_back(collect("aggregate_back", *agg, clock_hz, counted));
-    }
+    auto add_sgm = [&](const char* stage) {
+      agg->configure(p, kern::stage_setup(stage, p.path_mask));
+      out.push_back(collect(stage, *agg, clock_hz, counted));
+      out.back().setup = agg->setup();
+    };
+    add_sgm("aggregate");
+    if (kern::two_pass_paths(p.path_mask)) add_sgm("aggregate_back");
     if (kern::row_reverse_paths(p.path_mask)) {
       auto rev = make_stage<kern::RowReverse<ScheduleCaps, uint32_t>>();
       rev->configure(p);
       out.push_back(collect("row_reverse", *rev, clock_hz, counted));
-      agg->configure(p, kern::stream_kinds(kern::kPath180, true), true, false);
-      out.push_back(collect("aggregate_row", *agg, clock_hz, counted));
+      add_sgm("aggregate_row");
       auto codes = make_stage<kern::RowReverseCodes<ScheduleCaps>>();
       codes->configure(p);
       out.push_back(collect("row_unreverse", *codes, clock_hz, counted));
@@ -270,8 +271,9 @@ std::vector<StageSchedule> stage_schedules(const kern::StereoParams& p, const ke
   }
   {
     auto wta = make_stage<kern::WtaLr<ScheduleCaps, uint32_t>>();
-    wta->configure(p, false);
+    wta->configure(p, kern::stage_setup("wta_lr", p.path_mask));
     out.push_back(collect("wta_lr", *wta, clock_hz, counted));
+    out.back().setup = wta->setup();
   }
   {
     auto median = make_stage<kern::Median<ScheduleCaps>>();

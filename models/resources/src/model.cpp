@@ -178,19 +178,20 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
   const bool row_reverse = kern::row_reverse_paths(p.path_mask);
   {
     auto agg = std::make_unique<kern::SgmAggregate<DeclCaps, uint32_t>>();
-    agg->configure(p, kern::stream_kinds(p.path_mask, false), false, two_pass || row_reverse);
-    Collector c(inv, "aggregate");
-    agg->declare(c);
+    // The SGM stages with the configure() arguments of the pipeline description.
+    auto declare_sgm = [&](const char* stage) {
+      agg->configure(p, kern::stage_setup(stage, p.path_mask));
+      inv.setups.emplace_back(stage, agg->setup());
+      Collector c(inv, stage);
+      agg->declare(c);
+    };
+    declare_sgm("aggregate");
     if (two_pass) {
       // The frame buffer's writer: its on-chip reversal (kernels/frame_buffer.hpp).
       Collector w(inv, "ddr_write");
       kern::declare_frame_segment_buffer(w, p);
     }
-    if (two_pass) {
-      agg->configure(p, kern::stream_kinds(p.path_mask, true), true, false);
-      Collector b(inv, "aggregate_back");
-      agg->declare(b);
-    }
+    if (two_pass) declare_sgm("aggregate_back");
     if (row_reverse) {
       // The 180-degree path in the one pass (kernels/row_reverse.hpp): the row memories of costs
       // and forward sums, the pixel kind's aggregation, the codes' row memory.
@@ -198,14 +199,13 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
       rev->configure(p);
       Collector r(inv, "row_reverse");
       rev->declare(r);
-      agg->configure(p, kern::stream_kinds(kern::kPath180, true), true, false);
-      Collector a(inv, "aggregate_row");
-      agg->declare(a);
+      declare_sgm("aggregate_row");
     }
   }
   {
     auto wta = std::make_unique<kern::WtaLr<DeclCaps, uint32_t>>();
-    wta->configure(p, two_pass || row_reverse);
+    wta->configure(p, kern::stage_setup("wta_lr", p.path_mask));
+    inv.setups.emplace_back("wta_lr", wta->setup());
     Collector c(inv, "wta_lr");
     wta->declare(c);
   }

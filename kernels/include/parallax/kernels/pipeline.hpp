@@ -1,11 +1,14 @@
 // The pipeline, described once (issue 14): every stage and every FIFO of each variant (one pass,
 // two passes through a DDR frame buffer, with or without rectification), with the FIFOs'
-// producer, consumer and token. The cycle model's graph (sim/src/engine.hpp), the configuration's
-// stage names (models/config), the resource model's FIFOs (models/resources) and the HLS export's
-// streams (hls/) all read these tables; none keeps a list of its own. C++14, no STL.
+// producer, consumer and token, and how each stage's kernel is configured (issue 43:
+// stage_setup(), for_each_stage()). The cycle model's graph (sim/src/engine.hpp), the schedule
+// (sim/src/schedule.cpp), the configuration's stage names (models/config), the resource model's
+// inventory and FIFOs (models/resources) and the HLS export's streams and stage functions (hls/)
+// all read these tables; none keeps a list or a configure() argument of its own. C++14, no STL.
 #pragma once
 
 #include "parallax/kernels/params.hpp"
+#include "parallax/kernels/sgm_kinds.hpp"
 
 namespace parallax {
 namespace kern {
@@ -34,6 +37,8 @@ struct PipelineStage {
   const char* name;  // the cycle model's stage (reports, timing overrides, ii_<name> fields)
   unsigned when;
   const char* role;  // one line: what the stage does
+  bool flips_order;  // its output runs in the opposite pixel order to its input (a reversal)
+  unsigned paths;    // SGM stages: the path directions it aggregates (of the design's); else 0
 };
 
 struct PipelineFifo {
@@ -46,22 +51,23 @@ struct PipelineFifo {
 };
 
 constexpr PipelineStage kPipelineStages[] = {
-    {"source", kWhenAlways, "the left and right pixels, from memory or a camera"},
-    {"map_left", kWhenRectify, "the left camera's remap table, from memory"},
-    {"map_right", kWhenRectify, "the right camera's remap table, from memory"},
-    {"rectify_left", kWhenRectify, "remap of the left image through a line buffer (rectify.hpp)"},
-    {"rectify_right", kWhenRectify, "remap of the right image through a line buffer (rectify.hpp)"},
-    {"cost", kWhenAlways, "Census or SAD matching costs, PU per firing (census.hpp, sad.hpp)"},
-    {"aggregate", kWhenAlways, "SGM over the forward paths (sgm.hpp)"},
-    {"ddr_write", kWhenTwoPass, "costs and forward sums into the DDR frame buffer"},
-    {"ddr_read", kWhenTwoPass, "the same, read back in reverse order"},
-    {"aggregate_back", kWhenTwoPass, "SGM over the backward paths on the reversed stream (sgm.hpp)"},
-    {"row_reverse", kWhenRowReverse, "each row's costs and forward sums, pixels reversed (row_reverse.hpp)"},
-    {"aggregate_row", kWhenRowReverse, "SGM's 180-degree path on the reversed rows (sgm.hpp)"},
-    {"wta_lr", kWhenAlways, "winner-takes-all and left-right check (wta_lr.hpp)"},
-    {"median", kWhenAlways, "k x k median of the codes (median.hpp)"},
-    {"row_unreverse", kWhenRowReverse, "the codes of each row back in raster order (row_reverse.hpp)"},
-    {"sink", kWhenAlways, "the disparity codes out"},
+    {"source", kWhenAlways, "the left and right pixels, from memory or a camera", false, 0},
+    {"map_left", kWhenRectify, "the left camera's remap table, from memory", false, 0},
+    {"map_right", kWhenRectify, "the right camera's remap table, from memory", false, 0},
+    {"rectify_left", kWhenRectify, "remap of the left image through a line buffer (rectify.hpp)", false, 0},
+    {"rectify_right", kWhenRectify, "remap of the right image through a line buffer (rectify.hpp)", false, 0},
+    {"cost", kWhenAlways, "Census or SAD matching costs, PU per firing (census.hpp, sad.hpp)", false, 0},
+    {"aggregate", kWhenAlways, "SGM over the forward paths (sgm.hpp)", false, kForwardPaths},
+    {"ddr_write", kWhenTwoPass, "costs and forward sums into the DDR frame buffer", false, 0},
+    {"ddr_read", kWhenTwoPass, "the same, read back in reverse order", true, 0},
+    {"aggregate_back", kWhenTwoPass, "SGM over the backward paths on the reversed stream (sgm.hpp)", false,
+     kBackwardPaths},
+    {"row_reverse", kWhenRowReverse, "each row's costs and forward sums, pixels reversed (row_reverse.hpp)", true, 0},
+    {"aggregate_row", kWhenRowReverse, "SGM's 180-degree path on the reversed rows (sgm.hpp)", false, kPath180},
+    {"wta_lr", kWhenAlways, "winner-takes-all and left-right check (wta_lr.hpp)", false, 0},
+    {"median", kWhenAlways, "k x k median of the codes (median.hpp)", false, 0},
+    {"row_unreverse", kWhenRowReverse, "the codes of each row back in raster order (row_reverse.hpp)", true, 0},
+    {"sink", kWhenAlways, "the disparity codes out", false, 0},
 };
 
 constexpr PipelineFifo kPipelineFifos[] = {
@@ -96,12 +102,20 @@ constexpr PipelineFifo kPipelineFifos[] = {
 constexpr int kPipelineStageCount = int(sizeof(kPipelineStages) / sizeof(kPipelineStages[0]));
 constexpr int kPipelineFifoCount = int(sizeof(kPipelineFifos) / sizeof(kPipelineFifos[0]));
 
-// The conditions a design meets.
-inline unsigned pipeline_conditions(const StereoParams& p, bool rectify) {
-  return (two_pass_paths(p.path_mask) ? kWhenTwoPass : kWhenOnePass) | (rectify ? kWhenRectify : kWhenNoRectify) |
-         (row_reverse_paths(p.path_mask) ? kWhenRowReverse : kWhenNoRowReverse);
+constexpr bool pipeline_same_name(const char* a, const char* b) {
+  while (*a != 0 && *a == *b) ++a, ++b;
+  return *a == *b;
 }
-inline bool pipeline_has(unsigned when, unsigned conditions) {
+
+// The conditions a design meets.
+constexpr unsigned pipeline_conditions(unsigned path_mask, bool rectify) {
+  return (two_pass_paths(path_mask) ? kWhenTwoPass : kWhenOnePass) | (rectify ? kWhenRectify : kWhenNoRectify) |
+         (row_reverse_paths(path_mask) ? kWhenRowReverse : kWhenNoRowReverse);
+}
+inline unsigned pipeline_conditions(const StereoParams& p, bool rectify) {
+  return pipeline_conditions(p.path_mask, rectify);
+}
+constexpr bool pipeline_has(unsigned when, unsigned conditions) {
   return (when & ~conditions) == 0;
 }
 
@@ -118,12 +132,79 @@ inline int token_bits(TokenKind t, const StereoParams& p) {
 inline const PipelineFifo* pipeline_fifo(const char* name, unsigned conditions) {
   for (int i = 0; i < kPipelineFifoCount; ++i) {
     const PipelineFifo& f = kPipelineFifos[i];
-    const char* a = f.name;
-    const char* b = name;
-    while (*a != 0 && *a == *b) ++a, ++b;
-    if (*a == *b && pipeline_has(f.when, conditions)) return &f;
+    if (pipeline_same_name(f.name, name) && pipeline_has(f.when, conditions)) return &f;
   }
   return nullptr;
+}
+
+// --- how each stage's kernel is configured (issue 43) ---------------------------------------
+
+// The configure() arguments of a stage's kernel beyond the design's parameters, derived from the
+// tables above for the design's variant, so that no consumer writes them: SgmAggregate::
+// configure(p, sgm_kinds, add_forward, tee_cost) and WtaLr::configure(p, reverse).
+struct StageSetup {
+  unsigned sgm_kinds;  // SGM stages: StreamPathKind bits of the paths it aggregates (stream_kinds())
+  bool add_forward;    // SGM stages: a second input of forward sums F to add (a sum FIFO in)
+  bool tee_cost;       // SGM stages: the costs copied to a second output (a cost FIFO out)
+  bool reverse;        // other stages: the input runs right to left (pipeline_output_reversed of a
+                       // producer); an SGM stage's direction is in its kinds
+};
+constexpr bool operator==(const StageSetup& a, const StageSetup& b) {
+  return a.sgm_kinds == b.sgm_kinds && a.add_forward == b.add_forward && a.tee_cost == b.tee_cost &&
+         a.reverse == b.reverse;
+}
+constexpr bool operator!=(const StageSetup& a, const StageSetup& b) {
+  return !(a == b);
+}
+
+constexpr const PipelineStage* pipeline_stage(const char* name) {
+  for (int i = 0; i < kPipelineStageCount; ++i)
+    if (pipeline_same_name(kPipelineStages[i].name, name)) return &kPipelineStages[i];
+  return nullptr;
+}
+
+// Whether the tokens `stage` emits run right to left in the variant `cond`: a stage without input
+// FIFOs emits raster order (or, flipping, the reverse: ddr_read); any other keeps its inputs'
+// order unless it flips it.
+constexpr bool pipeline_output_reversed(const PipelineStage& st, unsigned cond, int depth = 0) {
+  bool in_reversed = false;
+  for (int i = 0; i < kPipelineFifoCount && depth < kPipelineStageCount; ++i) {
+    const PipelineFifo& f = kPipelineFifos[i];
+    if (!pipeline_has(f.when, cond) || !pipeline_same_name(f.consumer, st.name)) continue;
+    const PipelineStage* from = pipeline_stage(f.producer);
+    if (from != nullptr && pipeline_output_reversed(*from, cond, depth + 1)) in_reversed = true;
+  }
+  return in_reversed != st.flips_order;
+}
+
+// The setup of `stage` in the variant of path_mask (`rectify` does not change any setup). A
+// stage not in the variant gets the all-zero setup. constexpr: the export folds it at compile time.
+constexpr StageSetup stage_setup(const char* stage, unsigned path_mask, bool rectify = false) {
+  StageSetup s = {0u, false, false, false};
+  const PipelineStage* st = pipeline_stage(stage);
+  const unsigned cond = pipeline_conditions(path_mask, rectify);
+  if (st == nullptr || !pipeline_has(st->when, cond)) return s;
+  for (int i = 0; i < kPipelineFifoCount; ++i) {
+    const PipelineFifo& f = kPipelineFifos[i];
+    if (!pipeline_has(f.when, cond)) continue;
+    if (pipeline_same_name(f.producer, stage) && f.token == kTokenCost && st->paths != 0) s.tee_cost = true;
+    if (!pipeline_same_name(f.consumer, stage)) continue;
+    if (f.token == kTokenSum && st->paths != 0) s.add_forward = true;
+    const PipelineStage* from = pipeline_stage(f.producer);
+    if (st->paths == 0 && from != nullptr && pipeline_output_reversed(*from, cond)) s.reverse = true;
+  }
+  if (st->paths != 0) s.sgm_kinds = stream_kinds(path_mask & st->paths, (st->paths & kBackwardPaths) != 0);
+  return s;
+}
+
+// Calls v(stage, setup) for every stage of the design's variant, in pipeline order.
+template <class V>
+void for_each_stage(unsigned path_mask, bool rectify, V& v) {
+  const unsigned cond = pipeline_conditions(path_mask, rectify);
+  for (int i = 0; i < kPipelineStageCount; ++i) {
+    const PipelineStage& st = kPipelineStages[i];
+    if (pipeline_has(st.when, cond)) v(st, stage_setup(st.name, path_mask, rectify));
+  }
 }
 
 }  // namespace kern

@@ -17,6 +17,7 @@
 
 #include "parallax/kernels/caps.hpp"
 #include "parallax/kernels/common.hpp"
+#include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/resources.hpp"
 #include "parallax/kernels/shift_reg.hpp"
 #include "parallax/kernels/sgm_kinds.hpp"
@@ -122,6 +123,16 @@ class SgmAggregate {
     }
   }
 
+  // As the pipeline description configures the stage (pipeline.hpp: stage_setup(stage, path_mask)):
+  // every consumer (engines, schedule, resource inventory, export) calls this one.
+  void configure(const StereoParams& p, const StageSetup& s) {
+    configure(p, s.sgm_kinds, s.add_forward, s.tee_cost);
+  }
+  // What the stage was configured with (the kinds within Caps::kind_mask), for the tests that hold
+  // every consumer to the description.
+  StageSetup setup() const {
+    return StageSetup{kinds_, add_forward_, tee_cost_, false};
+  }
   // kinds: StreamPathKind bits (their datapaths within Caps::kind_mask, datapath_kinds()); add_forward: add F from a
   // second input; tee_cost: copy the costs to a second output.
   void configure(const StereoParams& p, unsigned kinds, bool add_forward, bool tee_cost) {

@@ -18,9 +18,8 @@ enum StreamPathKind : int {
 
 // The stream kinds of one pass for an image-direction path mask. forward: 0/45/90/135 map to
 // pixel/row-left/row-up/row-right; backward (reversed stream): 180/225/270/315 likewise.
-inline unsigned stream_kinds(unsigned path_mask, bool backward) {
-  const unsigned m = backward ? (path_mask >> 4) : path_mask;
-  return m & 0xFu;
+constexpr unsigned stream_kinds(unsigned path_mask, bool backward) {
+  return (backward ? (path_mask >> 4) : path_mask) & 0xFu;
 }
 
 // The kinds whose datapaths an MGM stage computes for the stream kinds `kinds`: the pixel kind

@@ -13,6 +13,7 @@
 
 #include "parallax/kernels/common.hpp"
 #include "parallax/kernels/params.hpp"
+#include "parallax/kernels/pipeline.hpp"
 #include "parallax/sim/func.hpp"
 
 namespace parallax::sim {
@@ -125,6 +126,9 @@ struct CycleReport {
   int64_t ddr_bytes_written = 0;  // frame buffer, pass 1
   int64_t ddr_bytes_read = 0;     // frame buffer, pass 2
   int64_t map_bytes_written = 0;  // disparity map, pass 2
+  // What the engine configured each SGM and WTA stage with, in configure() order (tests hold it
+  // to kern::stage_setup(), the pipeline description).
+  std::vector<std::pair<std::string, kern::StageSetup>> stage_setups;
 };
 
 // Extra cycles a firing of chunk `chunk` needs beyond II because the path-cost row memories'

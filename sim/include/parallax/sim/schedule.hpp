@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "parallax/kernels/params.hpp"
+#include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/resources.hpp"
 
 namespace parallax::sim {
@@ -70,6 +71,7 @@ struct StageSchedule {
   int res_mii = 1;
   int rec_mii = 1;
   int ii = 1;
+  kern::StageSetup setup = {0u, false, false, false};  // what the stage's kernel was configured with
   std::string
       limit;  // what sets II: "memory NAME: R reads + W writes on P ports" or "recurrence NAME: X ns over D firings"
 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "parallax/config/config.hpp"
+#include "parallax/kernels/pipeline.hpp"
 #include "parallax/kernels/resources.hpp"
 #include "parallax/resources/bram.hpp"
 #include "parallax/resources/devices.hpp"
@@ -66,6 +67,9 @@ struct Inventory {
   std::vector<RegisterItem> registers;
   std::vector<InterfaceItem> interfaces;
   int dsp_b_bits = 0;  // the device's DSP slice B width when not the coefficients' (Versal DSP58: 24)
+  // What design_inventory() configured each SGM and WTA stage with (tests hold it to
+  // kern::stage_setup(), the pipeline description).
+  std::vector<std::pair<std::string, kern::StageSetup>> setups;
 };
 
 // The sink the kernels' declare() methods call (kern::resources.hpp), for one stage.

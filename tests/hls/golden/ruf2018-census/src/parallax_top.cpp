@@ -163,8 +163,9 @@ void wta_lr_stage(hls::stream<SumBeat>& sum_beats, hls::stream<CodeBeat>& disp_b
   WtaLrT stage;
   SumStream sum(sum_beats);
   CodeStream disp(disp_beats);
-  // Two passes, or the 180-degree path in one: the stream runs right to left.
-  stage.configure(wta_lr_params(lr_tolerance, uniqueness_pct), kTwoPass || kRowReverse);
+  // Two passes, or the 180-degree path in one: the stream runs right to left (pipeline.hpp, folded).
+  constexpr kern::StageSetup kSetup = kern::stage_setup("wta_lr", kPathMask);
+  stage.configure(wta_lr_params(lr_tolerance, uniqueness_pct), kSetup);
   PX_COUNT_STORAGE("wta_lr", stage)
 wta_lr_loop:
   while (!stage.done()) {
@@ -210,7 +211,8 @@ void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& su
   AggregateT stage;
   CostStream cost(cost_beats);
   SumStream sum(sum_beats);
-  stage.configure(aggregate_params(p1, p2), kern::stream_kinds(kPathMask, false), false, false);
+  constexpr kern::StageSetup kSetup = kern::stage_setup("aggregate", kPathMask);  // pipeline.hpp, folded
+  stage.configure(aggregate_params(p1, p2), kSetup);
   PX_COUNT_STORAGE("aggregate", stage)
   kern::NoStream<SumToken> no_forward;
   kern::NoStream<CostToken> no_tee;
