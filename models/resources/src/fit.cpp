@@ -103,7 +103,8 @@ std::vector<Exclusion> parse_exclusions(const std::string& text, const std::stri
 }
 
 const std::vector<Exclusion>& default_exclusions() {
-  static const std::vector<Exclusion> e = parse_exclusions(data::excluded_points_yaml, "models/data/excluded_points.yaml");
+  static const std::vector<Exclusion> e =
+      parse_exclusions(data::excluded_points_yaml, "models/data/excluded_points.yaml");
   return e;
 }
 

@@ -256,8 +256,7 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
 // --- coefficients -------------------------------------------------------------------------
 
 const char* feature_name(int f) {
-  static const char* const names[kFeatureCount] = {"stage",    "memory", "fifo", "interface",
-                                                   "pipeline", "dsp",    "float"};
+  static const char* const names[kFeatureCount] = {"stage", "memory", "fifo", "interface", "pipeline", "dsp", "float"};
   return f >= 0 && f < kFeatureCount ? names[f] : "unknown";
 }
 

@@ -187,8 +187,8 @@ MappedCost mapped_cost(const std::vector<OperatorRow>& t, const std::string& kin
     const int a = std::max(w, b_bits), b = std::max(1, std::min(w, b_bits > 0 ? b_bits : w));
     const OperatorRow* best = nullptr;
     for (const OperatorRow& r : t)
-      if (r.kind == kind && (!best || std::abs(r.width_bits * r.b_bits - a * b) <
-                                          std::abs(best->width_bits * best->b_bits - a * b)))
+      if (r.kind == kind &&
+          (!best || std::abs(r.width_bits * r.b_bits - a * b) < std::abs(best->width_bits * best->b_bits - a * b)))
         best = &r;
     if (!best) throw std::invalid_argument("operator table: no mul_fabric rows");
     return best->cost * (double(a) * b / (double(best->width_bits) * best->b_bits));

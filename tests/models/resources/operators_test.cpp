@@ -91,8 +91,8 @@ TEST(OperatorTable, ASampleMapsAgainCellForCell) {
 TEST(OperatorTable, CoversTheKernelsAndIsMonotone) {
   const Table t = committed();
   // Every kind the kernels' declarations use, up to 64 bits (census codes), muxes up to 64:1.
-  for (const char* kind :
-       {"add", "compare", "equal", "min2", "xor", "mux", "decoder", "popcount", "mul", "mul_fabric", "register", "srl"}) {
+  for (const char* kind : {"add", "compare", "equal", "min2", "xor", "mux", "decoder", "popcount", "mul", "mul_fabric",
+                           "register", "srl"}) {
     bool found = false;
     for (const auto& [key, row] : t.rows) found = found || std::get<0>(key) == kind;
     EXPECT_TRUE(found) << kind;

@@ -165,9 +165,9 @@ void print_summary(const res::FitResult& fr) {
       100.0 * s[res::kResBram].lofo.exact_share(), verdict(s[res::kResBram].lofo.exact_share() >= kBramExactTarget),
       100.0 * s[res::kResDsp].lofo.exact_share(), verdict(s[res::kResDsp].lofo.exact_share() >= kDspExactTarget));
   for (int r : {int(res::kResLut), int(res::kResFf)})
-    std::printf("         %s median <= 20%%: %.1f%% %s; p90 <= 45%%: %.1f%% %s\n",
-                res::resource_name(r), s[r].lofo.median_pct, verdict(s[r].lofo.median_pct <= kLofoMedianTargetPct),
-                s[r].lofo.p90_pct, verdict(s[r].lofo.p90_pct <= kLofoP90TargetPct));
+    std::printf("         %s median <= 20%%: %.1f%% %s; p90 <= 45%%: %.1f%% %s\n", res::resource_name(r),
+                s[r].lofo.median_pct, verdict(s[r].lofo.median_pct <= kLofoMedianTargetPct), s[r].lofo.p90_pct,
+                verdict(s[r].lofo.p90_pct <= kLofoP90TargetPct));
 }
 
 void print_fit_text(const res::FitResult& fr, const std::string& points_path, res::Flavour flavour) {

@@ -123,13 +123,11 @@ class SgmAggregate {
     }
   }
 
-  // As the pipeline description configures the stage (pipeline.hpp: stage_setup(stage, path_mask)):
-  // every consumer (engines, schedule, resource inventory, export) calls this one.
+  // As the pipeline description configures the stage (pipeline.hpp: stage_setup()); setup() is what
+  // it was configured with (the kinds within Caps::kind_mask), which tests hold to the description.
   void configure(const StereoParams& p, const StageSetup& s) {
     configure(p, s.sgm_kinds, s.add_forward, s.tee_cost);
   }
-  // What the stage was configured with (the kinds within Caps::kind_mask), for the tests that hold
-  // every consumer to the description.
   StageSetup setup() const {
     return StageSetup{kinds_, add_forward_, tee_cost_, false};
   }
@@ -778,30 +776,7 @@ class SgmAggregate {
 
   // The adaptive P2's state (adapt_p2): no hardware without it; the row intensities only with a row kind active.
   template <class V>
-  void intensity_storage(V& v) const {
-    const bool on = p_.p2_adaptive > 0;
-    const bool rows = on && row_intensities();
-    if (on) {
-      v.registers("intensity_current", cur_px_, 1, 8);
-      v.registers("intensity_previous_pixel", prev_px_, 1, 8);
-      v.registers_part("p2_adaptive_per_kind", p2k_, steps(), penalty_bits(p_));
-    } else {
-      v.unused("intensity_current", cur_px_);
-      v.unused("intensity_previous_pixel", prev_px_);
-      v.unused("p2_adaptive_per_kind", p2k_);
-    }
-    if (rows) {
-      v.memory("row_intensity", row_px_, p_.width_px, 8, 1, false, 1);
-      v.registers("intensity_row_window", up_px_, 3, 8);
-      v.registers("intensity_row_head", head_px_, 2, 8);
-      v.registers("intensity_row_fetched", fetched_px_, 1, 8);
-    } else {
-      v.unused("row_intensity", row_px_);
-      v.unused("intensity_row_window", up_px_);
-      v.unused("intensity_row_head", head_px_);
-      v.unused("intensity_row_fetched", fetched_px_);
-    }
-  }
+  void intensity_storage(V& v) const;  // sgm_resources.hpp
 };
 
 }  // namespace kern

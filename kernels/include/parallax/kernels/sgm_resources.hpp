@@ -223,5 +223,34 @@ agg_storage_kinds:
   intensity_storage(v);
 }
 
+// The p2_adaptive intensities' storage (SgmAggregate::storage): the current and previous pixels'
+// intensities and the per-kind P2, and with row kinds a row of intensities and its window.
+template <class Caps, class Word>
+template <class V>
+void SgmAggregate<Caps, Word>::intensity_storage(V& v) const {
+  const bool on = p_.p2_adaptive > 0;
+  const bool rows = on && row_intensities();
+  if (on) {
+    v.registers("intensity_current", cur_px_, 1, 8);
+    v.registers("intensity_previous_pixel", prev_px_, 1, 8);
+    v.registers_part("p2_adaptive_per_kind", p2k_, steps(), penalty_bits(p_));
+  } else {
+    v.unused("intensity_current", cur_px_);
+    v.unused("intensity_previous_pixel", prev_px_);
+    v.unused("p2_adaptive_per_kind", p2k_);
+  }
+  if (rows) {
+    v.memory("row_intensity", row_px_, p_.width_px, 8, 1, false, 1);
+    v.registers("intensity_row_window", up_px_, 3, 8);
+    v.registers("intensity_row_head", head_px_, 2, 8);
+    v.registers("intensity_row_fetched", fetched_px_, 1, 8);
+  } else {
+    v.unused("row_intensity", row_px_);
+    v.unused("intensity_row_window", up_px_);
+    v.unused("intensity_row_head", head_px_);
+    v.unused("intensity_row_fetched", fetched_px_);
+  }
+}
+
 }  // namespace kern
 }  // namespace parallax

@@ -76,12 +76,8 @@ class WtaLr {
   static constexpr uint64_t kNoneCost = uint64_t(1) << 32;
 
   // As the pipeline description configures the stage (pipeline.hpp: stage_setup("wta_lr", mask)).
-  void configure(const StereoParams& p, const StageSetup& s) {
-    configure(p, s.reverse);
-  }
-  StageSetup setup() const {
-    return StageSetup{0u, false, false, reverse_};
-  }
+  void configure(const StereoParams& p, const StageSetup& s) { configure(p, s.reverse); }
+  StageSetup setup() const { return StageSetup{0u, false, false, reverse_}; }
   void configure(const StereoParams& p, bool reverse) {
     left_d_.name("left_disparities");
     left_frac_.name("left_fractions");

@@ -80,7 +80,7 @@ class Collector {
   void registers(const char* name, int width_bits, int count);
   void op(const char* name, kern::OpKind kind, int width_bits, int count);
   void mul(const char* name, int a_bits, int b_bits, int count);
-  void mux(const char* name, int width_bits, int fan_in, int count);  // count N:1 muxes of width_bits
+  void mux(const char* name, int width_bits, int fan_in, int count);        // count N:1 muxes of width_bits
   void mul_const(const char* name, int a_bits, int b_bits, int64_t count);  // by a synthesis-time constant
   // Beyond the kernels' vocabulary (function descriptions, models/data/functions):
   void memory_item(MemoryItem m);
@@ -178,8 +178,8 @@ Estimate estimate(const Inventory& inv, const Coefficients& c = default_coeffici
 // LUT = lut_base + sum(lut[i] x lut_f[i]), FF = ff_base + sum(ff[i] x ff_f[i]).
 struct Features {
   double lut_f[kFeatureCount] = {}, ff_f[kFeatureCount] = {};
-  double lut_base = 0;  // structural: operators, muxes, LUTRAM and SRL LUTs (the operator table)
-  double ff_base = 0;   // structural: declared registers, SRL output registers
+  double lut_base = 0;            // structural: operators, muxes, LUTRAM and SRL LUTs (the operator table)
+  double ff_base = 0;             // structural: declared registers, SRL output registers
   Breakdown lut_parts, ff_parts;  // lut_base and ff_base by origin (overhead 0 here)
   int64_t bram18k = 0, uram = 0, dsp = 0;
 };
