@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "export_parts.hpp"
 #include "parallax/kernels/sgm.hpp"
 
 namespace parallax::hlsx::detail {
@@ -46,8 +47,8 @@ std::string tripcount_pragma(const std::map<std::string, int64_t>& fires, const 
     sum += it->second;
   }
   const int64_t avg = (sum + int64_t(stages.size()) / 2) / int64_t(stages.size());
-  return "#pragma HLS LOOP_TRIPCOUNT min=" + std::to_string(lo) + " max=" + std::to_string(hi) +
-         " avg=" + std::to_string(avg) + "\n";
+  return fragment("loop_tripcount",
+                  {{"MIN", std::to_string(lo)}, {"MAX", std::to_string(hi)}, {"AVG", std::to_string(avg)}});
 }
 
 // A C string literal of a simulator or model identifier (no character needs escaping).
@@ -66,13 +67,16 @@ std::string access_stage_table(const ExportRequest& r) {
   };
   std::string o;
   for (const kern::AccessStage& s : r.access_stages) {
-    o += "  stages.push_back(stage(" + quoted(s.name) + ", " + std::to_string(s.ii_declared) + "));\n";
+    o += fragment("tb_access_stage", {{"NAME", s.name}, {"II", std::to_string(s.ii_declared)}});
     for (const kern::AccessRecurrence& rec : s.recurrences) {
       std::string ops;
       for (const std::string& op : rec.operators) ops += (ops.empty() ? "" : ", ") + quoted(op);
-      o += "  stages.back().recurrences.push_back(recurrence(" + quoted(rec.name) + ", {" + ops + "}, " +
-           number(rec.delay_ns) + ", " + number(rec.budget_ns) + ", " + std::to_string(rec.distance) + ", " +
-           std::to_string(rec.ii_forced) + "));\n";
+      o += fragment("tb_access_recurrence", {{"NAME", rec.name},
+                                             {"OPERATORS", ops},
+                                             {"DELAY_NS", number(rec.delay_ns)},
+                                             {"BUDGET_NS", number(rec.budget_ns)},
+                                             {"DISTANCE", std::to_string(rec.distance)},
+                                             {"II_FORCED", std::to_string(rec.ii_forced)}});
     }
   }
   return o;
@@ -91,8 +95,8 @@ void loop_values(const ExportRequest& r, std::map<std::string, std::string>& v) 
         "TRIPCOUNT_RECTIFY", "TRIPCOUNT_ROW_REVERSE", "TRIPCOUNT_AGGREGATE_ROW", "TRIPCOUNT_ROW_UNREVERSE"})
     v[key] = "";
   for (const TripLoop& l : trip_loops(c)) {
-    v[l.key] = "#ifndef PARALLAX_REDUCED_FRAME\n" + tripcount_pragma(r.stage_fires, l.stages, "full") + "#else\n" +
-               tripcount_pragma(r.reduced_stage_fires, l.stages, "reduced") + "#endif\n";
+    v[l.key] = fragment("by_frame", {{"FULL_FRAME", tripcount_pragma(r.stage_fires, l.stages, "full")},
+                                     {"REDUCED_FRAME", tripcount_pragma(r.reduced_stage_fires, l.stages, "reduced")}});
     for (const std::string& st : l.stages)
       trip_table += std::string(trip_table.empty() ? "" : ", ") + st + " " + std::to_string(r.stage_fires.at(st));
   }
@@ -121,8 +125,9 @@ void loop_values(const ExportRequest& r, std::map<std::string, std::string>& v) 
 void priced_width_values(const res::Inventory& inv, std::map<std::string, std::string>& v) {
   std::string o;
   auto row = [&](const std::string& stage, const std::string& name, bool memory, int bits) {
-    o += "      {" + quoted(stage) + ", " + quoted(name) + ", " + (memory ? "true" : "false") + ", " +
-         std::to_string(bits) + "},\n";
+    o += fragment(
+        "tb_priced_width",
+        {{"STAGE", stage}, {"NAME", name}, {"MEMORY", memory ? "true" : "false"}, {"BITS", std::to_string(bits)}});
   };
   for (const res::MemoryItem& m : inv.memories)
     if (m.kind == res::MemoryKind::array) row(m.stage, m.name, true, m.width_bits);
