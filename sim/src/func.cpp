@@ -237,6 +237,27 @@ void FuncPipeline::record_costs(const GreyImage& left, const GreyImage& right, c
   impl_->engine(detail::Design<Narrow, uint16_t>{}).record_costs(left, right, p, rec.impl->tokens);
 }
 
+std::vector<uint32_t> recorded_cost_volume(const CostRecording& rec, const kern::StereoParams& p) {
+  const std::size_t pixels = std::size_t(p.width_px) * std::size_t(p.height_px);
+  const std::size_t d_count = std::size_t(p.disparities);
+  std::vector<uint32_t> out(pixels * d_count);
+  if (rec.impl->engine == FuncEngine::fast) {
+    const fast::CostVolume& cv = rec.impl->costs;
+    const std::size_t lanes = pixels > 0 ? cv.cost.size() / pixels : 0;
+    for (std::size_t i = 0; i < pixels; ++i)
+      for (std::size_t d = 0; d < d_count; ++d) out[i * d_count + d] = cv.cost[i * lanes + d];
+    return out;
+  }
+  // The kernels' tokens: per pixel in raster order, D/PU tokens of PU lanes (d = token * PU + lane).
+  const std::size_t pu = std::size_t(largest_divisor_at_most(p.disparities, 64));
+  const std::size_t per_px = d_count / pu;
+  if (rec.impl->tokens.size() != pixels * per_px) internal_error("recorded_cost_volume: the recording is not of p");
+  for (std::size_t i = 0; i < pixels; ++i)
+    for (std::size_t t = 0; t < per_px; ++t)
+      for (std::size_t l = 0; l < pu; ++l) out[i * d_count + t * pu + l] = rec.impl->tokens[i * per_px + t].v[l];
+  return out;
+}
+
 DisparityCodes FuncPipeline::run_from_costs(CostRecording& rec, const kern::StereoParams& p_in, bool keep_aggregate) {
   const auto errors = func_param_errors(p_in);
   if (!errors.empty()) internal_error(("invalid parameters reached run_from_costs: " + errors.front()).c_str());

@@ -75,6 +75,11 @@ std::string cost_sharing_key(const kern::StereoParams& p, FuncEngine engine = Fu
 // WTA, LR check, uniqueness, sub-pixel bits or median); "" with the kernels engine.
 std::string aggregate_sharing_key(const kern::StereoParams& p, FuncEngine engine = FuncEngine::automatic);
 
+// The cost volume a recording holds, in the golden model's layout C[(y*W + x)*D + d]
+// (ref::volume_index): from the kernels' cost tokens (the func run's lanes, D/PU tokens per pixel)
+// or the fast engine's padded volume. For the per-stage equality tests.
+std::vector<uint32_t> recorded_cost_volume(const CostRecording& rec, const kern::StereoParams& p);
+
 // Reusable pipeline: keeps its (large) stage objects between frames.
 class FuncPipeline {
  public:
