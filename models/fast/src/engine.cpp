@@ -1,5 +1,13 @@
 // The fast engine's frame driver: cost rows, the raster passes, the WTA per row and the median,
 // over the per-level hot loops of isa.cpp. See engine.hpp for the contract.
+//
+// Contract of this file (what the equivalence tests hold): for every design param_errors()
+// accepts, run() returns the golden model's codes (ref::compute_disparity) bit for bit, at any
+// SIMD level; record_costs() / record_aggregate() hold the golden cost and aggregate volumes in
+// the padded layouts of isa.hpp (tests/models/fast/stage_test.cpp compares them stage by stage).
+// Sums are 16-bit unless a path cost, a guard or a sum could exceed 65535 (needs_wide_sums), and
+// then 32-bit; lanes are padded to whole vectors only where no real value can reach the padding.
+// Memory: the Work rows below are reused between frames (an Engine is one thread's).
 #include "parallax/fast/engine.hpp"
 
 #include <algorithm>
@@ -73,7 +81,7 @@ int lanes_for(const kern::StereoParams& p) {
   return pad ? detail::cost_stride(p.disparities) : p.disparities;
 }
 
-// Cost rows on demand.
+// Cost rows on demand: row(y) is the [W][cost_stride(D)] row of y, valid until the next call.
 struct CostRows {
   virtual ~CostRows() = default;
   virtual const uint16_t* row(int y) = 0;
@@ -146,7 +154,9 @@ struct DirectCosts final : CostRows {
   }
 };
 
-// The recursions of one pass over stream paths (bits 0, 45, 90, 135 in stream terms).
+// The recursions of one pass over stream paths (bits 0, 45, 90, 135 in stream terms): SGM runs
+// one recursion per path; MGM one per pair (0/90 as the pixel kind, 45/135 as the row kind), its
+// weight the number of the pair's paths in the design (each adds the pair's Lr once).
 struct PassPlan {
   int n = 0;
   int kind[4] = {0, 0, 0, 0};
@@ -202,6 +212,10 @@ std::vector<int16_t> median_network(int taps, int rank) {
   return pairs;
 }
 
+// One engine's row buffers for one sum type: per recursion the previous and the current stream
+// row of path costs ([W][lanes + 2], guards at both ends) and their per-pixel minima; the sums of
+// a row (or, for two passes, of the whole frame, since pass 2 adds to pass 1's); the WTA's
+// right-image candidates and codes.
 template <class T>
 struct Work {
   std::vector<T> rows[5][2];  // per recursion (the fifth: the one-pass 180-degree path), two rows
@@ -225,10 +239,15 @@ struct Engine::Impl {
   // Runs the passes over `src`, handing each finished aggregate row (y, S row) to sink.
   template <class T, class Sink>
   void aggregate(CostRows& src, const uint8_t* left, const kern::StereoParams& p, Sink&& sink);
+  // One row's codes from its finished sums [W][lanes]: the WTA (ties to the smaller d), the
+  // uniqueness margin, the sub-pixel fraction and the LR check against the row's right-image
+  // winners, exactly as ref::select_disparity does for that row.
   template <class T>
   void select(const T* sum_row, const kern::StereoParams& p, uint16_t* out_row);
   template <class T>
   std::vector<uint16_t> run_rows(CostRows& src, const uint8_t* left, const kern::StereoParams& p);
+  // The k x k median in place (k = p.median; 0 and 1 leave the codes), the clamp border, by the
+  // pruned sorting network of median_network(): ref::median_filter's codes.
   void median(std::vector<uint16_t>& codes, const kern::StereoParams& p);
 };
 
@@ -242,6 +261,8 @@ Work<uint32_t>& Engine::Impl::work<uint32_t>() {
 }
 
 namespace {
+// Points the hot loop's recursions at the row buffers: `parity` (y & 1) selects which of the two
+// rows is this row's, the other holds the previous stream row.
 template <class T>
 void fill_recursions(AggregateRow& a, const PassPlan& pl, Work<T>& w, int parity) {
   a.recursions = pl.n;

@@ -1,9 +1,8 @@
 // The fast engine's hot loops, compiled once per x86-64 level (isa.cpp is built three times:
 // baseline x86-64, x86-64-v3 = AVX2, x86-64-v4 = AVX-512) and chosen at run time by the CPU's
-// features (dispatch.cpp). The tables hold plain functions over raw pointers: the per-level
-// translation units include no standard-library header, so that no inline function compiled for
-// one level can be picked by the linker for another (the one-definition-rule trap of per-file
-// target flags).
+// features (engine.cpp: pick_isa(), overridden by set_simd_level()). The tables hold plain functions over raw pointers:
+// the per-level translation units include no standard-library header, so that no inline function compiled for one level
+// can be picked by the linker for another (the one-definition-rule trap of per-file target flags).
 //
 // Layouts: images and codes row-major (y * W + x). Cost rows are [W][S] with the stride
 // S = cost_stride(D) (D rounded up to 32) and the lanes d >= D set to kCostPad; path-cost and
