@@ -1,6 +1,7 @@
-// equiv: the func run's cost stage against the golden model, per engine (issue 43, item 5): the
-// cost volume the kernels' cost stage streams (CensusCostStage / SadCostStage, at the func run's
-// lanes) and the fast engine's, over a table of designs, reported at the first differing (x, y, d).
+// equiv: the func run's stages against the golden model, per engine (issue 43, item 5): the cost
+// volume the kernels' cost stage streams (CensusCostStage / SadCostStage, at the func run's lanes)
+// and the fast engine's, reported at the first differing (x, y, d); then, replayed from those
+// costs, the selection without the median and the median, over a table of designs.
 // The later stages of the fast engine are compared stage by stage in tests/models/fast/stage_test.cpp;
 // the kernels' whole-frame codes in tests/kernels/equiv_test.cpp.
 #include <gtest/gtest.h>
@@ -89,7 +90,13 @@ TEST(FuncStages, CostVolumeOfEachEngineEqualsTheGoldenModel) {
       o.engine = engine;
       pipe.record_costs(l, r, p, rec, o);
       EXPECT_EQ(first_difference(recorded_cost_volume(rec, p), golden, p), "") << "cost volume";
-      EXPECT_EQ(pipe.run_from_costs(rec, p).code, ref::compute_disparity(rl, rr, p)) << "codes from the costs";
+      // The selection (WTA, LR check) without the median, then the median on the golden selection.
+      kern::StereoParams no_median = p;
+      no_median.median = 0;
+      const std::vector<uint16_t> selected = ref::select_disparity(ref::aggregate(golden, p, &rl), no_median);
+      EXPECT_EQ(pipe.run_from_costs(rec, no_median).code, selected) << "selection";
+      EXPECT_EQ(pipe.run_from_costs(rec, p).code, ref::median_filter(selected, p.width_px, p.height_px, p.median))
+          << "median";
     }
   }
 }
