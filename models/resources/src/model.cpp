@@ -153,79 +153,65 @@ Inventory design_inventory(const config::PipelineConfig& cfg, int width_px, int 
   const kern::StereoParams p = cfg.stereo_params(width_px, height_px);
   Inventory inv;
   const int db = kern::disparity_bits(p);
-  if (cfg.rectify != "none") {
-    const kern::RectifyParams rp = cfg.rectify_params(width_px, height_px);
-    auto st = std::make_unique<kern::Rectify<kern::kMaxWidthPx, 256>>();
-    st->configure(rp);
-    for (const char* name : {"rectify_left", "rectify_right"}) {
-      Collector c(inv, name);
-      st->declare(c);
-    }
-  }
-  {
-    Collector c(inv, "cost");
-    if (p.cost == kern::kCostCensus) {
-      auto st = std::make_unique<kern::CensusCostStage<DeclCaps>>();
-      st->configure(p);
-      st->declare(c);
-    } else {
-      auto st = std::make_unique<kern::SadCostStage<DeclCaps>>();
-      st->configure(p);
-      st->declare(c);
-    }
-  }
   const bool two_pass = kern::two_pass_paths(p.path_mask);
-  const bool row_reverse = kern::row_reverse_paths(p.path_mask);
-  {
-    auto agg = std::make_unique<kern::SgmAggregate<DeclCaps, uint32_t>>();
-    // The SGM stages with the configure() arguments of the pipeline description.
-    auto declare_sgm = [&](const char* stage) {
-      agg->configure(p, kern::stage_setup(stage, p.path_mask));
-      inv.setups.emplace_back(stage, agg->setup());
-      Collector c(inv, stage);
+  const bool rectify = cfg.rectify != "none";
+  // The stages of the design's variant as the pipeline description lists them (kernels/
+  // pipeline.hpp), each kernel configured as the description says; stages without hardware of
+  // their own (source, map readers, ddr_read, the one-pass sink) declare nothing.
+  auto agg = std::make_unique<kern::SgmAggregate<DeclCaps, uint32_t>>();
+  auto declare_stage = [&](const kern::PipelineStage& st, const kern::StageSetup& setup) {
+    const std::string name = st.name;
+    if (name == "rectify_left" || name == "rectify_right") {
+      auto rect = std::make_unique<kern::Rectify<kern::kMaxWidthPx, 256>>();
+      rect->configure(cfg.rectify_params(width_px, height_px));
+      Collector c(inv, name);
+      rect->declare(c);
+    } else if (name == "cost") {
+      Collector c(inv, name);
+      if (p.cost == kern::kCostCensus) {
+        auto cost = std::make_unique<kern::CensusCostStage<DeclCaps>>();
+        cost->configure(p);
+        cost->declare(c);
+      } else {
+        auto cost = std::make_unique<kern::SadCostStage<DeclCaps>>();
+        cost->configure(p);
+        cost->declare(c);
+      }
+    } else if (name == "aggregate" || name == "aggregate_back" || name == "aggregate_row") {
+      agg->configure(p, setup);
+      inv.setups.emplace_back(name, agg->setup());
+      Collector c(inv, name);
       agg->declare(c);
-    };
-    declare_sgm("aggregate");
-    if (two_pass) {
-      // The frame buffer's writer: its on-chip reversal (kernels/frame_buffer.hpp).
-      Collector w(inv, "ddr_write");
-      kern::declare_frame_segment_buffer(w, p);
-    }
-    if (two_pass) declare_sgm("aggregate_back");
-    if (row_reverse) {
-      // The 180-degree path in the one pass (kernels/row_reverse.hpp): the row memories of costs
-      // and forward sums, the pixel kind's aggregation, the codes' row memory.
+    } else if (name == "ddr_write") {  // the frame buffer's writer: its on-chip reversal (frame_buffer.hpp)
+      Collector c(inv, name);
+      kern::declare_frame_segment_buffer(c, p);
+    } else if (name == "row_reverse") {  // the row memories of costs and forward sums (row_reverse.hpp)
       auto rev = std::make_unique<kern::RowReverse<DeclCaps, uint32_t>>();
       rev->configure(p);
-      Collector r(inv, "row_reverse");
-      rev->declare(r);
-      declare_sgm("aggregate_row");
+      Collector c(inv, name);
+      rev->declare(c);
+    } else if (name == "wta_lr") {
+      auto wta = std::make_unique<kern::WtaLr<DeclCaps, uint32_t>>();
+      wta->configure(p, setup);
+      inv.setups.emplace_back(name, wta->setup());
+      Collector c(inv, name);
+      wta->declare(c);
+    } else if (name == "median" && p.median >= 3) {
+      auto med = std::make_unique<kern::Median<DeclCaps>>();
+      med->configure(p);
+      Collector c(inv, name);
+      med->declare(c, db);
+    } else if (name == "row_unreverse") {  // the codes' row memory
+      auto codes = std::make_unique<kern::RowReverseCodes<DeclCaps>>();
+      codes->configure(p);
+      Collector c(inv, name);
+      codes->declare(c);
+    } else if (name == "sink" && two_pass) {  // the map writer: the codes' on-chip reversal
+      Collector c(inv, name);
+      kern::declare_map_segment_buffer(c, p);
     }
-  }
-  {
-    auto wta = std::make_unique<kern::WtaLr<DeclCaps, uint32_t>>();
-    wta->configure(p, kern::stage_setup("wta_lr", p.path_mask));
-    inv.setups.emplace_back("wta_lr", wta->setup());
-    Collector c(inv, "wta_lr");
-    wta->declare(c);
-  }
-  if (p.median >= 3) {
-    auto med = std::make_unique<kern::Median<DeclCaps>>();
-    med->configure(p);
-    Collector c(inv, "median");
-    med->declare(c, db);
-  }
-  if (row_reverse) {
-    auto codes = std::make_unique<kern::RowReverseCodes<DeclCaps>>();
-    codes->configure(p);
-    Collector c(inv, "row_unreverse");
-    codes->declare(c);
-  }
-  if (two_pass) {
-    // The map writer of two passes: the codes' on-chip reversal (kernels/frame_buffer.hpp).
-    Collector c(inv, "sink");
-    kern::declare_map_segment_buffer(c, p);
-  }
+  };
+  kern::for_each_stage(p.path_mask, rectify, declare_stage);
   // The top's port adapters, as the exported top declares them (hls/templates): AXI4-Stream pixels
   // in, remap-table entries in (64-bit beats) when rectifying, disparity codes out (whole bytes; two
   // passes: AXI4 masters to the frame buffer and the map), and the AXI4-Lite control registers (p1,
