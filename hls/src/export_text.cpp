@@ -1,6 +1,7 @@
 // The export's text helpers (export_parts.hpp): templates, fragments and names.
 #include <cctype>
 #include <cstdio>
+#include <map>
 #include <stdexcept>
 
 #include "embedded.hpp"
@@ -89,30 +90,46 @@ const res::MemoryItem* find_memory(const res::Inventory& inv, const std::string&
 
 // fragments.in: a fragment starts at a line "%% NAME" ("%% NAME -n": without its final newline)
 // and runs to the next "%%" line.
-std::string fragment(const std::string& name, const Values& values) {
-  const std::string text = template_text("fragments");
-  std::string body;
-  bool in = false, drop_newline = false, found = false;
-  std::size_t i = 0;
-  while (i < text.size()) {
-    std::size_t end = text.find('\n', i);
-    if (end == std::string::npos) end = text.size();
-    const std::string line = text.substr(i, end - i);
-    i = end + 1;
-    if (line.rfind("%% ", 0) == 0) {
-      if (in) break;
-      const std::string head = line.substr(3);
-      const std::size_t space = head.find(' ');
-      in = head.substr(0, space) == name;
-      drop_newline = in && space != std::string::npos && head.substr(space + 1) == "-n";
-      found = found || in;
-      continue;
+namespace {
+
+// The fragments by name, parsed once (the embedded text never changes).
+const std::map<std::string, std::string>& fragments() {
+  static const std::map<std::string, std::string> parsed = [] {
+    std::map<std::string, std::string> out;
+    const std::string text = template_text("fragments");
+    std::string* body = nullptr;
+    bool drop_newline = false;
+    auto finish = [&] {
+      if (body && drop_newline && !body->empty()) body->pop_back();
+    };
+    std::size_t i = 0;
+    while (i < text.size()) {
+      std::size_t end = text.find('\n', i);
+      if (end == std::string::npos) end = text.size();
+      const std::string line = text.substr(i, end - i);
+      i = end + 1;
+      if (line.rfind("%% ", 0) == 0) {
+        finish();
+        const std::string head = line.substr(3);
+        const std::size_t space = head.find(' ');
+        body = &out[head.substr(0, space)];
+        drop_newline = space != std::string::npos && head.substr(space + 1) == "-n";
+        continue;
+      }
+      if (body) *body += line + "\n";
     }
-    if (in) body += line + "\n";
-  }
-  if (!found) throw std::logic_error("hls export: no fragment " + name + " in fragments.in");
-  if (drop_newline && !body.empty()) body.pop_back();
-  return fill("fragments.in: " + name, body, values);
+    finish();
+    return out;
+  }();
+  return parsed;
+}
+
+}  // namespace
+
+std::string fragment(const std::string& name, const Values& values) {
+  const auto it = fragments().find(name);
+  if (it == fragments().end()) throw std::logic_error("hls export: no fragment " + name + " in fragments.in");
+  return fill("fragments.in: " + name, it->second, values);
 }
 
 bool is_two_pass(const config::PipelineConfig& c) {

@@ -75,15 +75,10 @@ void Collector::mul(const char* name, int a_bits, int b_bits, int count) {
 }
 
 void Collector::mux(const char* name, int width_bits, int fan_in, int count) {
-  if (width_bits <= 0 || count <= 0 || fan_in <= 1) return;
-  OpItem o;
-  o.stage = stage_;
-  o.name = name;
-  o.kind = kern::kOpMux;
-  o.width_bits = width_bits;
-  o.fan_in = fan_in;
-  o.count = count;
-  inv_.ops.push_back(o);
+  if (fan_in <= 1) return;
+  const std::size_t before = inv_.ops.size();
+  op(name, kern::kOpMux, width_bits, count);
+  if (inv_.ops.size() > before) inv_.ops.back().fan_in = fan_in;
 }
 
 void Collector::mul_const(const char* name, int a_bits, int b_bits, int64_t count) {
@@ -531,12 +526,8 @@ Features features(const Inventory& inv, const Coefficients& c) {
     }
     total.lut_base += f.lut_base;
     total.ff_base += f.ff_base;
-    for (auto [to, from] : {std::pair{&total.lut_parts, &f.lut_parts}, std::pair{&total.ff_parts, &f.ff_parts}}) {
-      to->operators += from->operators;
-      to->muxes += from->muxes;
-      to->memories += from->memories;
-      to->registers += from->registers;
-    }
+    total.lut_parts += f.lut_parts;
+    total.ff_parts += f.ff_parts;
     total.bram18k += f.bram18k;
     total.uram += f.uram;
     total.dsp += f.dsp;

@@ -203,13 +203,8 @@ void print_breakdown(const res::Estimate& e) {
   };
   for (const auto& s : e.stages) {
     line(s.stage, s.lut, s.ff);
-    for (auto [to, from] : {std::pair{&lut, &s.lut}, std::pair{&ff, &s.ff}}) {
-      to->operators += from->operators;
-      to->muxes += from->muxes;
-      to->memories += from->memories;
-      to->registers += from->registers;
-      to->overhead += from->overhead;
-    }
+    lut += s.lut;
+    ff += s.ff;
   }
   line("total", lut, ff);
 }
@@ -223,8 +218,14 @@ int print_explain(const res::FitResult& fr, const std::string& text) {
       continue;
     ++shown;
     std::vector<res::PricedItem> items = res::priced_items(row.inventory, fr.coefficients);
-    std::stable_sort(items.begin(), items.end(), [](const res::PricedItem& a, const res::PricedItem& b) {
-      return a.stage == b.stage && a.lut > b.lut;
+    // By stage in pipeline order (a strict weak order: the stage's index, then LUT descending).
+    const std::vector<std::string>& stages = row.inventory.stages;
+    auto stage_index = [&](const std::string& s) {
+      return std::find(stages.begin(), stages.end(), s) - stages.begin();
+    };
+    std::stable_sort(items.begin(), items.end(), [&](const res::PricedItem& a, const res::PricedItem& b) {
+      const auto sa = stage_index(a.stage), sb = stage_index(b.stage);
+      return sa != sb ? sa < sb : a.lut > b.lut;
     });
     std::printf("\n%s (%s): published LUT %lld FF %lld DSP %lld BRAM_18K %lld; predicted %lld %lld %lld %lld\n",
                 row.kernel.c_str(), row.design.c_str(), (long long)row.published.lut, (long long)row.published.ff,

@@ -160,6 +160,14 @@ struct Usage {
 struct Breakdown {
   double operators = 0, muxes = 0, memories = 0, registers = 0, overhead = 0;
   double total() const { return operators + muxes + memories + registers + overhead; }
+  Breakdown& operator+=(const Breakdown& o) {
+    operators += o.operators;
+    muxes += o.muxes;
+    memories += o.memories;
+    registers += o.registers;
+    overhead += o.overhead;
+    return *this;
+  }
 };
 struct StageUsage {
   std::string stage;
