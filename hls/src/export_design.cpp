@@ -76,6 +76,15 @@ void design_values(const ExportRequest& r, const kern::StereoParams& p, Values& 
   v["UNIQUENESS_TEXT"] =
       regs.uniqueness_pct > 0 ? "built with the check; 0 turns it off" : "built without the check: ignored";
   v["FRAMES"] = std::to_string(kTestbenchFrames);
+  // structure_params(): every field but the size (the frame's, full or reduced) from the table.
+  std::string fields;
+  kern::for_each_param(p, [&](const kern::ParamField& f) {
+    const std::string name = f.name;
+    if (name == "width_px" || name == "height_px") return;
+    fields += fragment(f.is_register ? "register_param" : "structure_param",
+                       {{"FIELD", name}, {"VALUE", std::to_string(f.value)}});
+  });
+  v["STRUCTURE_PARAMS"] = fields;
 }
 
 // Storage directives of the line buffers and the path-cost rows, from the resource model's mapping.

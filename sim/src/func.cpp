@@ -73,15 +73,10 @@ FuncEngine resolve_engine(const FuncOptions& opt) {
   return opt.engine == FuncEngine::automatic ? default_func_engine() : opt.engine;
 }
 
-// The contract's limits (shared with the fast engine) and the kernels' own: PU divides D, and
-// adaptive P2 in one pass (the two-pass frame buffer does not carry the intensities).
+// One check for every engine: kern::for_each_param_violation (kernels/param_table.hpp), which
+// holds the kernels' own rules too (PU divides D; adaptive P2 in one pass).
 std::vector<std::string> func_param_errors(const kern::StereoParams& p) {
-  std::vector<std::string> e = fast::param_errors(p);
-  if (p.parallel_units < 1 || p.disparities % (p.parallel_units > 0 ? p.parallel_units : 1) != 0)
-    e.emplace_back("parallel_units must divide disparities");
-  if (p.p2_adaptive != 0 && kern::two_pass_paths(p.path_mask))
-    e.emplace_back("p2_adaptive needs a one-pass design (paths <= 5)");
-  return e;
+  return fast::param_errors(p);
 }
 
 struct CostRecording::Impl {
@@ -106,12 +101,14 @@ std::string cost_sharing_key(const kern::StereoParams& p, FuncEngine engine) {
   FuncOptions o;
   o.engine = engine;
   if (resolve_engine(o) == FuncEngine::fast) return fast::cost_key(p);
-  if (kern::two_pass_paths(p.path_mask)) return "";
-  // Everything the cost stage reads: size, cost, census taps (census only), window, D, m.
-  return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) +
-         (p.cost == kern::kCostCensus ? " census " + std::to_string(p.census) : std::string()) + " window " +
-         std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities) +
-         (p.min_disparity != 0 ? " min " + std::to_string(p.min_disparity) : std::string());
+  // The kernels engine records the first pass's cost tokens: a two-pass design has none to share.
+  return kern::two_pass_paths(p.path_mask) ? std::string() : fast::cost_key(p);
+}
+
+std::string selection_sharing_key(const kern::StereoParams& p, FuncEngine engine) {
+  FuncOptions o;
+  o.engine = engine;
+  return resolve_engine(o) == FuncEngine::fast ? fast::selection_key(p) : std::string();
 }
 
 // One engine per instantiation the func run uses, made on first use and kept (its stages are

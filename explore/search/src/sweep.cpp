@@ -152,8 +152,7 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
     order[k] = k;
     const kern::StereoParams p = group[k]->config.stereo_params(roi.width_px, roi.height_px);
     agg_key[k] = sim::aggregate_sharing_key(p);
-    wta_key[k] = std::to_string(int(p.lr_check)) + "/" + std::to_string(p.lr_tolerance) + "/" +
-                 std::to_string(p.uniqueness_pct) + "/" + std::to_string(p.subpixel_bits);
+    wta_key[k] = sim::selection_sharing_key(p);
   }
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return agg_key[a] != agg_key[b] ? agg_key[a] < agg_key[b] : wta_key[a] < wta_key[b];

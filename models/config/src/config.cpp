@@ -38,8 +38,8 @@ const std::vector<std::string>& field_names() {
 std::string field_documentation() {
   std::string out;
   for (const auto& r : detail::field_table())
-    out +=
-        r.name + (r.is_register ? " (register)" : "") + ": " + r.doc + (r.values.empty() ? "" : "; " + r.values) + "\n";
+    out += r.name + (r.is_register ? " (register)" : "") + ": " + r.doc + (r.values.empty() ? "" : "; " + r.values) +
+           "; read by " + detail::readers_text(r.readers) + "\n";
   out += "rules between fields:\n";
   for (const auto* rules : {&detail::cross_rules(), &detail::whole_design_rules()})
     for (const auto& rule : *rules)
@@ -102,20 +102,8 @@ kern::StereoParams PipelineConfig::stereo_params(int width_px, int height_px) co
   kern::StereoParams p{};
   p.width_px = width_px;
   p.height_px = height_px;
-  p.cost = cost == "sad" ? kern::kCostSad : kern::kCostCensus;
-  p.census = std::max(census_kind(census), 0);
-  p.window_w = window_w;
-  p.window_h = window_h;
-  p.disparities = disparities;
-  p.min_disparity = min_disparity;
-  p.p2_adaptive = p2_adaptive;
-  p.aggregation = aggregation == "mgm" ? kern::kAggregationMgm : kern::kAggregationSgm;
-  p.subpixel_bits = subpixel_bits;
-  p.parallel_units = parallel_units;
-  p.path_mask = path_mask;
-  p.lr_check = lr_check;
-  kern::set_registers(p, registers());
-  p.median = median;
+  for (const auto& row : detail::field_table())
+    if (row.to_params) row.to_params(*this, p);
   return p;
 }
 

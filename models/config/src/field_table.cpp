@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "parallax/kernels/param_table.hpp"
 #include "parallax/kernels/pipeline.hpp"
 
 namespace parallax::config {
@@ -119,19 +120,25 @@ Bound one_of(std::vector<int> values, std::string zero_word) {
   return b;
 }
 
+Bound param_range(const char* param) {
+  const kern::ParamLimits l = kern::param_limits(param);
+  if (l.lo > l.hi) throw std::logic_error(std::string("no field of kern::StereoParams is named ") + param);
+  return in_range(int(l.lo), int(l.hi));
+}
+
 }  // namespace detail
 
 namespace {
 
 using detail::above;
 using detail::at_least;
-using detail::at_most;
 using detail::Bound;
 using detail::CrossRule;
 using detail::either;
 using detail::FieldRow;
 using detail::in_range;
 using detail::one_of;
+using detail::param_range;
 using detail::trim;
 using Errors = std::vector<FieldError>;
 
@@ -215,7 +222,17 @@ Check bounded(const std::string& name, T PipelineConfig::*m, const Bound& b) {
   };
 }
 
-FieldRow integer(const char* name, int PipelineConfig::*m, const Bound& b, const char* doc) {
+using ParamMember = int kern::StereoParams::*;
+
+// A row that also sets kern::StereoParams::*param to the config's member m.
+template <class T, class U>
+FieldRow setting(FieldRow r, T PipelineConfig::*m, U kern::StereoParams::*param) {
+  if (param != nullptr) r.to_params = [m, param](const PipelineConfig& c, kern::StereoParams& p) { p.*param = c.*m; };
+  return r;
+}
+
+FieldRow integer(const char* name, int PipelineConfig::*m, const Bound& b, const char* doc,
+                 ParamMember param = nullptr) {
   FieldRow r = row(name, doc, b.described());
   const std::string zero = b.zero_word;
   r.parse = [m, zero](PipelineConfig& c, const std::string& key, const std::string& v) {
@@ -223,12 +240,12 @@ FieldRow integer(const char* name, int PipelineConfig::*m, const Bound& b, const
   };
   r.check = bounded(name, m, b);
   r.write = line(name, [m](const PipelineConfig& c) { return c.*m; });
-  return r;
+  return setting(r, m, param);
 }
 
 // An integer of Registers: a runtime register.
-FieldRow register_int(const char* name, int Registers::*m, const Bound& b, const char* doc) {
-  FieldRow r = integer(name, static_cast<int PipelineConfig::*>(m), b, doc);
+FieldRow register_int(const char* name, int Registers::*m, const Bound& b, const char* doc, ParamMember param) {
+  FieldRow r = integer(name, static_cast<int PipelineConfig::*>(m), b, doc, param);
   r.is_register = true;
   return r;
 }
@@ -241,11 +258,11 @@ FieldRow number(const char* name, double PipelineConfig::*m, const Bound& b, con
   return r;
 }
 
-FieldRow flag(const char* name, bool PipelineConfig::*m, const char* doc) {
+FieldRow flag(const char* name, bool PipelineConfig::*m, const char* doc, bool kern::StereoParams::*param) {
   FieldRow r = row(name, doc, "true | false");
   r.parse = [m](PipelineConfig& c, const std::string& key, const std::string& v) { c.*m = parse_bool(key, v); };
   r.write = line(name, [m](const PipelineConfig& c) { return c.*m ? "true" : "false"; });
-  return r;
+  return setting(r, m, param);
 }
 
 // Free text; an optional field is not written while empty.
@@ -260,15 +277,27 @@ FieldRow text(const char* name, std::string PipelineConfig::*m, bool optional, c
 }
 
 // One word of `choices`, refused when parsed otherwise.
+// A choice whose index in `choices` is the kern::StereoParams enum value of *param (when given).
 FieldRow choice(const char* name, std::string PipelineConfig::*m, const std::vector<std::string>& choices,
-                const char* doc) {
+                const char* doc, ParamMember param = nullptr) {
   FieldRow r = row(name, doc, join(choices, " | "));
+  if (param != nullptr)
+    r.to_params = [m, choices, param](const PipelineConfig& c, kern::StereoParams& p) {
+      const auto at = std::find(choices.begin(), choices.end(), c.*m);
+      p.*param = at == choices.end() ? 0 : int(at - choices.begin());  // unparsed text: the first
+    };
   r.parse = [m, choices](PipelineConfig& c, const std::string& key, const std::string& v) {
     if (std::find(choices.begin(), choices.end(), v) == choices.end())
       throw ConfigError("field '" + key + "': expected " + either(choices) + ", got '" + v + "'");
     c.*m = v;
   };
   r.write = line(name, [m](const PipelineConfig& c) { return c.*m; });
+  return r;
+}
+
+// A row of the rectification: its value changes the images the cost stage reads.
+FieldRow rectifying(FieldRow r) {
+  r.readers = detail::kReadByRectify;
   return r;
 }
 
@@ -321,7 +350,7 @@ FieldRow pattern(const std::string& prefix, const NameSet& known, std::map<std::
 
 FieldRow roi_row() {
   static_assert(kern::kMaxWidthPx == kern::kMaxHeightPx, "one bound names both sides");
-  const Bound side = in_range(1, kern::kMaxWidthPx);
+  const Bound side = param_range("width_px");
   FieldRow r = row("roi", "region of interest: the centred crop of the input the design processes (docs/evaluation.md)",
                    "WxH, each side " + side.values_text() + ", or full (the whole image)");
   r.parse = [](PipelineConfig& c, const std::string& key, const std::string& v) {
@@ -343,7 +372,7 @@ FieldRow roi_row() {
 }
 
 FieldRow window_row() {
-  const Bound side = in_range(1, kern::kMaxWindow);
+  const Bound side = param_range("window_w");
   FieldRow r = row("window", "matching window of the cost, WxH (W wide, H high) or N for NxN",
                    "both sides odd, " + side.values_text());
   r.parse = [](PipelineConfig& c, const std::string& key, const std::string& v) {
@@ -353,6 +382,10 @@ FieldRow window_row() {
     if (!(side.holds(c.window_w) && side.holds(c.window_h) && c.window_w % 2 == 1 && c.window_h % 2 == 1))
       e.push_back({"window", "both sides odd, " + side.values_text() + " (got " + std::to_string(c.window_w) + "x" +
                                  std::to_string(c.window_h) + ")"});
+  };
+  r.to_params = [](const PipelineConfig& c, kern::StereoParams& p) {
+    p.window_w = c.window_w;
+    p.window_h = c.window_h;
   };
   r.write = line("window",
                  [](const PipelineConfig& c) { return std::to_string(c.window_w) + "x" + std::to_string(c.window_h); });
@@ -368,53 +401,63 @@ FieldRow paths_row() {
     if (!(c.path_mask != 0 && (c.path_mask & ~kern::kAllPaths) == 0))
       e.push_back({"paths", "at least one path of 0..315"});
   };
+  r.to_params = [](const PipelineConfig& c, kern::StereoParams& p) { p.path_mask = c.path_mask; };
   r.write = line("paths", [](const PipelineConfig& c) { return paths_to_string(c.path_mask); });
   return r;
 }
 
 using P = PipelineConfig;
+using K = kern::StereoParams;
 
 std::vector<FieldRow> make_table() {
   return {
       text("name", &P::name, false, "the design's name (reports, the exported project)"),
       roi_row(),
-      choice("cost", &P::cost, {"census", "sad"}, "matching cost"),
+      choice("cost", &P::cost, {"census", "sad"}, "matching cost", &K::cost),
       choice("census", &P::census, {"full", "sparse", "symmetric"},
-             "census taps: every tap against the centre, every second tap, or centre-symmetric pairs"),
+             "census taps: every tap against the centre, every second tap, or centre-symmetric pairs", &K::census),
       window_row(),
-      integer("disparities", &P::disparities, in_range(1, kern::kMaxDisparities).with_value(),
-              "D: how many disparities are searched, [min_disparity, min_disparity + D)"),
-      integer("min_disparity", &P::min_disparity, in_range(0, kern::kMaxMinDisparity),
-              "m: the smallest disparity searched, in pixels (far limit f*B/m; 0 = infinity)"),
-      integer("parallel_units", &P::parallel_units, Bound{}, "PU: disparities computed per firing; >= 1, divides D"),
+      integer("disparities", &P::disparities, param_range("disparities").with_value(),
+              "D: how many disparities are searched, [min_disparity, min_disparity + D)", &K::disparities),
+      integer("min_disparity", &P::min_disparity, param_range("min_disparity"),
+              "m: the smallest disparity searched, in pixels (far limit f*B/m; 0 = infinity)", &K::min_disparity),
+      integer("parallel_units", &P::parallel_units, Bound{}, "PU: disparities computed per firing; >= 1, divides D",
+              &K::parallel_units),
       paths_row(),
-      register_int("p1", &Registers::p1, at_least(0).with_value(), "SGM penalty of a disparity step of 1"),
-      register_int("p2", &Registers::p2, at_most(65535), "SGM penalty of larger steps, greater than p1"),
-      integer("p2_adaptive", &P::p2_adaptive, in_range(0, kern::kMaxP2Adaptive),
+      register_int("p1", &Registers::p1, param_range("p1").with_value(), "SGM penalty of a disparity step of 1",
+                   &K::p1),
+      register_int("p2", &Registers::p2, param_range("p2"), "SGM penalty of larger steps, greater than p1", &K::p2),
+      integer("p2_adaptive", &P::p2_adaptive, param_range("p2_adaptive"),
               "intensity-adaptive P2 gain a: along a path P2 drops by (a |I(p) - I(q)|) >> 4, never below p1 + 1; "
-              "0 = off (no hardware); one-pass designs (paths up to 5)"),
+              "0 = off (no hardware); one-pass designs (paths up to 5)",
+              &K::p2_adaptive),
       choice("aggregation", &P::aggregation, {"sgm", "mgm"},
              "path recursion: SGM steps from the path's predecessor; MGM averages the steps from it and the "
-             "neighbour across the path (more memory; forward paths or eight)"),
-      integer("subpixel_bits", &P::subpixel_bits, in_range(0, kern::kMaxSubpixelBits),
+             "neighbour across the path (more memory; forward paths or eight)",
+             &K::aggregation),
+      integer("subpixel_bits", &P::subpixel_bits, param_range("subpixel_bits"),
               "fraction bits of the disparity codes: a parabola through the aggregates at d-1, d, d+1 refines "
-              "the winner (0 = integer disparities, no hardware)"),
-      flag("lr_check", &P::lr_check, "left-right consistency check"),
-      register_int("lr_tolerance", &Registers::lr_tolerance, in_range(0, 255),
-                   "largest left-right disagreement in pixels that the check accepts"),
-      register_int("uniqueness_pct", &Registers::uniqueness_pct, in_range(0, kern::kMaxUniquenessPct),
+              "the winner (0 = integer disparities, no hardware)",
+              &K::subpixel_bits),
+      flag("lr_check", &P::lr_check, "left-right consistency check", &K::lr_check),
+      register_int("lr_tolerance", &Registers::lr_tolerance, param_range("lr_tolerance"),
+                   "largest left-right disagreement in pixels that the check accepts", &K::lr_tolerance),
+      register_int("uniqueness_pct", &Registers::uniqueness_pct, param_range("uniqueness_pct"),
                    "uniqueness margin in percent: invalid when a disparity 2+ steps from the best costs less "
-                   "than (100 + u)% of it; 0 = off (no hardware)"),
-      integer("median", &P::median, one_of({0, 3, 5, 7}, "off"), "k x k median filter of the disparity codes"),
+                   "than (100 + u)% of it; 0 = off (no hardware)",
+                   &K::uniqueness_pct),
+      integer("median", &P::median, one_of({0, 3, 5, 7}, "off"), "k x k median filter of the disparity codes",
+              &K::median),
       integer("clock_mhz", &P::clock_mhz, in_range(1, 1000), "processing clock in MHz (timing model)"),
-      choice("rectify", &P::rectify, {"none", "nearest", "bilinear"},
-             "rectification by remap tables before the ROI crop"),
-      integer("rectify_rows", &P::rectify_rows, in_range(1, 256), "line-buffer rows of the rectification stage"),
-      integer("rectify_frac_bits", &P::rectify_frac_bits, in_range(0, 10),
-              "fixed-point fraction bits of bilinear maps"),
-      text("rectify_maps_left", &P::rectify_maps_left, true,
-           "left remap table (OpenCV FileStorage, float map_x, map_y; relative to the file's folder)"),
-      text("rectify_maps_right", &P::rectify_maps_right, true, "right remap table, as rectify_maps_left"),
+      rectifying(choice("rectify", &P::rectify, {"none", "nearest", "bilinear"},
+                        "rectification by remap tables before the ROI crop")),
+      rectifying(
+          integer("rectify_rows", &P::rectify_rows, in_range(1, 256), "line-buffer rows of the rectification stage")),
+      rectifying(integer("rectify_frac_bits", &P::rectify_frac_bits, in_range(0, 10),
+                         "fixed-point fraction bits of bilinear maps")),
+      rectifying(text("rectify_maps_left", &P::rectify_maps_left, true,
+                      "left remap table (OpenCV FileStorage, float map_x, map_y; relative to the file's folder)")),
+      rectifying(text("rectify_maps_right", &P::rectify_maps_right, true, "right remap table, as rectify_maps_left")),
       choice("input", &P::input, {"memory", "camera"},
              "how pairs arrive: streamed from DDR, or a camera's pixel clock"),
       number("input_gbps", &P::input_gbps, above(0), "memory input bandwidth, GB/s (left + right bytes)"),
@@ -440,41 +483,45 @@ std::vector<FieldRow> make_table() {
   };
 }
 
+// Whether c keeps the kernels' rule r (kernels/param_table.hpp: the predicate is written there
+// once, for validate(), the fast engine and the func run); the messages here name the values.
+bool keeps(const P& c, kern::ParamRule r) {
+  return kern::rule_holds(c.stereo_params(640, 360), r);
+}
+
 std::vector<CrossRule> make_rules() {
   return {
       {"census_bits", "window", "window", "census: at most 64 code bits",
        [](const P& c) -> std::string {
-         const int kind = census_kind(c.census);
-         return c.cost != "census" || kind < 0 ||
-                        kern::census_bits(kind, c.window_w, c.window_h) <= kern::kMaxCensusBits
+         return keeps(c, kern::kRuleCensusBits)
                     ? ""
                     : "a full census needs w*h - 1 <= 64 bits (9x7 is the largest 9-wide window; sparse and "
                       "symmetric take 9x9)";
        }},
       {"units_divide_disparities", "parallel_units", "parallel_units", "parallel_units >= 1 divides disparities",
        [](const P& c) -> std::string {
-         return c.parallel_units >= 1 && c.disparities >= 1 && c.disparities % std::max(c.parallel_units, 1) == 0
+         return keeps(c, kern::kRuleUnitsDivide) && c.disparities >= 1
                     ? ""
                     : "must be >= 1 and divide disparities (" + std::to_string(c.parallel_units) + " does not divide " +
                           std::to_string(c.disparities) + ")";
        }},
       {"p2_adaptive_one_pass", "p2_adaptive", "p2_adaptive", "p2_adaptive: a one-pass design (paths up to 5)",
        [](const P& c) -> std::string {
-         return c.p2_adaptive == 0 || !kern::two_pass_paths(c.path_mask)
+         return keeps(c, kern::kRuleP2AdaptiveOnePass)
                     ? ""
                     : "needs a one-pass design (paths 0, 45, 90, 135 and 180): the two-pass frame buffer does not "
                       "carry the left image's intensities";
        }},
       {"mgm_paths", "aggregation", "aggregation", "aggregation: mgm with forward paths or eight paths",
        [](const P& c) -> std::string {
-         return c.aggregation != "mgm" || kern::mgm_paths_supported(c.path_mask)
+         return keeps(c, kern::kRuleMgmPaths)
                     ? ""
                     : "mgm needs forward paths (0, 45, 90, 135) or all eight: the one-pass 180-degree path's second "
                       "predecessor (x, y+1) is in the next row";
        }},
       {"p1_below_p2", "p2", "p1", "p1 < p2",
        [](const P& c) -> std::string {
-         return c.p1 < c.p2
+         return c.p1 < c.p2  // p1 >= 0 is p1's own range
                     ? ""
                     : "must be greater than p1 (p1 = " + std::to_string(c.p1) + ", p2 = " + std::to_string(c.p2) + ")";
        }},
@@ -540,8 +587,68 @@ std::string paths_to_string(unsigned mask) {
 
 namespace detail {
 
+std::string readers_text(unsigned readers) {
+  const struct {
+    unsigned bit;
+    const char* name;
+  } stages[] = {{kern::kReadByCost, "cost"},     {kern::kReadByAggregate, "aggregate"}, {kern::kReadBySelect, "select"},
+                {kern::kReadByMedian, "median"}, {kern::kReadBySystem, "system"},       {kReadByRectify, "rectify"}};
+  std::vector<std::string> names;
+  for (const auto& st : stages)
+    if ((readers & st.bit) != 0) names.emplace_back(st.name);
+  return join(names, ", ");
+}
+
+namespace {
+
+// The kern::StereoParams fields (kernels/param_table.hpp names) that the row `name` sets.
+std::vector<std::string> params_of_row(const std::string& name) {
+  if (name == "roi") return {"width_px", "height_px"};
+  if (name == "window") return {"window_w", "window_h"};
+  if (name == "paths") return {"path_mask"};
+  return {name};
+}
+
+// Each row's readers from the kernels' table, read on a Census design (so that the census kind
+// shows its reader); a row that sets no field of it is read by the system model alone.
+void set_readers(std::vector<FieldRow>& rows) {
+  kern::StereoParams p{};
+  p.cost = kern::kCostCensus;
+  std::vector<std::string> uncovered;
+  kern::for_each_param(p, [&](const kern::ParamField& f) { uncovered.emplace_back(f.name); });
+  for (FieldRow& r : rows) {
+    bool is_register = false;
+    const unsigned preset = r.readers;  // a row of the rectification (rectifying())
+    r.readers = 0;
+    for (const std::string& param : params_of_row(r.name))
+      kern::for_each_param(p, [&](const kern::ParamField& f) {
+        if (param != f.name) return;
+        r.readers |= f.readers;
+        is_register = is_register || f.is_register;
+        uncovered.erase(std::remove(uncovered.begin(), uncovered.end(), param), uncovered.end());
+      });
+    const bool sets_params = r.readers != 0 && r.name != "roi";  // the region's size is the caller's
+    if (preset != 0 && r.readers != 0)
+      throw std::logic_error("field " + r.name + ": preset readers on a kern::StereoParams field");
+    if (r.readers == 0) r.readers = preset != 0 ? preset : kern::kReadBySystem;
+    if (is_register != r.is_register)
+      throw std::logic_error("field " + r.name + ": the register mark disagrees with kern::for_each_param");
+    if (sets_params != bool(r.to_params))
+      throw std::logic_error("field " + r.name + ": sets kern::StereoParams " + (sets_params ? "without" : "with") +
+                             " a to_params");
+  }
+  if (!uncovered.empty())
+    throw std::logic_error("no configuration field sets kern::StereoParams::" + uncovered.front());
+}
+
+}  // namespace
+
 const std::vector<FieldRow>& field_table() {
-  static const std::vector<FieldRow> rows = make_table();
+  static const std::vector<FieldRow> rows = [] {
+    std::vector<FieldRow> t = make_table();
+    set_readers(t);
+    return t;
+  }();
   return rows;
 }
 
@@ -563,7 +670,19 @@ const std::vector<CrossRule>& whole_design_rules() {
       {"aggregate_width", "p2", nullptr, "the aggregation's sums fit 31 bits (path count x (cost_max + P2 register))",
        [](const PipelineConfig& c) -> std::string {
          const auto p = c.stereo_params(c.roi_full ? 640 : c.roi_width_px, c.roi_full ? 360 : c.roi_height_px);
-         return kern::aggregate_bits(p) <= 31 ? "" : "aggregate would need more than 31 bits";
+         return kern::rule_holds(p, kern::kRuleAggregateWidth) ? "" : "aggregate would need more than 31 bits";
+       }},
+      // The net under the rows and rules above: a design validate() accepts is one every engine
+      // runs (kern::for_each_param_violation, the fast engine's and the func run's own check).
+      {"kernel_contract", "name", nullptr, "every engine runs the design (kernels/param_table.hpp)",
+       [](const PipelineConfig& c) -> std::string {
+         const auto p = c.stereo_params(c.roi_full ? 640 : c.roi_width_px, c.roi_full ? 360 : c.roi_height_px);
+         std::string broken;
+         kern::for_each_param_violation(p, [&](const kern::ParamViolation& v) {
+           if (broken.empty())
+             broken = std::string("the kernels refuse the design: ") + v.field.name + " " + v.requires_text;
+         });
+         return broken;
        }},
   };
   return rules;

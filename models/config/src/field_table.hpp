@@ -50,6 +50,14 @@ struct FieldRow {
   std::string doc;           // one line: what the field means
   std::string values;        // the values it takes, for the documentation ("census | sad")
   bool is_register = false;  // a runtime register (Registers), not structure
+  // The stages that read the field (kern::ParamReader bits): those of the kern::StereoParams
+  // fields it sets (kernels/param_table.hpp), kReadBySystem for a field of the system around
+  // the pipeline. Filled in by field_table(), which checks is_register against the same table.
+  unsigned readers = 0;
+  // Sets the kern::StereoParams fields of this field (PipelineConfig::stereo_params() runs every
+  // row's); empty for a field of the system around the pipeline. The region's size is the
+  // caller's, not the row's.
+  std::function<void(const PipelineConfig&, kern::StereoParams&)> to_params;
   // Sets the field of `key` (a pattern row: the whole key, e.g. "ii_cost") from the trimmed text
   // `value`. Throws ConfigError naming `key`.
   std::function<void(PipelineConfig&, const std::string& key, const std::string& value)> parse;
@@ -72,6 +80,12 @@ struct CrossRule {
   std::string (*violation)(const PipelineConfig& c);
 };
 
+// The rectification before the cost, a reader beside kern::ParamReader's: its fields are not
+// kern::StereoParams fields (kern::RectifyParams), but they change the images the cost reads.
+constexpr unsigned kReadByRectify = 1u << 5;
+
+// "cost, aggregate": the stages of a readers bit set, in pipeline order ("system" for that bit).
+std::string readers_text(unsigned readers);
 // The rows, in documentation order (field_names()).
 const std::vector<FieldRow>& field_table();
 // The rules between fields; each `after` names a row (checked when the list is built).

@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 #include "isa.hpp"
+#include "parallax/kernels/param_table.hpp"
 
 namespace parallax::fast {
 namespace {
@@ -428,32 +429,13 @@ std::vector<uint16_t> Engine::Impl::run_rows(CostRows& src, const uint8_t* left,
 
 std::vector<std::string> param_errors(const kern::StereoParams& p) {
   std::vector<std::string> e;
-  auto need = [&](bool ok, const char* msg) {
-    if (!ok) e.emplace_back(msg);
-  };
-  need(p.width_px >= 1 && p.width_px <= kern::kMaxWidthPx, "width_px out of [1, 4096]");
-  need(p.height_px >= 1 && p.height_px <= kern::kMaxHeightPx, "height_px out of [1, 4096]");
-  need(p.disparities >= 1 && p.disparities <= kern::kMaxDisparities, "disparities out of [1, 256]");
-  need(p.cost == kern::kCostCensus || p.cost == kern::kCostSad, "unknown cost");
-  need(p.window_w % 2 == 1 && p.window_h % 2 == 1 && p.window_w >= 1 && p.window_h >= 1 &&
-           p.window_w <= kern::kMaxWindow && p.window_h <= kern::kMaxWindow,
-       "window sides must be odd, 1 to 9");
-  need(p.cost != kern::kCostCensus || kern::census_bits(p.census, p.window_w, p.window_h) <= kern::kMaxCensusBits,
-       "census window needs at most 64 bits");
-  need(p.path_mask != 0 && (p.path_mask & ~kern::kAllPaths) == 0, "path set empty or unknown");
-  need(p.p1 >= 0 && p.p1 < p.p2, "need 0 <= p1 < p2");
-  need(p.median == 0 || p.median == 1 || p.median == 3 || p.median == 5 || p.median == 7,
-       "median must be 0, 3, 5 or 7");
-  need(p.lr_tolerance >= 0, "lr_tolerance must be >= 0");
-  need(p.uniqueness_pct >= 0 && p.uniqueness_pct <= kern::kMaxUniquenessPct, "uniqueness_pct must be in [0, 100]");
-  need(p.p2_adaptive >= 0 && p.p2_adaptive <= kern::kMaxP2Adaptive, "p2_adaptive must be in [0, 255]");
-  need(p.min_disparity >= 0 && p.min_disparity <= kern::kMaxMinDisparity, "min_disparity must be in [0, 256]");
-  need(p.aggregation == kern::kAggregationSgm || p.aggregation == kern::kAggregationMgm,
-       "aggregation must be sgm or mgm");
-  need(p.aggregation != kern::kAggregationMgm || kern::mgm_paths_supported(p.path_mask),
-       "mgm needs forward paths or all eight");
-  need(p.subpixel_bits >= 0 && p.subpixel_bits <= kern::kMaxSubpixelBits, "subpixel_bits must be in [0, 4]");
-  need(kern::aggregate_bits(p) <= 31, "aggregate wider than 31 bits");
+  kern::for_each_param_violation(p, [&](const kern::ParamViolation& v) {
+    if (v.rule < 0)
+      e.push_back(std::string(v.field.name) + " out of [" + std::to_string(v.field.lo) + ", " +
+                  std::to_string(v.field.hi) + "] (got " + std::to_string(v.field.value) + ")");
+    else
+      e.emplace_back(v.requires_text);
+  });
   return e;
 }
 
@@ -486,21 +468,26 @@ void set_simd_level(const std::string& name) {
     throw std::invalid_argument("SIMD level '" + name + "' is unknown or not supported by this CPU");
 }
 
+std::string stage_key(const kern::StereoParams& p, unsigned stage) {
+  const unsigned upstream = kern::readers_up_to(stage);
+  std::string key;
+  kern::for_each_param(p, [&](const kern::ParamField& f) {
+    if ((f.readers & upstream) != 0)
+      key += std::string(key.empty() ? "" : " ") + f.name + "=" + std::to_string(f.value);
+  });
+  return key;
+}
+
 std::string cost_key(const kern::StereoParams& p) {
-  return std::to_string(p.width_px) + "x" + std::to_string(p.height_px) + " cost " + std::to_string(p.cost) +
-         (p.cost == kern::kCostCensus ? " census " + std::to_string(p.census) : std::string()) + " window " +
-         std::to_string(p.window_w) + "x" + std::to_string(p.window_h) + " D " + std::to_string(p.disparities) +
-         " min " + std::to_string(p.min_disparity);
+  return stage_key(p, kern::kReadByCost);
 }
 
 std::string aggregate_key(const kern::StereoParams& p) {
-  return cost_key(p) + " paths " + std::to_string(p.path_mask) + " agg " + std::to_string(p.aggregation) + " p1 " +
-         std::to_string(p.p1) + " p2 " + std::to_string(p.p2) + " adaptive " + std::to_string(p.p2_adaptive);
+  return stage_key(p, kern::kReadByAggregate);
 }
 
 std::string selection_key(const kern::StereoParams& p) {
-  return aggregate_key(p) + " lr " + std::to_string(int(p.lr_check)) + "/" + std::to_string(p.lr_tolerance) + " u " +
-         std::to_string(p.uniqueness_pct) + " f " + std::to_string(p.subpixel_bits);
+  return stage_key(p, kern::kReadBySelect);
 }
 
 Engine::Engine() : impl_(std::make_unique<Impl>()) {}

@@ -121,6 +121,91 @@ inline int adaptive_p2(int p1, int p2, int a, int i_p, int i_q) {
   return lowered > p1 + 1 ? lowered : p1 + 1;
 }
 
+// --- StereoParams as a table: who reads each field, registers, limits ---
+//
+// One description that the sharing keys of every engine (which recording a design may replay),
+// the configuration's field table (models/config), the exported design's structure constants
+// and the parameter check (param_table.hpp) all read. A field added to StereoParams is added to
+// for_each_param too (tests/sim/sharing_keys_test.cpp fails otherwise).
+
+// The stages that read a field (a bit set). Sharing contract: two designs whose fields read by
+// a stage and the stages before it are equal compute the same values up to that stage's output.
+enum ParamReader : unsigned {
+  kReadByCost = 1u << 0,       // the matching cost (census or SAD over the window, D, m)
+  kReadByAggregate = 1u << 1,  // the SGM / MGM path recursion and the sum of the paths
+  kReadBySelect = 1u << 2,     // winner-take-all, left-right check, uniqueness, sub-pixel fit
+  kReadByMedian = 1u << 3,     // the median filter of the codes
+  kReadBySystem = 1u << 4,     // only the hardware's structure: no output value depends on it
+};
+constexpr unsigned kReadByEveryStage = kReadByCost | kReadByAggregate | kReadBySelect | kReadByMedian;
+
+// The readers of a stage's output: every stage up to and including `stage` (a ParamReader bit).
+constexpr unsigned readers_up_to(unsigned stage) {
+  return stage == kReadBySystem ? kReadByEveryStage | kReadBySystem : (stage | (stage - 1u)) & kReadByEveryStage;
+}
+
+// One field as the visitor sees it: the value as a wide integer (bool 0/1, the path mask as
+// its bits), the stages that read it in this design (0 when none does: a census kind of a SAD
+// design), whether it is a run-time register, and its limits [lo, hi] as one field alone.
+struct ParamField {
+  const char* name;
+  long long value;
+  unsigned readers;
+  bool is_register;
+  long long lo;
+  long long hi;
+};
+
+// Calls v(const ParamField&) for every field of p, in declaration order. A field added to
+// StereoParams is added here (tests/kernels/param_table_test.cpp counts them).
+template <class Visitor>
+void for_each_param(const StereoParams& p, Visitor&& v) {
+  const unsigned all = kReadByEveryStage;
+  const bool census = p.cost == kCostCensus;
+  v(ParamField{"width_px", p.width_px, all, false, 1, kMaxWidthPx});
+  v(ParamField{"height_px", p.height_px, all, false, 1, kMaxHeightPx});
+  v(ParamField{"cost", p.cost, kReadByCost, false, kCostCensus, kCostSad});
+  v(ParamField{"window_w", p.window_w, kReadByCost, false, 1, kMaxWindow});
+  v(ParamField{"window_h", p.window_h, kReadByCost, false, 1, kMaxWindow});
+  v(ParamField{"disparities", p.disparities, kReadByCost | kReadByAggregate | kReadBySelect, false, 1,
+               kMaxDisparities});
+  v(ParamField{"parallel_units", p.parallel_units, kReadBySystem, false, 1, kMaxDisparities});
+  v(ParamField{"path_mask", p.path_mask, kReadByAggregate, false, 1, kAllPaths});
+  v(ParamField{"p1", p.p1, kReadByAggregate, true, 0, 65534});
+  v(ParamField{"p2", p.p2, kReadByAggregate, true, 1, 65535});
+  v(ParamField{"lr_check", p.lr_check ? 1 : 0, kReadBySelect, false, 0, 1});
+  v(ParamField{"lr_tolerance", p.lr_tolerance, kReadBySelect, true, 0, 255});
+  v(ParamField{"median", p.median, kReadByMedian, false, 0, kMaxMedian});
+  v(ParamField{"uniqueness_pct", p.uniqueness_pct, kReadBySelect, true, 0, kMaxUniquenessPct});
+  v(ParamField{"census", p.census, census ? unsigned(kReadByCost) : 0u, false, kCensusFull, kCensusSymmetric});
+  v(ParamField{"min_disparity", p.min_disparity, kReadByCost, false, 0, kMaxMinDisparity});
+  v(ParamField{"p2_adaptive", p.p2_adaptive, kReadByAggregate, false, 0, kMaxP2Adaptive});
+  v(ParamField{"aggregation", p.aggregation, kReadByAggregate, false, kAggregationSgm, kAggregationMgm});
+  v(ParamField{"subpixel_bits", p.subpixel_bits, kReadBySelect, false, 0, kMaxSubpixelBits});
+}
+constexpr int kParamFieldCount = 19;
+
+// Whether two names are the same text.
+constexpr bool same_name(const char* a, const char* b) {
+  while (*a != 0 && *a == *b) ++a, ++b;
+  return *a == *b;
+}
+
+// The limits of the field named `name` (a name of for_each_param): {lo, hi}, or {1, 0} when no
+// field has that name.
+struct ParamLimits {
+  long long lo;
+  long long hi;
+};
+inline ParamLimits param_limits(const char* name) {
+  ParamLimits l{1, 0};
+  const StereoParams any{1, 1, 0, 1, 1, 1, 1, 1u, 0, 1, false, 0, 0, 0, 0};
+  for_each_param(any, [&](const ParamField& f) {
+    if (same_name(f.name, name)) l = ParamLimits{f.lo, f.hi};
+  });
+  return l;
+}
+
 enum RectifyMode : int { kRectifyNone = 0, kRectifyNearest = 1, kRectifyBilinear = 2 };
 
 // Rectification by remap tables (docs/algorithm.md §1).

@@ -74,6 +74,10 @@ std::string cost_sharing_key(const kern::StereoParams& p, FuncEngine engine = Fu
 // Designs with equal keys share the fast engine's aggregate volume too (they differ only in the
 // WTA, LR check, uniqueness, sub-pixel bits or median); "" with the kernels engine.
 std::string aggregate_sharing_key(const kern::StereoParams& p, FuncEngine engine = FuncEngine::automatic);
+// Designs with equal keys have the same codes before the median (the fast engine then runs the
+// median alone); "" with the kernels engine. All three keys are derived from which stage reads
+// which field (kernels/param_table.hpp).
+std::string selection_sharing_key(const kern::StereoParams& p, FuncEngine engine = FuncEngine::automatic);
 
 // The cost volume a recording holds, in the golden model's layout C[(y*W + x)*D + d]
 // (ref::volume_index): from the kernels' cost tokens (the func run's lanes, D/PU tokens per pixel)

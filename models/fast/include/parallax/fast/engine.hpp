@@ -30,15 +30,18 @@ const char* simd_level();
 std::vector<std::string> supported_simd_levels();
 void set_simd_level(const std::string& name);
 
-// Problems with p that the engine cannot run (empty when runnable): the contract's limits.
+// Problems with p that the engine cannot run (empty when runnable): the violations of
+// kern::for_each_param_violation (kernels/param_table.hpp), one text each.
 std::vector<std::string> param_errors(const kern::StereoParams& p);
 
-// Everything the cost stage reads (size, cost, census kind, window, D, m): designs with equal
-// keys have the same cost volume.
+// The sharing key of a stage (a kern::ParamReader bit): every field that stage or one before it
+// reads (kern::for_each_param), as "name=value" words. Designs with equal keys compute the same
+// values up to that stage's output.
+std::string stage_key(const kern::StereoParams& p, unsigned stage);
+// stage_key of the cost: designs with equal keys have the same cost volume.
 std::string cost_key(const kern::StereoParams& p);
-// cost_key plus everything the aggregation reads (paths, aggregation, P1, P2, adaptive P2):
-// designs with equal keys have the same aggregate volume, and differ only in the WTA, LR check,
-// uniqueness, sub-pixel bits and median.
+// stage_key of the aggregation: designs with equal keys have the same aggregate volume, and
+// differ only in what the selection and the median read.
 std::string aggregate_key(const kern::StereoParams& p);
 
 // A frame's cost volume [H][W][D rounded up to 32] with the left image (adaptive P2 reads it).
@@ -49,8 +52,8 @@ struct CostVolume {
   std::vector<uint8_t> left;
 };
 
-// aggregate_key plus the WTA's knobs (LR check and tolerance, uniqueness, sub-pixel bits):
-// designs with equal keys have the same codes before the median.
+// stage_key of the selection (WTA, LR check, uniqueness, sub-pixel): designs with equal keys have
+// the same codes before the median.
 std::string selection_key(const kern::StereoParams& p);
 
 // A frame's aggregate volume [H][W][lanes], 16- or 32-bit (the narrowest that cannot overflow);

@@ -133,23 +133,24 @@ inline parallax::kern::StereoParams structure_params() {
   parallax::kern::StereoParams p;
   p.width_px = kWidthPx;
   p.height_px = kHeightPx;
-  p.cost = kCost;
-  p.census = kCensus;
-  p.window_w = kWindowW;
-  p.window_h = kWindowH;
-  p.disparities = kDisparities;
-  p.min_disparity = kMinDisparity;
-  p.p2_adaptive = kP2Adaptive;
-  p.aggregation = kAggregation;
-  p.subpixel_bits = kSubpixelBits;
-  p.parallel_units = kParallelUnits;
-  p.path_mask = kPathMask;
-  p.lr_check = kLrCheck;
-  p.median = kMedian;
-  p.p1 = 0;
-  p.p2 = 0;
-  p.lr_tolerance = 0;
-  p.uniqueness_pct = 0;
+  // Every other field of kern::for_each_param (kernels/params.hpp), in its order.
+  p.cost = 0;
+  p.window_w = 5;
+  p.window_h = 5;
+  p.disparities = 60;
+  p.parallel_units = 6;
+  p.path_mask = 255;
+  p.p1 = 0;  // a register: set by the params of the stage that reads it
+  p.p2 = 0;  // a register: set by the params of the stage that reads it
+  p.lr_check = 1;
+  p.lr_tolerance = 0;  // a register: set by the params of the stage that reads it
+  p.median = 5;
+  p.uniqueness_pct = 0;  // a register: set by the params of the stage that reads it
+  p.census = 0;
+  p.min_disparity = 0;
+  p.p2_adaptive = 0;
+  p.aggregation = 0;
+  p.subpixel_bits = 0;
   return p;
 }
 
