@@ -13,14 +13,6 @@
 #include <opencv2/imgproc.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include "parallax/uav/avoid.hpp"
-#include "parallax/eval/dataset.hpp"
-#include "parallax/eval/disparity_io.hpp"
-#include "parallax/eval/evaluate.hpp"
-#include "parallax/uav/fly.hpp"
-#include "parallax/uav/scene.hpp"
-#include "parallax/eval/metrics.hpp"
-#include "parallax/eval/simulate.hpp"
 #include "html_text.hpp"
 #include "rows.hpp"
 
@@ -250,8 +242,7 @@ cv::Mat error_map(const cv::Mat& d, const cv::Mat& v, const cv::Mat& gt, const c
   return out;
 }
 
-void add_avoidance_images(DesignSection& s, const cv::Mat& disp, const cv::Mat& valid, int max_d, int x0, int y0) {
-  const AvoidResult a = avoid(disp, valid, max_d, kitti_default_rig(x0, y0));
+void add_avoidance_images(DesignSection& s, const AvoidanceView& a) {
   auto grey = [](const cv::Mat& counts) {
     cv::Mat f;
     counts.convertTo(f, CV_32F);
@@ -264,6 +255,7 @@ void add_avoidance_images(DesignSection& s, const cv::Mat& disp, const cv::Mat& 
     cv::cvtColor(g, bgr, cv::COLOR_GRAY2BGR);
     return bgr;
   };
+  if (a.u_map.empty() || a.v_map.empty()) return;
   const int su = 3, sv = 4;  // stretch the short disparity axes so that they can be seen
   cv::Mat u = grey(a.u_map), v = grey(a.v_map);
   cv::resize(u, u, cv::Size(u.cols, u.rows * su), 0, 0, cv::INTER_NEAREST);
@@ -279,74 +271,49 @@ void add_avoidance_images(DesignSection& s, const cv::Mat& disp, const cv::Mat& 
                   1);
   }
   if (a.ground_found)
-    cv::line(v, cv::Point(0, int(a.ground_offset)), cv::Point(v.cols, int(a.ground_slope * max_d + a.ground_offset)),
-             cv::Scalar(230, 120, 40), 1);
+    cv::line(v, cv::Point(0, int(a.ground_offset)),
+             cv::Point(v.cols, int(a.ground_slope * a.max_disparity + a.ground_offset)), cv::Scalar(230, 120, 40), 1);
   s.u_map_image = u;
   s.v_map_image = v;
   s.metrics["obstacles"] = double(a.obstacles.size());
   if (!a.obstacles.empty()) s.metrics["nearest_obstacle_m"] = a.obstacles.front().range_m;
 }
 
-void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::string& scenario_path, double speed,
-                int size) {
-  const Scenario sc = load_scenario(scenario_path);
-  const Scene scene = generate_scene(sc, 1);
-  FlightParams fp;
-  fp.speed_mps = speed;
-  fp.width_px = size;
-  const FlightResult r = fly(cfg, sc, scene, fp, 1);
+void add_flight(DesignSection& s, const FlightView& f) {
   // Top-down: x across, z up the page.
-  const double W = 300, H = 420, x0 = -10, x1 = 10, z1 = scene.goal_z_m + 2;
+  const double W = 300, H = 420, x0 = -10, x1 = 10, z1 = f.goal_z_m + 2;
   auto sx = [&](double x) { return (x - x0) / (x1 - x0) * W; };
   auto sz = [&](double z) { return H - z / z1 * H; };
   std::ostringstream o;
   o << "<svg class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H + 20
     << "\"><rect width=\"" << W << "\" height=\"" << H << "\" fill=\"#f6f6f0\" stroke=\"#999\"/>";
-  for (const auto& c : scene.cylinders)
+  for (const auto& c : f.cylinders)
     o << "<circle cx=\"" << sx(c.x_m) << "\" cy=\"" << sz(c.z_m) << "\" r=\""
       << std::max(1.5, c.radius_m / (x1 - x0) * W) << "\" fill=\"#2e7d32\"/>";
-  for (const auto& b : scene.boxes)
+  for (const auto& b : f.boxes)
     o << "<rect x=\"" << sx(std::max(b.x0_m, x0)) << "\" y=\"" << sz(b.z1_m) << "\" width=\""
       << sx(std::min(b.x1_m, x1)) - sx(std::max(b.x0_m, x0)) << "\" height=\"" << std::max(1.0, sz(b.z0_m) - sz(b.z1_m))
       << "\" fill=\"#8d6e63\"/>";
-  o << "<polyline fill=\"none\" stroke=\"" << (r.collided ? "#d62728" : "#1f77b4") << "\" stroke-width=\"2\" points=\"";
-  for (const auto& p : r.trajectory) o << sx(p.x()) << "," << sz(p.z()) << " ";
-  o << "\"/><line x1=\"0\" x2=\"" << W << "\" y1=\"" << sz(scene.goal_z_m) << "\" y2=\"" << sz(scene.goal_z_m)
+  o << "<polyline fill=\"none\" stroke=\"" << (f.collided ? "#d62728" : "#1f77b4") << "\" stroke-width=\"2\" points=\"";
+  for (const auto& p : f.trajectory_xz_m) o << sx(p.x) << "," << sz(p.y) << " ";
+  o << "\"/><line x1=\"0\" x2=\"" << W << "\" y1=\"" << sz(f.goal_z_m) << "\" y2=\"" << sz(f.goal_z_m)
     << "\" stroke=\"#444\" stroke-dasharray=\"4 3\"/><text x=\"4\" y=\"" << H + 15 << "\" class=\"k\">"
-    << html_escape(sc.name) << " at " << number(speed) << " m/s: " << to_string(r.outcome) << ", min clearance "
-    << number(std::round(r.min_clearance_m * 100) / 100) << " m</text></svg>";
+    << html_escape(f.scenario) << " at " << number(f.speed_mps) << " m/s: " << f.outcome << ", min clearance "
+    << number(std::round(f.min_clearance_m * 100) / 100) << " m</text></svg>";
   s.flight_svg = o.str();
-  // Three frames of the flight: start, middle, end, with the design's disparity.
-  const FlightSetup setup = flight_setup(cfg, sc, fp);
-  sim::FuncPipeline pipe;
-  for (std::size_t k : {std::size_t(0), r.poses.size() / 2, r.poses.empty() ? 0 : r.poses.size() - 1}) {
-    if (r.poses.empty()) break;
-    const StereoFrame f = render(scene, setup.rig, setup.width_px, setup.height_px, r.poses[k], sc.imaging.antialias);
-    const DisparityMap d = run_design(setup.cfg, f.left, f.right, pipe);
-    s.flight_frames.push_back({f.left, "flight frame " + std::to_string(k)});
-    s.flight_frames.push_back({colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparity_end_px())),
-                               "its disparity, frame " + std::to_string(k)});
+  for (const auto& frame : f.frames) {
+    s.flight_frames.push_back({frame.left_grey, "flight frame " + std::to_string(frame.index)});
+    s.flight_frames.push_back({frame.disparity_colour, "its disparity, frame " + std::to_string(frame.index)});
   }
 }
 
-void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const std::string& dataset,
-                      const std::string& frame) {
-  const Dataset ds = open_dataset(dataset);
-  const auto refs = list_frames(ds, GtKind::noc, frame);
-  if (refs.empty()) throw InputError(dataset + ": no frame with ground truth matches '" + frame + "'");
-  Frame f = load_frame(refs.front());
-  const Roi r = resolve_roi(roi_for(cfg), f.left.cols, f.left.rows);
-  const cv::Mat l = crop_to_roi(f.left, r), rr = crop_to_roi(f.right, r);
-  const cv::Mat gt = crop_to_roi(f.gt_disparity_px, r), gm = crop_to_roi(f.gt_mask, r);
-  sim::FuncPipeline pipe;
-  const DisparityMap d = run_design(cfg, l.clone(), rr.clone(), pipe);
-  const double max_d = double(cfg.disparity_end_px());
-  s.frame_id = f.id;
-  s.left_grey = l.clone();
-  s.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, max_d);
-  s.gt_colour = colourize_disparity(gt, gm, max_d);
-  s.error_map = error_map(d.disparity_px, d.valid_mask, gt, gm);
-  add_avoidance_images(s, d.disparity_px, d.valid_mask, cfg.disparity_end_px(), r.x0, r.y0);
+void add_frame_images(DesignSection& s, const FrameView& f) {
+  s.frame_id = f.frame_id;
+  s.left_grey = f.left_grey;
+  s.disparity_colour = f.disparity_colour;
+  s.gt_colour = f.gt_colour;
+  s.error_map = error_map(f.disparity_px, f.valid_mask, f.gt_px, f.gt_mask);
+  add_avoidance_images(s, f.avoidance);
 }
 
 void add_figures(DesignSection& s, const DesignResult& r) {
@@ -482,6 +449,13 @@ bool all_numeric(const std::vector<std::string>& values) {
 
 }  // namespace
 
+std::vector<ResultStore::Row> report_sections(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows,
+                                              int details) {
+  std::vector<ResultStore::Row> front = pareto_front(spec, rows);
+  if (int(front.size()) > details) front.resize(std::size_t(std::max(details, 0)));
+  return front;
+}
+
 std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt) {
   const auto front = pareto_front(spec, rows);
   std::set<std::string> on_front;
@@ -604,16 +578,13 @@ std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Ro
                 " --db check.db   # accuracy, timing and resources as stored\n"
                 "parallax sim --config " +
                 s.config_file + " --device " + spec.device + " --html " + r.hash + ".html";
-    try {
-      const config::PipelineConfig cfg = config::parse_config(r.config_yaml, "design " + r.hash);
-      PointRequest timing_and_resources;
-      timing_and_resources.device = spec.device;
-      add_figures(s, evaluate_point(cfg, timing_and_resources));
-      if (!opt.dataset.empty()) add_frame_images(s, cfg, opt.dataset, opt.frame);
-      if (!spec.flight_scenario.empty())
-        add_flight(s, cfg, spec.flight_scenario, spec.flight_speed_mps, spec.flight_size_px);
-    } catch (const std::exception& e) {
-      s.title += " (" + std::string(e.what()) + ")";
+    const auto it = opt.sections.find(r.hash);
+    if (it != opt.sections.end()) {
+      const DesignResult& d = it->second;
+      if (d.status != "ok") s.title += " (" + d.reason + ")";
+      add_figures(s, d);
+      if (d.frame_view) add_frame_images(s, *d.frame_view);
+      if (d.flight_view) add_flight(s, *d.flight_view);
     }
     o << design_section_html(s);
   }

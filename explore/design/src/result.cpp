@@ -75,6 +75,9 @@ void complete_point(DesignResult& r, const PointRequest& req) {
   if (req.dataset != nullptr && !r.accuracy) r.accuracy = measure_accuracy(cfg, req);
   if (req.dataset != nullptr && req.avoidance && !r.avoidance) r.avoidance = measure_avoidance(cfg, req);
   if (!req.flight_scenario.empty() && !r.flight) r.flight = measure_flights(cfg, req);
+  if (!req.view_dataset.empty() && !r.frame_view) r.frame_view = view_frame(cfg, req.view_dataset, req.view_frame);
+  if (!req.view_scenario.empty() && !r.flight_view)
+    r.flight_view = view_flight(cfg, req.view_scenario, req.flight_speed_mps, req.flight_size_px);
   if ((req.timing || req.resources) && !r.timing) {
     SimulationResult sr = simulate_timing(cfg, r.width_px, r.height_px);
     if (sr.cycle.deadlock) {

@@ -1,4 +1,5 @@
 // parallax report: CSV, JSON and a self-contained HTML report of a sweep.
+#include <cstdio>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -42,10 +43,30 @@ int run_report(const ReportCommandOptions& o, const Invocation&) {
   if (!o.html.empty()) {
     ReportOptions ro;
     ro.dataset = o.dataset.empty() ? images_dataset(swept) : o.dataset;
-    ro.frame = o.frame;
     ro.details = o.details;
     ro.peers = store.peers(spec.name);
     ro.seed_hash = seed_hash(spec);
+    // The sections' figures and views, computed here: timing and resources on the sweep's device,
+    // the design on one frame, one flight through the sweep's scenario.
+    PointRequest views;
+    views.device = spec.device;
+    views.view_dataset = ro.dataset;
+    views.view_frame = o.frame;
+    views.view_scenario = spec.flight_scenario;
+    views.flight_speed_mps = spec.flight_speed_mps;
+    views.flight_size_px = spec.flight_size_px;
+    const auto sections = report_sections(spec, rows, o.details);
+    for (std::size_t i = 0; i < sections.size(); ++i) {
+      const auto& row = sections[i];
+      std::fprintf(stderr, "[%zu/%zu] %s: figures and views\n", i + 1, sections.size(), row.hash.c_str());
+      DesignResult& d = ro.sections[row.hash];
+      try {
+        d = evaluate_point(config::parse_config(row.config_yaml, "design " + row.hash), views);
+      } catch (const std::exception& e) {
+        d.status = "error";
+        d.reason = e.what();
+      }
+    }
     write_text_file(o.html, html_report(spec, rows, ro));
   }
   return 0;

@@ -61,7 +61,7 @@ void write_run_page(const RunOptions& o, const Invocation& inv, const config::Pi
   section.left_grey = l.clone();
   section.frame_id = fs::path(o.left).filename().string();
   section.disparity_colour = colourize_disparity(d.disparity_px, d.valid_mask, double(cfg.disparity_end_px()));
-  add_avoidance_images(section, d.disparity_px, d.valid_mask, cfg.disparity_end_px(), roi.x0, roi.y0);
+  add_avoidance_images(section, view_avoidance(d.disparity_px, d.valid_mask, cfg.disparity_end_px(), roi.x0, roi.y0));
   if (!section.metrics.count("density_pct")) section.metrics["density_pct"] = density_pct;
   DesignResult figures;  // timing and resources at the pair's ROI, on the default device
   figures.config = cfg;

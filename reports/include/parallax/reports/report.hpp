@@ -4,6 +4,7 @@
 // docs/reports.md.
 #pragma once
 
+#include <map>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -43,21 +44,17 @@ struct DesignSection {
   const res::Device* device = nullptr;
   std::vector<ModelVsSynthesis> synthesis;  // model beside synthesis (parallax import-hls); empty: none
 };
-// Fills the images of a section by running the design on one frame of a dataset ("" = first).
-void add_frame_images(DesignSection& s, const config::PipelineConfig& cfg, const std::string& dataset,
-                      const std::string& frame);
+// The pictures of a section, drawn from what explore computed (parallax/design/views.hpp): the
+// frame's images and error map with the avoidance stage on them; the avoidance stage's U map
+// (obstacle boxes and ellipses) and V map (the ground line and the obstacles' rows); a flight's
+// top-down trajectory and frames.
+void add_frame_images(DesignSection& s, const FrameView& frame);
+void add_avoidance_images(DesignSection& s, const AvoidanceView& avoidance);
+void add_flight(DesignSection& s, const FlightView& flight);
+
 // The picture of where a disparity is right (green: within 3 px of the ground truth), wrong
 // (red) or unscored (black: no ground truth or no prediction).
 cv::Mat error_map(const cv::Mat& disparity_px, const cv::Mat& valid_mask, const cv::Mat& gt_px, const cv::Mat& gt_mask);
-
-// Pictures of the avoidance stage's U map (obstacle boxes and ellipses) and V map (the ground
-// line and the obstacles' rows) for a disparity map.
-void add_avoidance_images(DesignSection& s, const cv::Mat& disparity_px, const cv::Mat& valid_mask, int max_disparity,
-                          int roi_x0_px, int roi_y0_px);
-
-// Flies the design through a scenario (seed 1) and adds the top-down trajectory and a few frames.
-void add_flight(DesignSection& s, const config::PipelineConfig& cfg, const std::string& scenario_path, double speed_mps,
-                int size_px);
 
 // The models' figures of an evaluated design in its section: the cycle report, the per-stage
 // resource estimate and its device (the metrics table is the caller's: stored or measured).
@@ -67,14 +64,20 @@ std::string design_section_html(const DesignSection& s);
 std::string standalone_page(const std::string& title, const std::string& body_html);
 
 struct ReportOptions {
-  std::string dataset;  // to render the per-design images; "" = none
-  std::string frame;    // frame of the images ("" = the first with ground truth)
+  std::string dataset;  // the dataset the sections' images come from ("" = none): named in their commands
   int details = 6;      // designs on the front that get a section
+  // What explore computed for the designs of report_sections(), by hash: timing, resources and
+  // views (evaluate_point with view_dataset / view_scenario). A design missing here gets its
+  // stored metrics only; a status other than "ok" is named in its title.
+  std::map<std::string, DesignResult> sections;
   // Marked in the Pareto plots and listed in the summary: the peers stored beside the sweep
   // (ResultStore::peers) and the seed design (seed_hash, the base design's hash; "" = none).
   std::vector<ResultStore::Row> peers;
   std::string seed_hash;
 };
+// The designs that get a section: the first `details` of the Pareto front.
+std::vector<ResultStore::Row> report_sections(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows,
+                                              int details);
 std::string html_report(const SweepSpec& spec, const std::vector<ResultStore::Row>& rows, const ReportOptions& opt);
 
 // Outputs never overwrite their inputs: InputError naming the option when an output (option,

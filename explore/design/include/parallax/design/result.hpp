@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "parallax/config/config.hpp"
+#include "parallax/design/views.hpp"
 #include "parallax/eval/dataset.hpp"
 #include "parallax/eval/metrics.hpp"
 #include "parallax/eval/simulate.hpp"
@@ -59,6 +60,9 @@ struct DesignResult {
   std::optional<ResourceFigures> resources;
   std::optional<AvoidanceFigures> avoidance;
   std::optional<FlightFigures> flight;
+  // The views a report draws (views.hpp), when the request asks for them.
+  std::optional<FrameView> frame_view;
+  std::optional<FlightView> flight_view;
 };
 
 // What to evaluate. Accuracy (and avoidance) need a dataset; timing and resources need only the
@@ -75,6 +79,10 @@ struct PointRequest {
   int flight_seeds = 3;
   double flight_speed_mps = 5.0;
   int flight_size_px = 160;
+  // Views for a report (reports/ draws them): the design's maps and avoidance stage on one frame
+  // of view_dataset ("" = none; view_frame "" = the first with ground truth), and one flight
+  // (seed 1) through view_scenario ("" = none) at flight_speed_mps and flight_size_px.
+  std::string view_dataset, view_frame, view_scenario;
 };
 
 // Evaluates what `request` asks for and `result` does not hold yet, in the order accuracy,
@@ -84,6 +92,15 @@ struct PointRequest {
 // unusable input (dataset, scenario, device).
 void complete_point(DesignResult& result, const PointRequest& request);
 DesignResult evaluate_point(const config::PipelineConfig& cfg, const PointRequest& request);
+
+// The views alone (what complete_point adds for view_dataset and view_scenario): the avoidance
+// stage on a disparity map of a region at (x0, y0) of a KITTI-sized image, the design on one frame
+// of a dataset, one flight. Throw InputError for unusable input.
+AvoidanceView view_avoidance(const cv::Mat& disparity_px, const cv::Mat& valid_mask, int max_disparity, int roi_x0_px,
+                             int roi_y0_px);
+FrameView view_frame(const config::PipelineConfig& cfg, const std::string& dataset, const std::string& frame);
+FlightView view_flight(const config::PipelineConfig& cfg, const std::string& scenario_path, double speed_mps,
+                       int size_px);
 
 // Resources, utilisation and power at a size, clock and frame interval: the resource part of
 // evaluate_point, for the commands that time a design their own way (sim, export).
