@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "parallax/design/json.hpp"
 #include "parallax/eval/input_error.hpp"
 #include "parallax/reports/resource_page.hpp"
 #include "parallax/resources/fit.hpp"
@@ -41,7 +42,7 @@ constexpr double kBramExactTarget = 0.90, kDspExactTarget = 0.70;
 constexpr double kLofoMedianTargetPct = 20.0, kLofoP90TargetPct = 45.0;
 
 json usage_json(const res::Usage& u) {
-  return {{"bram18k", u.bram18k}, {"uram", u.uram}, {"dsp", u.dsp}, {"ff", u.ff}, {"lut", u.lut}};
+  return u;  // parallax/design/json.hpp
 }
 json stats_json(const res::ErrorStats& s) {
   return {{"rows", s.rows},

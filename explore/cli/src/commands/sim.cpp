@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "parallax/design/json.hpp"
 #include "parallax/design/result.hpp"
 #include "parallax/eval/disparity_io.hpp"
 #include "parallax/eval/input_error.hpp"
@@ -42,35 +43,6 @@ struct SimOptions {
 // Resources, utilisation and power of a design at its processed size: the resource part of the
 // one evaluation (explore/design).
 using ResourceReport = ResourceFigures;
-
-// Adds the resource report's fields to the JSON object `j`.
-void add_resources_json(json& j, const ResourceReport& r) {
-  const res::Usage& u = r.estimate.total;
-  j["device"] = r.utilisation.device->name;
-  j["estimate"] = res::flavour_name(r.estimate.flavour);
-  j["bram18k"] = u.bram18k;
-  j["uram"] = u.uram;
-  j["lut"] = u.lut;
-  j["ff"] = u.ff;
-  j["dsp"] = u.dsp;
-  j["fits_device"] = r.utilisation.fits;
-  j["utilisation_pct"] = {{"bram18k", r.utilisation.bram18k_pct},
-                          {"uram", r.utilisation.uram_pct},
-                          {"lut", r.utilisation.lut_pct},
-                          {"ff", r.utilisation.ff_pct},
-                          {"dsp", r.utilisation.dsp_pct}};
-  j["resource_stages"] = json::array();
-  for (const auto& s : r.estimate.stages)
-    j["resource_stages"].push_back({{"stage", s.stage},
-                                    {"bram18k", s.usage.bram18k},
-                                    {"lut", s.usage.lut},
-                                    {"ff", s.usage.ff},
-                                    {"dsp", s.usage.dsp},
-                                    {"lutram_luts", s.usage.lutram_luts},
-                                    {"srl_luts", s.usage.srl_luts}});
-  j["power_estimate_w"] = {{"static", r.power.static_w}, {"dynamic", r.power.dynamic_w}, {"total", r.power.total_w}};
-  j["energy_estimate_mj_per_frame"] = r.power.energy_mj_per_frame;
-}
 
 // The resource report as a table on stdout: per stage, total, the device, utilisation, fit, power.
 void print_resources(const ResourceReport& r) {
@@ -118,63 +90,22 @@ void parse_vcd_cycles(const std::string& text, int64_t& from, int64_t& to) {
   if (from < 0 || to <= from) throw InputError("--vcd-cycles: need 0 <= A < B");
 }
 
-// The simulation of `cfg` on the pair `l` at `clock` MHz as one JSON object.
+// The simulation of `cfg` on the pair `l` at `clock` MHz as one JSON object: the timing's and the
+// resources' own forms (parallax/design/json.hpp) with the design, the size and what sets each II.
 json sim_json(const config::PipelineConfig& cfg, int clock, const cv::Mat& l, const SimulationResult& result,
               const ResourceReport& rr) {
-  const auto& c = result.cycle;
-  json j;
+  json j = result;
+  j.update(json(rr));
   j["config"] = cfg.name;
   j["clock_mhz"] = clock;
   j["width_px"] = l.cols;
   j["height_px"] = l.rows;
-  j["cycles_per_frame"] = c.cycles_per_frame;
-  j["first_pixel_cycle"] = c.first_pixel_cycle;
-  j["last_pixel_cycle"] = c.last_pixel_cycle;
-  j["first_pixel_latency_ms"] = result.fpga_first_pixel_ms;
-  j["last_pixel_latency_ms"] = result.fpga_last_pixel_ms;
-  j["host_copy_in_ms"] = result.copy_in_ms;
-  j["host_copy_out_ms"] = result.copy_out_ms;
   j["host_latency_ms"] = cfg.host_latency_ms;
-  j["latency_ms"] = result.latency_ms;
-  j["frame_interval_ms"] = result.frame_interval_ms;
-  j["fps"] = result.fps;
-  j["interval_limit"] = result.interval_limit;
-  j["bottleneck"] = c.bottleneck;
-  j["rows_fast_forwarded"] = c.rows_fast_forwarded;
-  j["input_period_cycles"] = c.input_period_cycles;
-  if (cfg.rectify != "none") j["rectify_window_misses"] = c.rectify_window_misses;
-  if (c.ddr_word_bits > 0)  // two passes: the frame buffer's and the map's traffic per frame
-    j["ddr"] = {{"word_bits", c.ddr_word_bits},
-                {"frame_bytes_written", c.ddr_bytes_written},
-                {"frame_bytes_read", c.ddr_bytes_read},
-                {"map_bytes_written", c.map_bytes_written},
-                {"gbytes_per_s_at_fps",
-                 double(c.ddr_bytes_written + c.ddr_bytes_read + c.map_bytes_written) * result.fps / 1e9},
-                {"ddr_gbps", cfg.ddr_gbps}};
-  if (result.unbounded_last_pixel_cycle >= 0) j["unbounded_fifos_last_pixel_cycle"] = result.unbounded_last_pixel_cycle;
-  j["stages"] = json::array();
+  if (cfg.rectify != "none") j["rectify_window_misses"] = result.cycle.rectify_window_misses;
+  if (j.contains("ddr")) j["ddr"]["ddr_gbps"] = cfg.ddr_gbps;
   const std::map<std::string, std::string> why = ii_reasons(cfg, l.cols, l.rows);
-  for (const auto& s : c.stages) {
-    json sj = {{"name", s.name},
-               {"ii_cycles", s.ii_cycles},
-               {"latency_cycles", s.latency_cycles},
-               {"fires", s.fires},
-               {"busy_cycles", s.busy_cycles},
-               {"input_stall_cycles", s.input_stall_cycles},
-               {"output_stall_cycles", s.output_stall_cycles},
-               {"first_fire_cycle", s.first_fire_cycle},
-               {"last_fire_cycle", s.last_fire_cycle}};
-    if (why.count(s.name)) sj["ii_limit"] = why.at(s.name);
-    j["stages"].push_back(sj);
-  }
-  j["fifos"] = json::array();
-  for (const auto& f : c.fifos) {
-    json fj = {{"name", f.name},   {"producer", f.producer}, {"consumer", f.consumer},
-               {"depth", f.depth}, {"tokens", f.tokens},     {"high_water", f.high_water}};
-    if (result.stall_free_depths.count(f.name)) fj["stall_free_depth"] = result.stall_free_depths.at(f.name);
-    j["fifos"].push_back(fj);
-  }
-  add_resources_json(j, rr);
+  for (auto& sj : j["stages"])
+    if (why.count(sj["name"].get<std::string>())) sj["ii_limit"] = why.at(sj["name"].get<std::string>());
   return j;
 }
 
