@@ -190,7 +190,7 @@ TEST(HlsImport, PageShowsModelAndSynthesisSideBySide) {
   const fs::path dir = fresh_dir("import");
   fs::create_directories(dir);
   const auto r = shell(std::string(PARALLAX_CLI) + " import-hls --report " +
-                       (kSource / "tests/hls/flow/data/csynth_sample.xml").string() + " --config " +
+                       (kSource / "tests/explore/hls_flow/data/csynth_sample.xml").string() + " --config " +
                        (kSource / "configs/ruf2018-census.yaml").string() + " --html " + (dir / "p.html").string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("model vs synthesis"), std::string::npos) << r.output;
@@ -200,7 +200,7 @@ TEST(HlsImport, PageShowsModelAndSynthesisSideBySide) {
   EXPECT_NE(page.find("II aggregate_loop"), std::string::npos);
   const auto bad =
       shell(std::string(PARALLAX_CLI) + " import-hls --report " +
-            (kSource / "tests/hls/flow/data/csynth_sample.xml").string() + " --html " + (dir / "q.html").string());
+            (kSource / "tests/explore/hls_flow/data/csynth_sample.xml").string() + " --html " + (dir / "q.html").string());
   EXPECT_EQ(bad.status, 2) << bad.output;
   fs::remove_all(dir);
 }
