@@ -198,9 +198,9 @@ TEST(HlsImport, PageShowsModelAndSynthesisSideBySide) {
   EXPECT_NE(page.find("Model and synthesis"), std::string::npos);
   EXPECT_NE(page.find("4631240"), std::string::npos);  // the report's worst latency
   EXPECT_NE(page.find("II aggregate_loop"), std::string::npos);
-  const auto bad =
-      shell(std::string(PARALLAX_CLI) + " import-hls --report " +
-            (kSource / "tests/explore/hls_flow/data/csynth_sample.xml").string() + " --html " + (dir / "q.html").string());
+  const auto bad = shell(std::string(PARALLAX_CLI) + " import-hls --report " +
+                         (kSource / "tests/explore/hls_flow/data/csynth_sample.xml").string() + " --html " +
+                         (dir / "q.html").string());
   EXPECT_EQ(bad.status, 2) << bad.output;
   fs::remove_all(dir);
 }
