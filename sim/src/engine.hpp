@@ -96,6 +96,21 @@ class Engine : private PipelineRun<kTimed> {
     else
       record_with(sad_, left, right, tokens);
   }
+  // Func run only (the per-stage equality tests, issue 43): the sum tokens the WTA stage would
+  // read for this frame, in the order the variant streams them (stage_setup("wta_lr").reverse:
+  // each row reversed after row_reverse, the whole frame after the frame buffer; a pixel's tokens
+  // always in ascending chunk order). The WTA, median and sink do not run.
+  void record_sums(const GreyImage& left, const GreyImage& right, const kern::StereoParams& p,
+                   std::vector<SumTok>& sums) {
+    static_assert(!kTimed && kData, "sum recording belongs to the func run");
+    sums.clear();
+    sums.reserve(std::size_t(p.width_px) * std::size_t(p.height_px) * std::size_t(p.disparities / p.parallel_units));
+    sum_tap_ = &sums;
+    DisparityCodes unused;
+    run(left, right, p, RunSetup{}, unused, nullptr);
+    sum_tap_ = nullptr;
+  }
+
   void run_from_costs(const std::vector<CostTok>& tokens, const kern::StereoParams& p, DisparityCodes& out) {
     static_assert(!kTimed && kData, "cost replay belongs to the func run");
     begin(p, RunSetup{}, nullptr);
@@ -305,8 +320,20 @@ class Engine : private PipelineRun<kTimed> {
       return fired;
     };
   }
-  std::function<bool()> wta_pump(NodeT& n, Fifo<SumTok>& in, Fifo<kern::DispCode>& out) {
-    return io_pump(n, wta_, in, out);
+  // The WTA stage, or with record_sums() the recorder in its place: it takes every sum token and
+  // counts a pixel in `got` with the pixel's last token, so the run ends as the sink would end it.
+  std::function<bool()> wta_pump(NodeT& n, Fifo<SumTok>& in, Fifo<kern::DispCode>& out, int64_t& got) {
+    if (!sum_tap_) return io_pump(n, wta_, in, out);
+    const std::size_t per_px = std::size_t(p_.disparities / p_.parallel_units);
+    return [this, &in, &got, per_px] {
+      bool fired = false;
+      while (!in.empty()) {
+        sum_tap_->push_back(in.read());
+        if (sum_tap_->size() % per_px == 0) ++got;
+        fired = true;
+      }
+      return fired;
+    };
   }
   std::function<bool()> median_pump(NodeT& n, Fifo<kern::DispCode>& in, Fifo<kern::DispCode>& out) {
     return io_pump(n, median_, in, out);
@@ -527,7 +554,7 @@ class Engine : private PipelineRun<kTimed> {
     }
     NodeT& n_wta = node("wta_lr");
     NodeT& n_med = node("median");
-    be->pumps.push_back(wta_pump(n_wta, *be->sums, *be->disp));
+    be->pumps.push_back(wta_pump(n_wta, *be->sums, *be->disp, got));
     be->pumps.push_back(median_pump(n_med, *be->disp, *be->filtered));
     if (rr) {
       NodeT& n_unrev = node("row_unreverse");
@@ -625,7 +652,7 @@ class Engine : private PipelineRun<kTimed> {
     schedule({fb_.read_pump(n_rd, *back_c, *back_f, rd, read_word),
               agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums,
                                                                                  nullptr),
-              wta_pump(n_wta, *sums, *disp), median_pump(n_med, *disp, *filtered),
+              wta_pump(n_wta, *sums, *disp, got), median_pump(n_med, *disp, *filtered),
               fb_.map_writer_pump(n_sink, *filtered, out, got)},
              [&] { return got >= total; });
     if (rep_) {
@@ -697,6 +724,7 @@ class Engine : private PipelineRun<kTimed> {
   kern::Median<Caps> median_;
   kern::RowReverseCodes<Caps> code_rev_;
   std::unique_ptr<RectifyStage> rect_l_, rect_r_;
+  std::vector<SumTok>* sum_tap_ = nullptr;  // record_sums(): the WTA's input goes here instead
   FrameBufferStages<Caps, Word, kTimed, kData> fb_;
 };
 

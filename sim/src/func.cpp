@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <memory>
 #include <tuple>
+#include <type_traits>
 
 #include "design_dispatch.hpp"
 #include "engine.hpp"
@@ -276,6 +277,35 @@ DisparityCodes FuncPipeline::run_from_costs(CostRecording& rec, const kern::Ster
   DisparityCodes out;
   detail::dispatch_design<Narrow>(p.parallel_units, kern::aggregate_bits(p),
                                   [&](auto design) { impl_->engine(design).run_from_costs(rec.impl->tokens, p, out); });
+  return out;
+}
+
+std::vector<uint32_t> FuncPipeline::kernels_aggregate_volume(const GreyImage& left, const GreyImage& right,
+                                                             const kern::StereoParams& p_in) {
+  const auto errors = func_param_errors(p_in);
+  if (!errors.empty()) internal_error(("invalid parameters reached kernels_aggregate_volume: " + errors.front()).c_str());
+  kern::StereoParams p = p_in;
+  p.parallel_units = largest_divisor_at_most(p.disparities, 64);
+  const std::size_t w = std::size_t(p.width_px), pixels = w * std::size_t(p.height_px);
+  const std::size_t pu = std::size_t(p.parallel_units), per_px = std::size_t(p.disparities) / pu;
+  // Where the WTA's input runs right to left (kernels/pipeline.hpp): per row after the row
+  // reversal, over the whole frame after the frame buffer's reversed read.
+  const bool reversed = kern::stage_setup("wta_lr", p.path_mask).reverse;
+  const bool whole_frame = kern::two_pass_paths(p.path_mask);
+  std::vector<uint32_t> out(pixels * std::size_t(p.disparities));
+  detail::dispatch_design<Narrow, Wide>(p.parallel_units, kern::aggregate_bits(p), [&](auto design) {
+    auto& e = impl_->engine(design);
+    std::vector<typename std::decay_t<decltype(e)>::SumTok> sums;
+    e.record_sums(left, right, p, sums);
+    if (sums.size() != pixels * per_px) internal_error("kernels_aggregate_volume: the WTA did not get a whole frame");
+    for (std::size_t i = 0; i < pixels; ++i) {
+      std::size_t px = i;
+      if (reversed) px = whole_frame ? pixels - 1 - i : (i / w) * w + (w - 1 - i % w);
+      for (std::size_t t = 0; t < per_px; ++t)
+        for (std::size_t l = 0; l < pu; ++l)
+          out[px * std::size_t(p.disparities) + t * pu + l] = uint32_t(sums[i * per_px + t].v[l]);
+    }
+  });
   return out;
 }
 

@@ -1,7 +1,9 @@
 // equiv: the func run's stages against the golden model, per engine (issue 43, item 5): the cost
 // volume the kernels' cost stage streams (CensusCostStage / SadCostStage, at the func run's lanes)
 // and the fast engine's, reported at the first differing (x, y, d); then, replayed from those
-// costs, the selection without the median and the median, over a table of designs.
+// costs, the selection without the median and the median, over a table of designs; and the
+// kernels' path costs of every direction alone and aggregate (the sums their WTA stage reads) in
+// each variant of the pipeline (one pass, row reverse, two passes, MGM).
 // The later stages of the fast engine are compared stage by stage in tests/models/fast/stage_test.cpp;
 // the kernels' whole-frame codes in tests/kernels/equiv_test.cpp.
 #include <gtest/gtest.h>
@@ -97,6 +99,49 @@ TEST(FuncStages, CostVolumeOfEachEngineEqualsTheGoldenModel) {
       EXPECT_EQ(pipe.run_from_costs(rec, no_median).code, selected) << "selection";
       EXPECT_EQ(pipe.run_from_costs(rec, p).code, ref::median_filter(selected, p.width_px, p.height_px, p.median))
           << "median";
+    }
+  }
+}
+
+// The kernels engine's SGM stages against the golden model: each direction alone (an aggregate of
+// one path is its Lr; the backward ones run the two-pass variant, 180 alone the row reversal),
+// then the design's paths in every variant of the pipeline, with adaptive P2 and MGM.
+TEST(FuncStages, KernelsPathCostsAndAggregateEqualTheGoldenModel) {
+  struct Variant {
+    const char* what;
+    unsigned paths;
+    int aggregation, p2_adaptive;
+  };
+  const Variant kVariants[] = {
+      {"one pass", kern::kForwardPaths, kern::kAggregationSgm, 0},
+      {"one pass, adaptive P2", kern::kPath0 | kern::kPath90, kern::kAggregationSgm, 16},
+      {"row reverse", kern::kForwardPaths | kern::kPath180, kern::kAggregationSgm, 0},
+      {"two passes", kern::kAllPaths, kern::kAggregationSgm, 0},
+      {"mgm", kern::kForwardPaths, kern::kAggregationMgm, 0},
+  };
+  for (const Design& d : {kDesigns[0], kDesigns[1], kDesigns[4]}) {
+    kern::StereoParams base = params(d);
+    const GreyImage l = noise(base.width_px, base.height_px, 21), r = noise(base.width_px, base.height_px, 22);
+    ref::Image8 rl = ref::make_image(base.width_px, base.height_px), rr = ref::make_image(base.width_px, base.height_px);
+    rl.px = l.px;
+    rr.px = r.px;
+    const std::vector<uint32_t> cost = ref::cost_volume(rl, rr, base);
+    FuncPipeline pipe;
+    for (unsigned bit = 1; bit <= kern::kPath315; bit <<= 1) {
+      SCOPED_TRACE(std::string(d.what) + ", direction bit " + std::to_string(bit));
+      kern::StereoParams one = base;
+      one.path_mask = bit;
+      EXPECT_EQ(first_difference(pipe.kernels_aggregate_volume(l, r, one), ref::path_costs(cost, one, bit), one), "")
+          << "path costs";
+    }
+    for (const Variant& v : kVariants) {
+      SCOPED_TRACE(std::string(d.what) + ", " + v.what);
+      kern::StereoParams p = base;
+      p.path_mask = v.paths;
+      p.aggregation = v.aggregation;
+      p.p2_adaptive = v.p2_adaptive;
+      EXPECT_EQ(first_difference(pipe.kernels_aggregate_volume(l, r, p), ref::aggregate(cost, p, &rl), p), "")
+          << "aggregate";
     }
   }
 }

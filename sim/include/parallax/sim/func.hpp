@@ -104,6 +104,12 @@ class FuncPipeline {
   // keep_aggregate, the design's aggregate volume stays in `rec` for the next design of the same
   // aggregate_sharing_key, which then runs only its WTA, LR check and median.
   DisparityCodes run_from_costs(CostRecording& rec, const kern::StereoParams& p, bool keep_aggregate = false);
+  // The kernels engine's aggregate volume of one frame: the sums its WTA stage reads (the func
+  // run's lanes), in the golden model's layout S[(y*W + x)*D + d] whatever order the variant
+  // streams them in (after a row reversal or the frame buffer). For the per-stage equality tests;
+  // aborts on parameters rejected by func_param_errors.
+  std::vector<uint32_t> kernels_aggregate_volume(const GreyImage& left, const GreyImage& right,
+                                                 const kern::StereoParams& p);
 
  private:
   struct Impl;
