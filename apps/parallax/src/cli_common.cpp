@@ -21,6 +21,7 @@
 #include "parallax/eval/dataset.hpp"
 #include "parallax/eval/disparity_io.hpp"
 #include "parallax/eval/input_error.hpp"
+#include "parallax/eval/json.hpp"
 #include "parallax/eval/simulate.hpp"
 
 namespace parallax::cli {
@@ -201,33 +202,7 @@ EvalOptions eval_options(const std::string& gt, const std::string& frames, int t
   return opt;
 }
 
-json metrics_json(const DerivedMetrics& m) {
-  json j;
-  for (const auto& kv : named_metrics(m)) j[kv.first] = kv.second;
-  return j;
-}
-
 namespace {
-
-json counts_json(const FrameCounts& c) {
-  json j;
-  for (const auto& kv : named_counts(c)) j[kv.first] = kv.second;
-  return j;
-}
-
-json result_json(const EvalResult& r) {
-  json j = metrics_json(r.pooled.metrics);
-  j["frames"] = int(r.frames.size());
-  j["counts"] = counts_json(r.pooled.counts);
-  j["per_frame"] = json::array();
-  for (const auto& f : r.frames) {
-    json fj = metrics_json(f.metrics);
-    fj["frame"] = f.frame_id;
-    j["per_frame"].push_back(fj);
-  }
-  j["seconds"] = r.seconds;
-  return j;
-}
 
 void print_result_text(const EvalResult& r, const std::string& title) {
   std::printf("%s\n", title.c_str());
@@ -247,7 +222,7 @@ void print_result_text(const EvalResult& r, const std::string& title) {
 
 void print_evaluation(const EvalResult& r, bool as_json, const json& extra, const std::string& title) {
   if (as_json) {
-    json j = result_json(r);
+    json j = r;  // parallax/eval/json.hpp
     j.update(extra);
     std::cout << j.dump(2) << "\n";
   } else {

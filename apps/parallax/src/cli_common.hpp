@@ -99,12 +99,9 @@ int default_threads();
 explore::EvalOptions eval_options(const std::string& gt, const std::string& frames, int threads,
                                   const std::string& save, double colour_max_px, bool quiet);
 
-// Named metrics as a JSON object.
-nlohmann::json metrics_json(const explore::DerivedMetrics& m);
-
-// An evaluation on stdout. As JSON (`as_json`): pooled metrics, frame count, pooled counts,
-// per-frame rows and seconds, with the fields of `extra` added. As text: a table under `title`,
-// one row per frame, then the pooled row and the time.
+// An evaluation on stdout. As JSON (`as_json`): its own form (parallax/eval/json.hpp: pooled
+// metrics, frame count, pooled counts, per-frame rows and seconds) with the fields of `extra`
+// added. As text: a table under `title`, one row per frame, then the pooled row and the time.
 void print_evaluation(const explore::EvalResult& r, bool as_json, const nlohmann::json& extra,
                       const std::string& title);
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "parallax/eval/input_error.hpp"
+#include "parallax/uav/json.hpp"
 
 namespace parallax::explore {
 
@@ -100,21 +101,7 @@ void write_truth(const std::string& path, const std::vector<std::vector<TruthObs
   for (std::size_t i = 0; i < frames.size(); ++i) {
     char id[32];
     std::snprintf(id, sizeof id, "%06zu", i);
-    nlohmann::json list = nlohmann::json::array();
-    for (const TruthObstacle& t : frames[i]) {
-      nlohmann::json o = {{"id", t.id}, {"kind", t.kind}, {"range_m", t.range_m}, {"lateral_m", t.lateral_m}};
-      if (t.kind == "cylinder") {
-        o["x_m"] = t.x_m;
-        o["z_m"] = t.z_m;
-        o["radius_m"] = t.radius_m;
-      } else {
-        o["x0_m"] = t.x0_m;
-        o["x1_m"] = t.x1_m;
-        o["z0_m"] = t.z0_m;
-        o["z1_m"] = t.z1_m;
-      }
-      list.push_back(o);
-    }
+    const nlohmann::json list = frames[i];  // each obstacle's form (json.hpp)
     j["frames"].push_back({{"frame", id}, {"obstacles", list}});
   }
   std::ofstream out(path);

@@ -22,6 +22,7 @@
 #include "parallax/sim/func.hpp"
 #include "parallax/uav/avoid.hpp"
 #include "parallax/uav/fly.hpp"
+#include "parallax/uav/json.hpp"
 #include "parallax/uav/mavlink.hpp"
 #include "parallax/uav/truth.hpp"
 
@@ -94,21 +95,29 @@ void print_truth_text(const json& t) {
   print_truth_line("exact disparity", t["on_ground_truth_disparity"], t);
 }
 
-// The accumulated scores, the stage's time split and the per-frame rows as one JSON object.
-json avoid_json(const config::PipelineConfig& cfg, const AvoidAccumulator& acc, const std::map<std::string, double>& m,
-                const json& per_frame) {
-  const AvoidTimings& t = acc.timing_sum();
-  const double n = double(acc.frames());
-  json j;
-  j["config"] = cfg.name;
-  j["frames"] = acc.frames();
-  for (const auto& kv : m) j[kv.first] = kv.second;
-  j["ms_split"] = {{"uv_maps", t.uv_maps_ms / n},
-                   {"filtering", t.filtering_ms / n},
-                   {"contours", t.contours_ms / n},
-                   {"planning", t.planning_ms / n}};
-  j["per_frame"] = per_frame;
-  return j;
+// One frame of the command: the stage on the design's map and on the ground truth's, and the
+// setpoint sent for it.
+struct AvoidFrameRow {
+  std::string frame;
+  AvoidScore score;  // the design's obstacles matched against the ground truth's
+  Manoeuvre decision = Manoeuvre::fly_on, reference_decision = Manoeuvre::fly_on;
+  double nearest_range_m = 0;             // of the design's nearest obstacle; 0 when it found none
+  Eigen::Vector3d velocity_mps{0, 0, 0};  // the setpoint: forward, right, down
+  uint32_t time_boot_ms = 0;              // the setpoint's time stamp
+};
+
+// A frame row's JSON form: frame, obstacles, reference_obstacles, matched, decision,
+// reference_decision, nearest_range_m, velocity_mps [forward, right, down] and time_boot_ms.
+void to_json(json& j, const AvoidFrameRow& r) {
+  j = {{"frame", r.frame},
+       {"obstacles", r.score.predicted},
+       {"reference_obstacles", r.score.reference},
+       {"matched", r.score.matched},
+       {"decision", to_string(r.decision)},
+       {"reference_decision", to_string(r.reference_decision)},
+       {"nearest_range_m", r.nearest_range_m},
+       {"velocity_mps", {r.velocity_mps.x(), r.velocity_mps.y(), r.velocity_mps.z()}},
+       {"time_boot_ms", r.time_boot_ms}};
 }
 
 int run_avoid(const AvoidOptions& o, const Invocation&) {
@@ -133,7 +142,7 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
   tp.sigma_disparity_px = o.sigma_d_px;
   TruthAccumulator truth_acc, truth_ref;  // the stage on the design's disparity, on the exact one
   bool truth_started = false;
-  json per_frame = json::array();
+  std::vector<AvoidFrameRow> per_frame;
   for (const auto& ref : refs) {
     Frame f = load_frame(ref);
     const Roi roi = resolve_roi(roi_for(cfg), f.left.cols, f.left.rows);
@@ -168,29 +177,23 @@ int run_avoid(const AvoidOptions& o, const Invocation&) {
     sp.frame = SetpointFrame::body_frd;
     if (mav.active())
       for (const auto& frame : stream.setpoint(sp)) mav.send(frame);
-    per_frame.push_back({{"frame", f.id},
-                         {"obstacles", s.predicted},
-                         {"reference_obstacles", s.reference},
-                         {"matched", s.matched},
-                         {"decision", to_string(mine.manoeuvre)},
-                         {"reference_decision", to_string(acc.last_reference().manoeuvre)},
-                         {"nearest_range_m", mine.obstacles.empty() ? 0.0 : mine.obstacles.front().range_m},
-                         {"velocity_mps", {mine.velocity_mps.x(), mine.velocity_mps.y(), mine.velocity_mps.z()}},
-                         {"time_boot_ms", sp.time_boot_ms}});
+    per_frame.push_back({f.id, s, mine.manoeuvre, acc.last_reference().manoeuvre,
+                         mine.obstacles.empty() ? 0.0 : mine.obstacles.front().range_m, mine.velocity_mps,
+                         sp.time_boot_ms});
   }
   std::map<std::string, double> m;
   for (const auto& kv : acc.metrics()) m[kv.first] = kv.second;
-  json j = avoid_json(cfg, acc, m, per_frame);
+  json j = acc;  // frames, the scores and the stage's time split (parallax/uav/json.hpp)
+  j["config"] = cfg.name;
+  j["per_frame"] = per_frame;
   if (!truth_path.empty()) {
     json t = {{"file", truth_path},
               {"sigma_disparity_px", tp.sigma_disparity_px},
               {"tolerance", "max(0.5 m, 3 Z^2 sigma_d / (f B))"},
               {"speed_mps", o.speed_mps},
               {"stopping_m", tp.stopping_m}};
-    for (const auto& kv : truth_acc.metrics()) t[kv.first] = kv.second;
-    json r;
-    for (const auto& kv : truth_ref.metrics()) r[kv.first] = kv.second;
-    t["on_ground_truth_disparity"] = r;
+    t.update(json(truth_acc));  // the scores against the scene's obstacles
+    t["on_ground_truth_disparity"] = truth_ref;
     j["scene_obstacles"] = t;
   }
   if (o.json) {

@@ -14,6 +14,7 @@
 #include "parallax/eval/dataset.hpp"
 #include "parallax/eval/evaluate.hpp"
 #include "parallax/eval/input_error.hpp"
+#include "parallax/eval/json.hpp"
 
 namespace parallax::cli {
 
@@ -28,20 +29,6 @@ struct BenchOptions {
   int iterations = 7;
   bool json = false;
 };
-
-// The rows as a JSON array, one object per method.
-json bench_json(const std::vector<BenchRow>& rows) {
-  json j = json::array();
-  for (const auto& row : rows)
-    j.push_back({{"method", row.method},
-                 {"median_ms", row.median_ms},
-                 {"min_ms", row.min_ms},
-                 {"peak_rss_mib", row.peak_rss_mib},
-                 {"peak_extra_rss_mib", row.peak_extra_rss_mib},
-                 {"ratio_to_hh4", row.ratio_to_peer},
-                 {"min_ratio_to_hh4", row.min_ratio_to_peer}});
-  return j;
-}
 
 // The rows as a table on stdout under a line naming the pair size and the runs per method.
 void print_bench_text(const std::vector<BenchRow>& rows, const cv::Mat& l, int iterations) {
@@ -63,7 +50,7 @@ int run_bench(const BenchOptions& o, const Invocation&) {
   const cv::Mat l = crop_to_roi(left, roi).clone(), r = crop_to_roi(right, roi).clone();
   const auto rows = bench_pair(cfg, l, r, o.iterations);
   if (o.json)
-    std::cout << bench_json(rows).dump(2) << "\n";
+    std::cout << json(rows).dump(2) << "\n";  // one object per method (parallax/eval/json.hpp)
   else
     print_bench_text(rows, l, o.iterations);
   return 0;

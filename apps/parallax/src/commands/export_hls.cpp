@@ -16,6 +16,7 @@
 #include "parallax/eval/input_error.hpp"
 #include "parallax/hls/export.hpp"
 #include "parallax/hls_flow/hls_export.hpp"
+#include "parallax/hls_flow/json.hpp"
 #include "parallax/search/sweep.hpp"
 
 namespace parallax::cli {
@@ -70,31 +71,14 @@ config::PipelineConfig export_design(const ExportHlsOptions& o, std::string& ori
   return cfg;
 }
 
-// What was written, as one JSON object: files, FIFO depths and the predicted timing and resources.
-json export_json(const ExportHlsOptions& o, const config::PipelineConfig& cfg, const hlsx::ExportRequest& req,
+// What was written, as one JSON object: the export's own form (parallax/hls_flow/json.hpp: design,
+// part, clock, FIFO depths, the predicted timing and resources) with the folder and its files.
+json export_json(const ExportHlsOptions& o, const hlsx::ExportRequest& req,
                  const std::vector<hlsx::GeneratedFile>& files) {
-  const auto& pr = req.prediction;
-  json j;
+  json j = req;
   j["out"] = o.out;
-  j["design"] = cfg.name;
-  j["part"] = req.part;
-  j["clock_mhz"] = req.clock_mhz;
   j["files"] = json::array();
   for (const auto& f : files) j["files"].push_back(f.path);
-  j["fifos"] = json::array();
-  for (const auto& f : req.fifos)
-    j["fifos"].push_back({{"name", f.name}, {"depth", f.depth}, {"stall_free", f.stall_free}, {"why", f.why}});
-  j["prediction"] = {{"last_pixel_cycle", pr.last_pixel_cycle},
-                     {"fpga_latency_ms", pr.fpga_latency_ms},
-                     {"cycles_per_frame", pr.cycles_per_frame},
-                     {"fps", pr.fps},
-                     {"device", pr.device},
-                     {"estimate", cfg.estimate},
-                     {"bram18k", pr.bram18k},
-                     {"lut", pr.lut},
-                     {"ff", pr.ff},
-                     {"dsp", pr.dsp},
-                     {"fits", pr.fits}};
   return j;
 }
 
@@ -142,7 +126,7 @@ int run_export_hls(const ExportHlsOptions& o, const Invocation&) {
     throw InputError(e.what());
   }
   if (o.json)
-    std::cout << export_json(o, cfg, req, files).dump(2) << "\n";
+    std::cout << export_json(o, req, files).dump(2) << "\n";
   else
     print_export_text(o, cfg, req, files);
   return 0;

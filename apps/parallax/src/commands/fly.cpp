@@ -17,6 +17,7 @@
 
 #include "commands.hpp"
 #include "parallax/uav/fly.hpp"
+#include "parallax/uav/json.hpp"
 #include "parallax/uav/scene.hpp"
 
 namespace parallax::cli {
@@ -38,29 +39,36 @@ struct FlyOptions {
 struct FlightTally {
   int seeds = 0, goal = 0, collisions = 0, out_of_bounds = 0, timeouts = 0, frames = 0, flips = 0, recoveries = 0;
   double min_clear = 1e9, ratio = 0, time = 0, simulated_s = 0, render_s = 0, perception_s = 0;
-  json per_seed = json::array();
+  double goal_z_m = 0;            // the goal's distance the goal speed is taken over (seed 1's scene)
+  json per_seed = json::array();  // each flight's form (parallax/uav/json.hpp) with its seed
 
   double mean_goal(double sum) const { return goal ? sum / goal : 0.0; }
-  json to_json(double goal_z_m) const {
-    const auto ok = wilson_interval_pct(goal, seeds), hit = wilson_interval_pct(collisions, seeds);
-    return {{"seeds", seeds},
-            {"success_rate", 100.0 * goal / std::max(1, seeds)},
-            {"success_ci95_pct", {ok.first, ok.second}},
-            {"collisions", collisions},
-            {"collision_ci95_pct", {hit.first, hit.second}},
-            {"out_of_bounds", out_of_bounds},
-            {"timeouts", timeouts},
-            {"min_clearance_m", min_clear},
-            {"path_length_ratio", mean_goal(ratio)},
-            {"time_to_goal_s", mean_goal(time)},
-            {"goal_speed_mps", goal ? goal_z_m / mean_goal(time) : 0.0},
-            {"flips_per_flight", double(flips) / std::max(1, seeds)},
-            {"recoveries_per_flight", double(recoveries) / std::max(1, seeds)},
-            {"render_ms_per_frame", frames ? 1000.0 * render_s / frames : 0.0},
-            {"render_vs_real_time", simulated_s > 0 ? render_s / simulated_s : 0.0},
-            {"per_seed", per_seed}};
-  }
 };
+
+// A tally's JSON form: seeds, success_rate with success_ci95_pct and collisions with
+// collision_ci95_pct (Wilson 95 % intervals), out_of_bounds, timeouts, min_clearance_m, the means
+// over the flights that reached the goal (path_length_ratio, time_to_goal_s, goal_speed_mps), flips
+// and recoveries per flight, the rendering's cost (render_ms_per_frame, render_vs_real_time) and
+// per_seed.
+void to_json(json& j, const FlightTally& g) {
+  const auto ok = wilson_interval_pct(g.goal, g.seeds), hit = wilson_interval_pct(g.collisions, g.seeds);
+  j = {{"seeds", g.seeds},
+       {"success_rate", 100.0 * g.goal / std::max(1, g.seeds)},
+       {"success_ci95_pct", {ok.first, ok.second}},
+       {"collisions", g.collisions},
+       {"collision_ci95_pct", {hit.first, hit.second}},
+       {"out_of_bounds", g.out_of_bounds},
+       {"timeouts", g.timeouts},
+       {"min_clearance_m", g.min_clear},
+       {"path_length_ratio", g.mean_goal(g.ratio)},
+       {"time_to_goal_s", g.mean_goal(g.time)},
+       {"goal_speed_mps", g.goal ? g.goal_z_m / g.mean_goal(g.time) : 0.0},
+       {"flips_per_flight", double(g.flips) / std::max(1, g.seeds)},
+       {"recoveries_per_flight", double(g.recoveries) / std::max(1, g.seeds)},
+       {"render_ms_per_frame", g.frames ? 1000.0 * g.render_s / g.frames : 0.0},
+       {"render_vs_real_time", g.simulated_s > 0 ? g.render_s / g.simulated_s : 0.0},
+       {"per_seed", g.per_seed}};
+}
 
 // Where --mavlink-out puts a seed's stream: the path itself for one seed, else with _seed<N>
 // before the extension.
@@ -135,26 +143,20 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
       g.ratio += r.path_length_m / goal_z[std::size_t(s - first)];
       g.time += r.time_s;
     }
-    g.per_seed.push_back({{"seed", s},
-                          {"outcome", to_string(r.outcome)},
-                          {"hit", r.hit},
-                          {"min_clearance_m", r.min_clearance_m},
-                          {"time_s", r.time_s},
-                          {"path_length_m", r.path_length_m},
-                          {"flips", r.flips},
-                          {"recoveries", r.recoveries},
-                          {"frames", r.frames}});
+    json flight = r;  // parallax/uav/json.hpp
+    flight["seed"] = s;
+    g.per_seed.push_back(flight);
   }
   return g;
 }
 
-void print_tally(const char* label, const FlightTally& g, double goal_z_m) {
+void print_tally(const char* label, const FlightTally& g) {
   const auto ok = wilson_interval_pct(g.goal, g.seeds), hit = wilson_interval_pct(g.collisions, g.seeds);
   std::printf(
       "  %-8s success %3.0f%% [%.0f-%.0f%%]  collisions %d [%.0f-%.0f%%]  out of bounds %d  timeouts %d  "
       "goal speed %.2f m/s  path ratio %.3f  min clearance %.2f m  flips %.1f  recoveries %.2f per flight\n",
       label, 100.0 * g.goal / std::max(1, g.seeds), ok.first, ok.second, g.collisions, hit.first, hit.second,
-      g.out_of_bounds, g.timeouts, g.goal ? goal_z_m / g.mean_goal(g.time) : 0.0, g.mean_goal(g.ratio), g.min_clear,
+      g.out_of_bounds, g.timeouts, g.goal ? g.goal_z_m / g.mean_goal(g.time) : 0.0, g.mean_goal(g.ratio), g.min_clear,
       double(g.flips) / std::max(1, g.seeds), double(g.recoveries) / std::max(1, g.seeds));
 }
 
@@ -185,18 +187,11 @@ int run_fly(const FlyOptions& o, const Invocation&) {
                  "perception,seed,time_s,x_m,z_m,vx_mps,vz_mps,yaw_deg,sp_vx_mps,sp_vz_mps,sp_yaw_deg,"
                  "free_m,braking\n");
   }
-  json j;
+  json j = setup;  // the rig and the timing flown with (parallax/uav/json.hpp)
   j["config"] = cfg.name;
   j["scenario"] = sc.name;
   j["seeds"] = o.seeds;
   j["first_seed"] = o.first_seed;
-  j["image_px"] = {setup.width_px, setup.height_px};
-  j["focal_px"] = setup.rig.focal_px;
-  j["baseline_m"] = setup.rig.baseline_m;
-  j["frame_interval_ms"] = setup.frame_interval_ms;
-  j["latency_ms"] = setup.latency_ms;
-  j["avoid_ms"] = cfg.avoid_ms;
-  j["frame_ms"] = setup.frame_s * 1000.0;
   if (o.find) {
     double lo = 0.0, hi = 16.0;
     for (int it = 0; it < 5; ++it) {
@@ -215,16 +210,18 @@ int run_fly(const FlyOptions& o, const Invocation&) {
   } else {
     MavlinkOut mav{o.mavlink_out, o.mavlink_frame == "body-frd" ? SetpointFrame::body_frd : SetpointFrame::local_ned,
                    setup.frame_s};
-    const FlightTally design = fly_seeds(cfg, sc, fp, o.first_seed, o.seeds, o.speed, jobs, "design", trace.get(),
-                                         o.mavlink_out.empty() ? nullptr : &mav);
+    FlightTally design = fly_seeds(cfg, sc, fp, o.first_seed, o.seeds, o.speed, jobs, "design", trace.get(),
+                                   o.mavlink_out.empty() ? nullptr : &mav);
+    design.goal_z_m = goal_z;
     j["speed_mps"] = o.speed;
-    j["design"] = design.to_json(goal_z);
+    j["design"] = design;
     FlightTally oracle;
     if (!o.no_oracle) {
       FlightParams ofp = fp;
       ofp.oracle = true;
       oracle = fly_seeds(cfg, sc, ofp, o.first_seed, o.seeds, o.speed, jobs, "oracle", trace.get());
-      j["oracle"] = oracle.to_json(goal_z);
+      oracle.goal_z_m = goal_z;
+      j["oracle"] = oracle;
     }
     if (!o.json) {
       std::printf(
@@ -232,8 +229,8 @@ int run_fly(const FlyOptions& o, const Invocation&) {
           "%.1f ms):\n",
           cfg.name.c_str(), sc.name.c_str(), o.speed, o.seeds, setup.width_px, setup.height_px, setup.rig.focal_px,
           setup.rig.baseline_m, setup.frame_s * 1000.0, setup.latency_ms, cfg.avoid_ms);
-      print_tally("design", design, goal_z);
-      if (!o.no_oracle) print_tally("oracle", oracle, goal_z);
+      print_tally("design", design);
+      if (!o.no_oracle) print_tally("oracle", oracle);
       std::printf("  ([ ]: Wilson 95 %% intervals; oracle: the same flights with the exact disparity)\n");
       std::printf("  rendering: %.1f ms per stereo pair, %.2fx real time on one core\n",
                   design.frames ? 1000.0 * design.render_s / design.frames : 0.0,

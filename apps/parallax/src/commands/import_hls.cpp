@@ -13,6 +13,7 @@
 #include "parallax/eval/simulate.hpp"
 #include "parallax/hls_flow/hls_export.hpp"
 #include "parallax/hls_flow/hls_report.hpp"
+#include "parallax/hls_flow/json.hpp"
 #include "parallax/reports/report.hpp"
 #include "parallax/resources/model.hpp"
 
@@ -28,29 +29,13 @@ struct ImportHlsOptions {
   bool json = false;
 };
 
-// The report, what calibration set, and the model beside the synthesis, as one JSON object.
+// The report (its own form, parallax/hls_flow/json.hpp) with what calibration set and the model
+// beside the synthesis, as one JSON object.
 json import_json(const HlsReport& rep, const std::vector<std::string>& set,
                  const std::vector<ModelVsSynthesis>& comparison) {
-  json j;
-  j["part"] = rep.part;
-  j["top"] = rep.top;
-  j["target_clock_ns"] = rep.target_clock_ns;
-  j["estimated_clock_ns"] = rep.estimated_clock_ns;
-  j["latency_cycles"] = {{"best", rep.best_latency_cycles}, {"worst", rep.worst_latency_cycles}};
-  j["interval_cycles"] = {{"min", rep.interval_min_cycles}, {"max", rep.interval_max_cycles}};
-  j["loops"] = json::array();
-  for (const auto& l : rep.loops)
-    j["loops"].push_back({{"name", l.name},
-                          {"trip_count", l.trip_count},
-                          {"latency_cycles", l.latency_cycles},
-                          {"ii", l.pipeline_ii},
-                          {"depth", l.pipeline_depth}});
-  j["resources"] = rep.resources;
-  j["available"] = rep.available;
+  json j = rep;
   j["calibrated"] = set;
-  j["comparison"] = json::array();
-  for (const auto& c : comparison)
-    j["comparison"].push_back({{"figure", c.figure}, {"model", c.model}, {"synthesis", c.synthesis}, {"note", c.note}});
+  j["comparison"] = comparison;
   return j;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "parallax/search/json.hpp"
 #include "parallax/search/sweep.hpp"
 
 namespace parallax::cli {
@@ -22,13 +23,6 @@ struct ParetoOptions {
   std::string db, sweep;
   bool json = false;
 };
-
-// The front as a JSON array: hash, configuration and metrics of each design.
-json front_json(const std::vector<ResultStore::Row>& front) {
-  json j = json::array();
-  for (const auto& r : front) j.push_back({{"hash", r.hash}, {"configuration", r.config_yaml}, {"metrics", r.metrics}});
-  return j;
-}
 
 // The front as text on stdout: how many designs are stored, meet the constraints and are on the
 // front, then one row per front design with its objectives, fps and BRAM ("-" where missing).
@@ -85,7 +79,7 @@ int run_pareto(const ParetoOptions& o, const Invocation&) {
   const auto rows = store.designs(spec.name, false);
   const auto front = pareto_front(spec, rows);
   if (o.json)
-    std::cout << front_json(front).dump(2) << "\n";
+    std::cout << json(front).dump(2) << "\n";  // hash, configuration, metrics (parallax/search/json.hpp)
   else {
     print_front_text(spec, rows, front);
     print_references(spec, rows, front, store.peers(spec.name));

@@ -15,6 +15,7 @@
 #include "parallax/eval/disparity_io.hpp"
 #include "parallax/eval/evaluate.hpp"
 #include "parallax/eval/input_error.hpp"
+#include "parallax/eval/json.hpp"
 #include "parallax/eval/metrics.hpp"
 #include "parallax/eval/simulate.hpp"
 #include "parallax/reports/report.hpp"
@@ -112,7 +113,7 @@ int run_run(const RunOptions& o, const Invocation& inv) {
   print_notes(notes);
   json j;
   j["config"] = cfg.name;
-  j["roi"] = {{"x0", roi.x0}, {"y0", roi.y0}, {"width_px", roi.width_px}, {"height_px", roi.height_px}};
+  j["roi"] = roi;  // parallax/eval/json.hpp
   j["out"] = o.out;
   j["colour"] = colour;
   if (cfg.rectify != "none") j["rectify_window_misses"] = window_misses;
@@ -123,7 +124,7 @@ int run_run(const RunOptions& o, const Invocation& inv) {
     const DisparityMap gt = ground_truth_on_roi(o.gt, left.size(), roi);
     const FrameRow row =
         make_frame_row("pair", count_frame(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask));
-    j.update(metrics_json(row.metrics));
+    j.update(json(row.metrics));  // parallax/eval/json.hpp
     if (!o.html.empty()) {
       section.gt_colour = colourize_disparity(gt.disparity_px, gt.valid_mask, double(cfg.disparity_end_px()));
       section.error_map = error_map(d.disparity_px, d.valid_mask, gt.disparity_px, gt.valid_mask);
