@@ -96,6 +96,7 @@ std::vector<GeneratedFile> generate_project(const ExportRequest& r) {
   detail::rectify_values(c, inv, v);
   detail::fifo_values(r, inv, v);
   detail::interface_values(r, p, inv, v);
+  detail::dataflow_values(c, p, v);
   detail::testbench_values(c, v);
   detail::loop_values(r, v);
   detail::priced_width_values(inv, v);

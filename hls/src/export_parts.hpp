@@ -33,6 +33,7 @@ std::string fill(const std::string& name, const std::string& text, const Values&
 std::string template_text(const std::string& name);
 // A fragment of hls/templates/fragments.in, filled with `values`; std::logic_error when there is none.
 std::string fragment(const std::string& name, const Values& values);
+bool has_fragment(const std::string& name);
 
 std::string identifier(const std::string& s);         // a C identifier from a design's name
 std::string depth_constant(const std::string& fifo);  // left_px -> kDepthLeftPx
@@ -50,6 +51,8 @@ void rectify_values(const config::PipelineConfig& c, const res::Inventory& inv, 
 void fifo_values(const ExportRequest& r, const res::Inventory& inv, Values& v);
 // Needs rectify_values' MAP_PORTS.
 void interface_values(const ExportRequest& r, const kern::StereoParams& p, const res::Inventory& inv, Values& v);
+// The DATAFLOW regions' calls and the registers' routing, from the pipeline and parameter tables.
+void dataflow_values(const config::PipelineConfig& c, const kern::StereoParams& p, Values& v);
 void testbench_values(const config::PipelineConfig& c, Values& v);
 void readme_values(const ExportRequest& r, const kern::StereoParams& p, Values& v);
 

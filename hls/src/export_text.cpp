@@ -126,6 +126,10 @@ const std::map<std::string, std::string>& fragments() {
 
 }  // namespace
 
+bool has_fragment(const std::string& name) {
+  return fragments().count(name) != 0;
+}
+
 std::string fragment(const std::string& name, const Values& values) {
   const auto it = fragments().find(name);
   if (it == fragments().end()) throw std::logic_error("hls export: no fragment " + name + " in fragments.in");

@@ -31,7 +31,6 @@ void rectify_values(const config::PipelineConfig& c, const res::Inventory& inv, 
   v["RECTIFY_INCLUDE"] = when("rectify_include");
   v["MAP_INTERFACE_PRAGMAS"] = when("map_interface_pragmas");
   v["RECTIFY_CONSTANTS"] = when("rectify_constants");
-  v["FRONT_END"] = fragment(rectify ? "front_end_rectify" : "front_end", r);
 }
 
 // FIFOs: depth constants, stream declarations (per pass for two-pass designs), README rows.

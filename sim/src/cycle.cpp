@@ -13,32 +13,10 @@
 namespace parallax::sim {
 
 TimingModel default_timing(const kern::StereoParams& p, double clock_hz) {
-  // Latencies are pipeline depths of the kernels' per-firing work: a read, the lane arithmetic as
-  // balanced trees, a register. II comes from the kernels' own schedule declarations.
-  const int taps = p.window_w * p.window_h;
-  const int cost_latency =
-      p.cost == kern::kCostCensus ? 2 + kern::bits_for(uint64_t(taps - 1)) : 2 + kern::bits_for(uint64_t(taps));
-  const int agg_latency = 3 + 1 + kern::bits_for(uint64_t(std::max(1, kern::path_count(p))));
-  const int wta_latency = 2 + kern::bits_for(uint64_t(p.parallel_units));
-  const int median_latency = p.median >= 3 ? 2 + kern::bits_for(uint64_t(p.median) * uint64_t(p.median)) : 1;
+  // Every stage of the pipeline table (kernels/pipeline.hpp) at its latency rule; the II comes
+  // from the kernels' own schedule declarations (a counting run, stage_schedules), 1 where none.
   TimingModel t;
-  t["source"] = {1, 1};
-  t["cost"] = {1, cost_latency};
-  t["aggregate"] = {1, agg_latency};
-  t["aggregate_back"] = {1, agg_latency};
-  t["wta_lr"] = {1, wta_latency};
-  t["median"] = {1, median_latency};
-  t["sink"] = {1, 0};
-  // The row reversals: a memory read and its register; the 180-degree path's aggregation is one
-  // path kind's datapath and the add of the forward sum.
-  t["row_reverse"] = {1, 2};
-  t["aggregate_row"] = {1, 3 + 1 + 1};
-  t["row_unreverse"] = {1, 2};
-  t["ddr_write"] = {1, 1};
-  t["ddr_read"] = {1, 1};
-  // Remap: nearest is a read; bilinear adds two multiply levels and the rounding shift.
-  t["map_left"] = t["map_right"] = {1, 1};
-  t["rectify_left"] = t["rectify_right"] = {1, 5};
+  for (const kern::PipelineStage& st : kern::kPipelineStages) t[st.name] = {1, kern::stage_latency_cycles(st, p)};
   // The backward pass has the same kinds of work as the forward one (the same kernel on the
   // reversed stream): with no backward paths it is not in the graph, so its II is the forward's.
   const kern::RectifyParams no_rectify{p.width_px, p.height_px, kern::kRectifyNone, 0, 1};

@@ -2,6 +2,7 @@
 // the copies of the kernels, and the export's refusals.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -10,6 +11,7 @@
 
 #include "export_util.hpp"
 #include "parallax/config/config.hpp"
+#include "parallax/kernels/pipeline.hpp"
 #include "parallax/search/sweep.hpp"
 
 namespace {
@@ -19,6 +21,7 @@ using parallax::test::export_design;
 using parallax::test::fresh_dir;
 using parallax::test::read_file;
 using parallax::test::shell;
+namespace kern = parallax::kern;
 
 const fs::path kSource = PARALLAX_SOURCE_DIR;
 
@@ -149,12 +152,12 @@ TEST(HlsExport, ExportsADesignOfAResultsStore) {
   fs::create_directories(dir);
   const std::string db = (dir / "sweep.db").string();
   {
-    parallax::explore::ResultStore store(db);
+    parallax::search::ResultStore store(db);
     parallax::config::PipelineConfig c =
         parallax::config::load_config((kSource / "configs/ruf2018-census.yaml").string());
     c.name = "from-store";
     c.p2 = 48;
-    parallax::explore::ResultStore::Row row;
+    parallax::search::ResultStore::Row row;
     row.hash = "0123456789abcdef";
     row.sweep = "test";
     row.config_yaml = parallax::config::to_yaml(c);
@@ -473,7 +476,6 @@ TEST(HlsExport, RegistersAreReadOutsideTheDataflowRegion) {
 TEST(HlsExport, StagesTakeOnlyTheRegistersTheirKernelsRead) {
   const std::map<std::string, std::set<std::string>> reads = {{"cost_stage", {}},
                                                               {"aggregate_stage", {"p1", "p2"}},
-                                                              {"aggregate_forward_stage", {"p1", "p2"}},
                                                               {"aggregate_back_stage", {"p1", "p2"}},
                                                               {"wta_lr_stage", {"lr_tolerance", "uniqueness_pct"}},
                                                               {"median_stage", {}}};
@@ -494,12 +496,71 @@ TEST(HlsExport, StagesTakeOnlyTheRegistersTheirKernelsRead) {
     const std::set<std::string> stages =
         std::string(sets).empty()
             ? std::set<std::string>{"cost_stage", "aggregate_stage", "wta_lr_stage", "median_stage"}
-            : std::set<std::string>{"cost_stage", "aggregate_forward_stage", "aggregate_back_stage", "wta_lr_stage",
+            : std::set<std::string>{"cost_stage", "aggregate_stage", "aggregate_back_stage", "wta_lr_stage",
                                     "median_stage"};
     for (const std::string& st : stages) {
       ASSERT_EQ(taken.count(st), 1u) << sets << ": no stage function " << st;
       EXPECT_EQ(taken.at(st), reads.at(st)) << sets << ": " << st;
     }
+    fs::remove_all(out);
+  }
+}
+
+// The DATAFLOW regions are the pipeline table's variant (kernels/pipeline.hpp): one call per
+// stage, each stream declared in the region of its pass and passed to exactly two calls, its
+// producer's (where it comes after the stage's inputs) and its consumer's; one pass, the 180-degree
+// path on reversed rows, two passes, and with rectification.
+TEST(HlsExport, TheDataflowRegionsAreThePipelineTable) {
+  struct Variant {
+    const char* config;
+    const char* sets;
+    unsigned paths;
+    bool rectify;
+  };
+  for (const Variant& v : {Variant{"configs/ruf2018-census.yaml", "", kern::kForwardPaths, false},
+                           Variant{"configs/ruf2018-census.yaml", "--set paths=5", kern::kForwardPaths | kern::kPath180,
+                                   false},
+                           Variant{"configs/ruf2018-census.yaml", "--set paths=8", kern::kAllPaths, false},
+                           Variant{"configs/ruf2018-synthesised.yaml", "", kern::kForwardPaths, true}}) {
+    SCOPED_TRACE(std::string(v.config) + " " + v.sets);
+    const fs::path out = fresh_dir("dataflow");
+    ASSERT_EQ(export_design(v.config, out, v.sets).status, 0);
+    const auto bodies = function_bodies(read_file(out / "src/parallax_top.cpp"));
+    // The calls of the regions, as argument lists.
+    std::vector<std::vector<std::string>> calls;
+    std::map<std::string, int> declared;
+    static const std::regex call(R"(\n  ([\w<>]+)\(([^;]*)\);)"), stream(R"(hls::stream<[^>]+> (\w+)\(")"),
+        arg(R"(\w+)");
+    for (const char* region : {"parallax_dataflow", "forward_pass", "backward_pass"}) {
+      if (!bodies.count(region)) continue;
+      const std::string& body = bodies.at(region);
+      for (auto it = std::sregex_iterator(body.begin(), body.end(), stream); it != std::sregex_iterator(); ++it)
+        ++declared[(*it)[1]];
+      for (auto it = std::sregex_iterator(body.begin(), body.end(), call); it != std::sregex_iterator(); ++it) {
+        if ((*it)[1] == "forward_pass" || (*it)[1] == "backward_pass") continue;  // the regions themselves
+        const std::string args = (*it)[2];
+        std::vector<std::string> names;
+        for (auto a = std::sregex_iterator(args.begin(), args.end(), arg); a != std::sregex_iterator(); ++a)
+          names.push_back((*a)[0]);
+        calls.push_back(names);
+      }
+    }
+    kern::StereoParams p{};
+    p.path_mask = v.paths;
+    const unsigned cond = kern::pipeline_conditions(p, v.rectify);
+    int stages = 0, fifos = 0;
+    for (const kern::PipelineStage& st : kern::kPipelineStages) stages += kern::pipeline_has(st.when, cond) ? 1 : 0;
+    // source: one call per camera; with rectification, map_left/map_right/rectify_* one each.
+    EXPECT_EQ(int(calls.size()), stages + 1) << "one call per stage (the source: one per camera)";
+    for (const kern::PipelineFifo& f : kern::kPipelineFifos) {
+      if (!kern::pipeline_has(f.when, cond)) continue;
+      ++fifos;
+      int uses = 0;
+      for (const auto& c : calls) uses += int(std::count(c.begin(), c.end(), std::string(f.name)));
+      EXPECT_EQ(uses, 2) << f.name << ": passed to its producer and its consumer only";
+      EXPECT_EQ(declared[f.name], 1) << f.name << ": declared once";
+    }
+    EXPECT_EQ(int(declared.size()), fifos) << "no stream the table does not name";
     fs::remove_all(out);
   }
 }

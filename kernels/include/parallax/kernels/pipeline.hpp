@@ -33,12 +33,26 @@ enum TokenKind : int {
   kTokenCode,       // one disparity code
 };
 
+// How a stage's pipeline depth (cycles from a firing's reads to its writes: a read, the lane
+// arithmetic as balanced trees, a register) follows from the design; stage_latency_cycles().
+enum LatencyRule : int {
+  kLatencyFixed = 0,   // the stage's `latency` column, whatever the design
+  kLatencyCostTree,    // 2 + the depth of the window's tree: census popcount of w*h - 1 bits, SAD sum of w*h
+  kLatencyPathSum,     // 4 + the depth of the sum over the design's paths
+  kLatencyLaneMin,     // 2 + the depth of the minimum over the PU lanes
+  kLatencyMedianSort,  // 2 + the depth of the k x k selection network (k >= 3); 1 without a median
+};
+
 struct PipelineStage {
   const char* name;  // the cycle model's stage (reports, timing overrides, ii_<name> fields)
   unsigned when;
   const char* role;  // one line: what the stage does
   bool flips_order;  // its output runs in the opposite pixel order to its input (a reversal)
   unsigned paths;    // SGM stages: the path directions it aggregates (of the design's); else 0
+  unsigned reads;    // which parameter reader it is (ParamReader bits, params.hpp): the fields and
+                     // run-time registers it is given are those for_each_param marks with it
+  LatencyRule latency_rule;
+  int latency;  // kLatencyFixed: its depth in cycles
 };
 
 struct PipelineFifo {
@@ -51,23 +65,23 @@ struct PipelineFifo {
 };
 
 constexpr PipelineStage kPipelineStages[] = {
-    {"source", kWhenAlways, "the left and right pixels, from memory or a camera", false, 0},
-    {"map_left", kWhenRectify, "the left camera's remap table, from memory", false, 0},
-    {"map_right", kWhenRectify, "the right camera's remap table, from memory", false, 0},
-    {"rectify_left", kWhenRectify, "remap of the left image through a line buffer (rectify.hpp)", false, 0},
-    {"rectify_right", kWhenRectify, "remap of the right image through a line buffer (rectify.hpp)", false, 0},
-    {"cost", kWhenAlways, "Census or SAD matching costs, PU per firing (census.hpp, sad.hpp)", false, 0},
-    {"aggregate", kWhenAlways, "SGM over the forward paths (sgm.hpp)", false, kForwardPaths},
-    {"ddr_write", kWhenTwoPass, "costs and forward sums into the DDR frame buffer", false, 0},
-    {"ddr_read", kWhenTwoPass, "the same, read back in reverse order", true, 0},
+    {"source", kWhenAlways, "the left and right pixels, from memory or a camera", false, 0, 0, kLatencyFixed, 1},
+    {"map_left", kWhenRectify, "the left camera's remap table, from memory", false, 0, 0, kLatencyFixed, 1},
+    {"map_right", kWhenRectify, "the right camera's remap table, from memory", false, 0, 0, kLatencyFixed, 1},
+    {"rectify_left", kWhenRectify, "remap of the left image through a line buffer (rectify.hpp)", false, 0, 0, kLatencyFixed, 5},
+    {"rectify_right", kWhenRectify, "remap of the right image through a line buffer (rectify.hpp)", false, 0, 0, kLatencyFixed, 5},
+    {"cost", kWhenAlways, "Census or SAD matching costs, PU per firing (census.hpp, sad.hpp)", false, 0, kReadByCost, kLatencyCostTree, 0},
+    {"aggregate", kWhenAlways, "SGM over the forward paths (sgm.hpp)", false, kForwardPaths, kReadByAggregate, kLatencyPathSum, 0},
+    {"ddr_write", kWhenTwoPass, "costs and forward sums into the DDR frame buffer", false, 0, 0, kLatencyFixed, 1},
+    {"ddr_read", kWhenTwoPass, "the same, read back in reverse order", true, 0, 0, kLatencyFixed, 1},
     {"aggregate_back", kWhenTwoPass, "SGM over the backward paths on the reversed stream (sgm.hpp)", false,
-     kBackwardPaths},
-    {"row_reverse", kWhenRowReverse, "each row's costs and forward sums, pixels reversed (row_reverse.hpp)", true, 0},
-    {"aggregate_row", kWhenRowReverse, "SGM's 180-degree path on the reversed rows (sgm.hpp)", false, kPath180},
-    {"wta_lr", kWhenAlways, "winner-takes-all and left-right check (wta_lr.hpp)", false, 0},
-    {"median", kWhenAlways, "k x k median of the codes (median.hpp)", false, 0},
-    {"row_unreverse", kWhenRowReverse, "the codes of each row back in raster order (row_reverse.hpp)", true, 0},
-    {"sink", kWhenAlways, "the disparity codes out", false, 0},
+     kBackwardPaths, kReadByAggregate, kLatencyPathSum, 0},
+    {"row_reverse", kWhenRowReverse, "each row's costs and forward sums, pixels reversed (row_reverse.hpp)", true, 0, 0, kLatencyFixed, 2},
+    {"aggregate_row", kWhenRowReverse, "SGM's 180-degree path on the reversed rows (sgm.hpp)", false, kPath180, kReadByAggregate, kLatencyFixed, 5},
+    {"wta_lr", kWhenAlways, "winner-takes-all and left-right check (wta_lr.hpp)", false, 0, kReadBySelect, kLatencyLaneMin, 0},
+    {"median", kWhenAlways, "k x k median of the codes (median.hpp)", false, 0, kReadByMedian, kLatencyMedianSort, 0},
+    {"row_unreverse", kWhenRowReverse, "the codes of each row back in raster order (row_reverse.hpp)", true, 0, 0, kLatencyFixed, 2},
+    {"sink", kWhenAlways, "the disparity codes out", false, 0, 0, kLatencyFixed, 0},
 };
 
 constexpr PipelineFifo kPipelineFifos[] = {
@@ -117,6 +131,25 @@ inline unsigned pipeline_conditions(const StereoParams& p, bool rectify) {
 }
 constexpr bool pipeline_has(unsigned when, unsigned conditions) {
   return (when & ~conditions) == 0;
+}
+
+// The stage's pipeline depth in cycles for the design (its latency rule). The 180-degree stage on
+// reversed rows aggregates one path kind and adds the forward sum: a fixed 5; a remap's bilinear
+// taps, two multiply levels and the rounding shift: 5.
+inline int stage_latency_cycles(const PipelineStage& st, const StereoParams& p) {
+  const int taps = p.window_w * p.window_h;
+  switch (st.latency_rule) {
+    case kLatencyCostTree:
+      return 2 + bits_for(uint64_t(p.cost == kCostCensus ? taps - 1 : taps));
+    case kLatencyPathSum:
+      return 4 + bits_for(uint64_t(path_count(p) > 1 ? path_count(p) : 1));
+    case kLatencyLaneMin:
+      return 2 + bits_for(uint64_t(p.parallel_units));
+    case kLatencyMedianSort:
+      return p.median >= 3 ? 2 + bits_for(uint64_t(p.median) * uint64_t(p.median)) : 1;
+    default:
+      return st.latency;
+  }
 }
 
 // Width in bits of one token of this kind for the design.

@@ -209,8 +209,8 @@ median_loop:
 // row's costs and forward sums reversed on chip; the 180-degree path on the reversed rows; the
 // WTA / left-right check in its reverse mode and the median on the mirrored rows; the codes of
 // each row reversed back into raster order.
-void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& forward_beats,
-                     hls::stream<CostBeat>& tee_beats, unsigned p1, unsigned p2) {
+void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<CostBeat>& tee_beats,
+                     hls::stream<SumBeat>& forward_beats, unsigned p1, unsigned p2) {
   // The kernel's calls dissolve into this process's pipelined loop (its pragmas land in the loop body).
 #pragma HLS INLINE recursive
   AggregateT stage;
@@ -336,8 +336,8 @@ write_disparity_loop:
 // as plain values, read once by the top before the region starts: no AXI4-Lite access inside it;
 // each goes on to the stages that read it.
 void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
-                       hls::stream<disparity_beat_t>& disparity_out, unsigned p1_value, unsigned p2_value,
-                       unsigned tolerance_value, unsigned uniqueness_value) {
+                       hls::stream<disparity_beat_t>& disparity_out,
+                       unsigned p1_value, unsigned p2_value, unsigned lr_tolerance_value, unsigned uniqueness_pct_value) {
 #pragma HLS INLINE off
 #pragma HLS DATAFLOW
   hls::stream<uint8_t> left_px("left_px");
@@ -377,10 +377,10 @@ void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_bea
   read_pixels(left_in, left_px);
   read_pixels(right_in, right_px);
   cost_stage(left_px, right_px, cost);
-  aggregate_stage(cost, fwd_to_row, cost_to_row, p1_value, p2_value);
+  aggregate_stage(cost, cost_to_row, fwd_to_row, p1_value, p2_value);
   row_reverse_stage(cost_to_row, fwd_to_row, cost_row, fwd_row);
   aggregate_row_stage(cost_row, fwd_row, sum, p1_value, p2_value);
-  wta_lr_stage(sum, disp_lr, tolerance_value, uniqueness_value);
+  wta_lr_stage(sum, disp_lr, lr_tolerance_value, uniqueness_pct_value);
   median_stage(disp_lr, disp_out);
   row_unreverse_stage(disp_out, disp_row);
   write_disparity(disp_row, disparity_out);
@@ -403,8 +403,8 @@ void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>&
   // The AXI4-Lite registers, read once per call outside the DATAFLOW region.
   const unsigned p1_value = p1.to_uint();
   const unsigned p2_value = p2.to_uint();
-  const unsigned tolerance_value = lr_tolerance.to_uint();
-  const unsigned uniqueness_value = uniqueness_pct.to_uint();
-  parallax_dataflow(left_in, right_in, disparity_out, p1_value, p2_value, tolerance_value,
-                    uniqueness_value);
+  const unsigned lr_tolerance_value = lr_tolerance.to_uint();
+  const unsigned uniqueness_pct_value = uniqueness_pct.to_uint();
+  parallax_dataflow(left_in, right_in, disparity_out,
+                    p1_value, p2_value, lr_tolerance_value, uniqueness_pct_value);
 }

@@ -290,8 +290,8 @@ write_disparity_loop:
 // each goes on to the one stage that reads it.
 void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
                        hls::stream<map_beat_t>& map_left_in, hls::stream<map_beat_t>& map_right_in,
-                       hls::stream<disparity_beat_t>& disparity_out, unsigned p1_value, unsigned p2_value,
-                       unsigned tolerance_value, unsigned uniqueness_value) {
+                       hls::stream<disparity_beat_t>& disparity_out,
+                       unsigned p1_value, unsigned p2_value, unsigned lr_tolerance_value, unsigned uniqueness_pct_value) {
 #pragma HLS INLINE off
 #pragma HLS DATAFLOW
   hls::stream<uint8_t> raw_left_px("raw_left_px");
@@ -333,7 +333,7 @@ void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_bea
   rectify_stage<1>(raw_right_px, map_right, right_px);
   cost_stage(left_px, right_px, cost);
   aggregate_stage(cost, sum, p1_value, p2_value);
-  wta_lr_stage(sum, disp_lr, tolerance_value, uniqueness_value);
+  wta_lr_stage(sum, disp_lr, lr_tolerance_value, uniqueness_pct_value);
   median_stage(disp_lr, disp_out);
   write_disparity(disp_out, disparity_out);
 }
@@ -358,8 +358,8 @@ void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>&
   // The AXI4-Lite registers, read once per call outside the DATAFLOW region.
   const unsigned p1_value = p1.to_uint();
   const unsigned p2_value = p2.to_uint();
-  const unsigned tolerance_value = lr_tolerance.to_uint();
-  const unsigned uniqueness_value = uniqueness_pct.to_uint();
-  parallax_dataflow(left_in, right_in, map_left_in, map_right_in, disparity_out, p1_value, p2_value, tolerance_value,
-                    uniqueness_value);
+  const unsigned lr_tolerance_value = lr_tolerance.to_uint();
+  const unsigned uniqueness_pct_value = uniqueness_pct.to_uint();
+  parallax_dataflow(left_in, right_in, map_left_in, map_right_in, disparity_out,
+                    p1_value, p2_value, lr_tolerance_value, uniqueness_pct_value);
 }

@@ -206,8 +206,8 @@ median_loop:
 }
 
 // Pass 1, image order: the forward paths; the costs go on (tee) to the frame buffer with the sums.
-void aggregate_forward_stage(hls::stream<CostBeat>& cost_beats, hls::stream<SumBeat>& forward_beats,
-                             hls::stream<CostBeat>& tee_beats, unsigned p1, unsigned p2) {
+void aggregate_stage(hls::stream<CostBeat>& cost_beats, hls::stream<CostBeat>& tee_beats,
+                     hls::stream<SumBeat>& forward_beats, unsigned p1, unsigned p2) {
   // The kernel's calls dissolve into this process's pipelined loop (its pragmas land in the loop body).
 #pragma HLS INLINE recursive
   AggregateT stage;
@@ -406,12 +406,12 @@ void forward_pass(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>&
   read_pixels(left_in, left_px);
   read_pixels(right_in, right_px);
   cost_stage(left_px, right_px, cost);
-  aggregate_forward_stage(cost, fwd_to_ddr, cost_to_ddr, p1_value, p2_value);
+  aggregate_stage(cost, cost_to_ddr, fwd_to_ddr, p1_value, p2_value);
   ddr_write(cost_to_ddr, fwd_to_ddr, frame);
 }
 
-void backward_pass(const frame_word_t* frame, kern::DispCode* disparity, unsigned p1_value, unsigned p2_value,
-                   unsigned tolerance_value, unsigned uniqueness_value) {
+void backward_pass(const frame_word_t* frame, kern::DispCode* disparity,
+                   unsigned p1_value, unsigned p2_value, unsigned lr_tolerance_value, unsigned uniqueness_pct_value) {
 #pragma HLS DATAFLOW
   hls::stream<CostBeat> cost_from_ddr("cost_from_ddr");
 #pragma HLS STREAM variable=cost_from_ddr depth=2
@@ -431,7 +431,7 @@ void backward_pass(const frame_word_t* frame, kern::DispCode* disparity, unsigne
 
   ddr_read(frame, cost_from_ddr, fwd_from_ddr);
   aggregate_back_stage(cost_from_ddr, fwd_from_ddr, sum, p1_value, p2_value);
-  wta_lr_stage(sum, disp_lr, tolerance_value, uniqueness_value);
+  wta_lr_stage(sum, disp_lr, lr_tolerance_value, uniqueness_pct_value);
   median_stage(disp_lr, disp_out);
   write_disparity(disp_out, disparity);
 }
@@ -441,11 +441,11 @@ void backward_pass(const frame_word_t* frame, kern::DispCode* disparity, unsigne
 // stages that read it.
 void parallax_dataflow(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>& right_in,
                        kern::DispCode* disparity, frame_word_t* frame_write, const frame_word_t* frame_read,
-                       unsigned p1_value, unsigned p2_value, unsigned tolerance_value, unsigned uniqueness_value) {
+                       unsigned p1_value, unsigned p2_value, unsigned lr_tolerance_value, unsigned uniqueness_pct_value) {
 #pragma HLS INLINE off
 #pragma HLS DATAFLOW
   forward_pass(left_in, right_in, frame_write, p1_value, p2_value);
-  backward_pass(frame_read, disparity, p1_value, p2_value, tolerance_value, uniqueness_value);
+  backward_pass(frame_read, disparity, p1_value, p2_value, lr_tolerance_value, uniqueness_pct_value);
 }
 
 }  // namespace
@@ -482,8 +482,8 @@ void parallax_top(hls::stream<pixel_beat_t>& left_in, hls::stream<pixel_beat_t>&
   // The AXI4-Lite registers, read once per call outside the DATAFLOW region.
   const unsigned p1_value = p1.to_uint();
   const unsigned p2_value = p2.to_uint();
-  const unsigned tolerance_value = lr_tolerance.to_uint();
-  const unsigned uniqueness_value = uniqueness_pct.to_uint();
-  parallax_dataflow(left_in, right_in, disparity, frame_write, frame_read, p1_value, p2_value,
-                    tolerance_value, uniqueness_value);
+  const unsigned lr_tolerance_value = lr_tolerance.to_uint();
+  const unsigned uniqueness_pct_value = uniqueness_pct.to_uint();
+  parallax_dataflow(left_in, right_in, disparity, frame_write, frame_read,
+                    p1_value, p2_value, lr_tolerance_value, uniqueness_pct_value);
 }
