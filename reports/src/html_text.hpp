@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-namespace parallax::explore {
+namespace parallax::reports {
 
 // Up to 10 significant digits; NaN prints as empty (a missing figure).
 inline std::string number(double v) {
@@ -35,4 +35,4 @@ inline std::string html_escape(const std::string& s) {
   return o;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::reports

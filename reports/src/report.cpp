@@ -16,7 +16,14 @@
 #include "html_text.hpp"
 #include "rows.hpp"
 
-namespace parallax::explore {
+namespace parallax::reports {
+
+// The names this file takes from the other rooms besides its header's (one namespace per room).
+using eval::InputError;
+using search::beaten_on_accuracy_by;
+using search::meets_constraints;
+using search::pareto_front;
+using search::peer_name;
 
 namespace {
 
@@ -652,4 +659,4 @@ std::string images_dataset(const std::string& swept) {
   return "";
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::reports

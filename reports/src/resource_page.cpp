@@ -10,7 +10,7 @@
 #include "html_text.hpp"
 #include "parallax/reports/report.hpp"
 
-namespace parallax::explore {
+namespace parallax::reports {
 
 namespace {
 
@@ -130,4 +130,4 @@ std::string resource_model_page(const res::FitResult& fit, res::Flavour flavour,
   return standalone_page("Parallax resource model", o.str());
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::reports

@@ -8,7 +8,10 @@
 
 #include "parallax/search/sweep.hpp"
 
-namespace parallax::explore::rows {
+namespace parallax::reports::rows {
+
+// The names this file takes from the other rooms (one namespace per room).
+using search::ResultStore;
 
 // The configuration's fields in file order, as text; a list (paths) as "[a,b,...]". Empty for text
 // that is not YAML.
@@ -23,4 +26,4 @@ double metric(const ResultStore::Row& r, const std::string& k);
 // Number of aggregation paths of a stored design ("4", "8" or a list of angles).
 std::string path_count(const std::string& paths);
 
-}  // namespace parallax::explore::rows
+}  // namespace parallax::reports::rows

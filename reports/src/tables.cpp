@@ -14,7 +14,10 @@
 #include "parallax/reports/report.hpp"
 #include "rows.hpp"
 
-namespace parallax::explore {
+namespace parallax::reports {
+
+// The names this file takes from the other rooms (one namespace per room).
+using search::ResultStore;
 
 namespace rows {
 
@@ -184,4 +187,4 @@ std::string report_json(const std::vector<ResultStore::Row>& rows) {
   return j.dump(2) + "\n";
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::reports

@@ -188,8 +188,8 @@ TEST_F(Fuzz, SweepReader) {
                         "min ", "p2: [", "device: ", "gt: "})
     tokens.emplace_back(k);
   fuzz(
-      "sweep", seeds, tokens, 15002, [](const std::string& text) { (void)explore::parse_sweep(text, "fuzz.yaml"); },
-      is<explore::InputError>);
+      "sweep", seeds, tokens, 15002, [](const std::string& text) { (void)search::parse_sweep(text, "fuzz.yaml"); },
+      is<eval::InputError>);
 }
 
 TEST_F(Fuzz, ScenarioReader) {
@@ -202,19 +202,19 @@ TEST_F(Fuzz, ScenarioReader) {
       "scenario", seeds, kYamlTokens, 15003,
       [&](const std::string& text) {
         write_all(file, text);
-        (void)explore::load_scenario(file.string());
+        (void)uav::load_scenario(file.string());
       },
-      is<explore::InputError>);
+      is<eval::InputError>);
 }
 
 // The obstacle list `scene` writes and `avoid` reads (obstacles.json).
 TEST_F(Fuzz, ObstacleListReader) {
-  explore::Scene scene;
+  uav::Scene scene;
   scene.cylinders.push_back({0.5, 10.0, 0.3, 8.0});
   scene.boxes.push_back({-3.0, 3.0, 15.0, 15.5, 6.0});
-  const explore::Rig rig = explore::rig_of(explore::RigSpec{}, 640, 360);
+  const uav::Rig rig = uav::rig_of(uav::RigSpec{}, 640, 360);
   const fs::path file = dir_ / "obstacles.json";
-  explore::write_truth(file.string(), {explore::obstacles_in_view(scene, rig, 640, Eigen::Vector3d(0, -1.6, 0), 40.0)});
+  uav::write_truth(file.string(), {uav::obstacles_in_view(scene, rig, 640, Eigen::Vector3d(0, -1.6, 0), 40.0)});
   const std::vector<std::string> seeds = {read_all(file)};
   const std::vector<std::string> tokens = {"{",          "}",
                                            "[",          "]",
@@ -228,9 +228,9 @@ TEST_F(Fuzz, ObstacleListReader) {
       "obstacles", seeds, tokens, 15011,
       [&](const std::string& text) {
         write_all(file, text);
-        (void)explore::read_truth(file.string());
+        (void)uav::read_truth(file.string());
       },
-      is<explore::InputError>);
+      is<eval::InputError>);
 }
 
 TEST_F(Fuzz, CsynthReportReader) {
@@ -260,9 +260,9 @@ TEST_F(Fuzz, CsynthReportReader) {
       "csynth.xml", seeds, tokens, 15004,
       [&](const std::string& text) {
         write_all(file, text);
-        (void)explore::read_csynth_xml(file.string());
+        (void)hls_flow::read_csynth_xml(file.string());
       },
-      is<explore::InputError>);
+      is<eval::InputError>);
 }
 
 TEST_F(Fuzz, KittiDisparityPng) {
@@ -285,9 +285,9 @@ TEST_F(Fuzz, KittiDisparityPng) {
       "KITTI disparity PNG", seeds, tokens, 15005,
       [&](const std::string& bytes) {
         write_all(file, ++n % 2 == 0 ? fix_png_crcs(bytes) : bytes);
-        (void)explore::read_kitti_disparity(file);
+        (void)eval::read_kitti_disparity(file);
       },
-      is<explore::InputError>);
+      is<eval::InputError>);
 }
 
 TEST_F(Fuzz, PfmDisparity) {
@@ -303,9 +303,9 @@ TEST_F(Fuzz, PfmDisparity) {
       "PFM disparity", seeds, tokens, 15006,
       [&](const std::string& bytes) {
         write_all(file, bytes);
-        (void)explore::read_pfm_disparity(file);
+        (void)eval::read_pfm_disparity(file);
       },
-      is<explore::InputError>);
+      is<eval::InputError>);
 }
 
 // A small real store (a sweep, three results with frames), its bytes mutated: opened read-only and
@@ -313,13 +313,13 @@ TEST_F(Fuzz, PfmDisparity) {
 TEST_F(Fuzz, ResultStore) {
   const fs::path good = dir_ / "good.db";
   {
-    explore::ResultStore store(good.string());
-    explore::SweepSpec spec;
+    search::ResultStore store(good.string());
+    search::SweepSpec spec;
     spec.name = "fuzz";
     spec.base = std::string(PARALLAX_CONFIG_DIR) + "/ruf2018-census.yaml";
     store.put_sweep(spec, "/data/kitti", "{}");
     for (int k = 0; k < 3; ++k) {
-      explore::ResultStore::Row r;
+      search::ResultStore::Row r;
       r.hash = "00000000000000a" + std::to_string(k);
       r.sweep = "fuzz";
       r.config_yaml = "p2: " + std::to_string(40 + k) + "\n";
@@ -334,7 +334,7 @@ TEST_F(Fuzz, ResultStore) {
   ASSERT_GT(bytes.size(), 1000u);
   const fs::path file = dir_ / "store.db";
   auto read_store = [&](const fs::path& f) {
-    explore::ResultStore store(f.string(), explore::ResultStore::Access::read);
+    search::ResultStore store(f.string(), search::ResultStore::Access::read);
     for (const auto& s : store.sweeps()) (void)store.designs(s.name, false);
     (void)store.designs("", true);
     (void)store.count_designs();
@@ -356,7 +356,7 @@ TEST_F(Fuzz, ResultStore) {
         write_all(file, b);
         read_store(file);
       },
-      is<explore::InputError>);
+      is<eval::InputError>);
   // The metrics column: what another program (or an older Parallax) may have written there.
   const std::vector<std::string> json_seeds = {"{\"correct_3px_pct\": 91.5, \"bram18k\": 120, \"fps\": 29.5}",
                                                "{\"a\": [1, 2], \"b\": {\"c\": null}}"};
@@ -376,9 +376,9 @@ TEST_F(Fuzz, ResultStore) {
         sqlite3_finalize(st);
         sqlite3_close(db);
         read_store(file);
-        throw explore::InputError("read");  // counted as a refusal: reading must not throw anything else
+        throw eval::InputError("read");  // counted as a refusal: reading must not throw anything else
       },
-      is<explore::InputError>);
+      is<eval::InputError>);
 }
 
 }  // namespace

@@ -54,17 +54,17 @@ struct Fixture {
     fs::remove_all(dir);
     fs::create_directories(dir);
     db = (dir / "r.db").string();
-    explore::SweepSpec s;
+    search::SweepSpec s;
     s.name = "small";
     s.base = kCensus;
     s.frames = "1,5";
-    explore::add_axis(s, "p2=32,64");
-    explore::add_axis(s, "paths=1,4");
-    explore::add_axis(s, "disparities=60,61");  // 61: invalid (PU 6)
-    explore::ResultStore store(db);
-    explore::SweepRunOptions ro;
+    search::add_axis(s, "p2=32,64");
+    search::add_axis(s, "paths=1,4");
+    search::add_axis(s, "disparities=60,61");  // 61: invalid (PU 6)
+    search::ResultStore store(db);
+    search::SweepRunOptions ro;
     ro.dataset = kData;
-    explore::run_sweep(s, store, ro);
+    search::run_sweep(s, store, ro);
     int st = -1;
     run(std::string(PARALLAX_CLI) + " report --db " + db + " --html " + (dir / "r.html").string() + " --csv " +
             (dir / "d.csv").string() + " --frames-csv " + (dir / "f.csv").string() + " --json " +
@@ -94,7 +94,7 @@ TEST(Report, CsvColumnsInTheirDocumentedOrder) {
   // The metrics follow the configuration, in metric_columns() order.
   std::size_t pos = header.find(",density_pct,");
   ASSERT_NE(pos, std::string::npos);
-  for (const auto& m : explore::metric_columns()) {
+  for (const auto& m : reports::metric_columns()) {
     const std::size_t at = header.find("," + m, pos);
     EXPECT_NE(at, std::string::npos) << m;
     pos = at == std::string::npos ? pos : at + 1;
@@ -152,14 +152,14 @@ TEST(Report, ImagesFromTheSweepsOwnDatasetWhileItExists) {
   fs::copy(kData, d / "kitti", fs::copy_options::recursive);
   const std::string db = (d / "g.db").string();
   {
-    explore::SweepSpec s;
+    search::SweepSpec s;
     s.name = "gone";
     s.base = kCensus;
     s.frames = "1";
-    explore::ResultStore store(db);
-    explore::SweepRunOptions ro;
+    search::ResultStore store(db);
+    search::SweepRunOptions ro;
     ro.dataset = (d / "kitti").string();
-    explore::run_sweep(s, store, ro);
+    search::run_sweep(s, store, ro);
   }
   fs::remove_all(d / "kitti");
   const std::string out =
@@ -174,13 +174,13 @@ TEST(Report, ImagesFromTheSweepsOwnDatasetWhileItExists) {
 // sweep of window, census and p1 shows those columns and plots, and none of an axis it did not
 // sweep (disparities, paths).
 TEST(Report, TableAndSensitivityFollowTheSweepAxes) {
-  explore::SweepSpec spec;
+  search::SweepSpec spec;
   spec.name = "axes";
   spec.base = kCensus;
-  explore::add_axis(spec, "window=5x5,9x7");
-  explore::add_axis(spec, "census=full,sparse");
-  explore::add_axis(spec, "p1=8,12");
-  std::vector<explore::ResultStore::Row> rows;
+  search::add_axis(spec, "window=5x5,9x7");
+  search::add_axis(spec, "census=full,sparse");
+  search::add_axis(spec, "p1=8,12");
+  std::vector<search::ResultStore::Row> rows;
   int n = 0;
   for (const char* window : {"5x5", "9x7"})
     for (const char* census : {"full", "sparse"})
@@ -189,7 +189,7 @@ TEST(Report, TableAndSensitivityFollowTheSweepAxes) {
         config::set_field(c, "window", window);
         config::set_field(c, "census", census);
         c.p1 = p1;
-        explore::ResultStore::Row r;
+        search::ResultStore::Row r;
         r.hash = "h" + std::to_string(n);
         r.config_yaml = config::to_yaml(c);
         r.status = "ok";
@@ -197,9 +197,9 @@ TEST(Report, TableAndSensitivityFollowTheSweepAxes) {
         rows.push_back(r);
         ++n;
       }
-  explore::ReportOptions opt;
+  reports::ReportOptions opt;
   opt.details = 0;
-  const std::string html = explore::html_report(spec, rows, opt);
+  const std::string html = reports::html_report(spec, rows, opt);
   for (const char* want :
        {"id=\"sens-window\"", "id=\"sens-census\"", "id=\"sens-p1\"", "<th>window</th>", "<th>census</th>",
         "<th>p1</th>", "<td>9x7</td>", "<td>sparse</td>", "window (0 = 5x5, 1 = 9x7)"})
@@ -213,15 +213,15 @@ TEST(Report, TableAndSensitivityFollowTheSweepAxes) {
 // beside them), only where the peer has both figures (no BRAM, no latency: the density plot),
 // and the summary says how many front designs beat each peer.
 TEST(Report, ParetoPlotsMarkTheSeedAndThePeers) {
-  explore::SweepSpec spec;
+  search::SweepSpec spec;
   spec.name = "peers";
   spec.base = kCensus;
-  explore::add_axis(spec, "p1=8,12");
-  std::vector<explore::ResultStore::Row> rows;
+  search::add_axis(spec, "p1=8,12");
+  std::vector<search::ResultStore::Row> rows;
   for (int p1 : {8, 12}) {
     config::PipelineConfig c = config::load_config(kCensus);
     c.p1 = p1;
-    explore::ResultStore::Row r;
+    search::ResultStore::Row r;
     r.hash = p1 == 8 ? "seedhash" : "other";
     r.config_yaml = config::to_yaml(c);
     r.status = "ok";
@@ -232,18 +232,18 @@ TEST(Report, ParetoPlotsMarkTheSeedAndThePeers) {
                  {"fits_device", 1}};
     rows.push_back(r);
   }
-  explore::ReportOptions opt;
+  reports::ReportOptions opt;
   opt.details = 0;
   opt.seed_hash = "seedhash";
   for (const char* name : {"opencv-hh4", "opencv-sgbm"}) {
-    explore::ResultStore::Row peer;
+    search::ResultStore::Row peer;
     peer.hash = std::string("peer-") + name;
     peer.config_yaml = std::string("baseline: ") + name + "\n";
     peer.status = "peer";
     peer.metrics = {{"correct_3px_pct", 94.0}, {"density_pct", 87.0}};
     opt.peers.push_back(peer);
   }
-  const std::string html = explore::html_report(spec, rows, opt);
+  const std::string html = reports::html_report(spec, rows, opt);
   const std::size_t density = html.find("id=\"pareto-density\"");
   ASSERT_NE(density, std::string::npos);
   const std::string plot = html.substr(density, html.find("</svg>", density) - density);

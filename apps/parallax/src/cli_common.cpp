@@ -28,7 +28,8 @@ namespace parallax::cli {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::search;
 
 CLI::Validator OutputFile(const std::string& extension) {
   return CLI::Validator(

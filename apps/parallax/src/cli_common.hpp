@@ -96,13 +96,13 @@ void write_text_file(const std::string& path, const std::string& text);
 int default_threads();
 
 // The EvalOptions that eval and baseline share. Throws InputError on a bad `gt` kind.
-explore::EvalOptions eval_options(const std::string& gt, const std::string& frames, int threads,
+eval::EvalOptions eval_options(const std::string& gt, const std::string& frames, int threads,
                                   const std::string& save, double colour_max_px, bool quiet);
 
 // An evaluation on stdout. As JSON (`as_json`): its own form (parallax/eval/json.hpp: pooled
 // metrics, frame count, pooled counts, per-frame rows and seconds) with the fields of `extra`
 // added. As text: a table under `title`, one row per frame, then the pooled row and the time.
-void print_evaluation(const explore::EvalResult& r, bool as_json, const nlohmann::json& extra,
+void print_evaluation(const eval::EvalResult& r, bool as_json, const nlohmann::json& extra,
                       const std::string& title);
 
 // --- inputs ------------------------------------------------------------------------------------
@@ -121,7 +121,7 @@ void load_pair_or_pattern(const config::PipelineConfig& cfg, const std::string& 
 
 // The sweep of a store that `name` names, or its only one when `name` is empty; InputError naming
 // the store (`db`) otherwise.
-explore::SweepSpec choose_sweep(explore::ResultStore& store, const std::string& db, const std::string& name);
+search::SweepSpec choose_sweep(search::ResultStore& store, const std::string& db, const std::string& name);
 
 // --- errors ------------------------------------------------------------------------------------
 

@@ -10,7 +10,8 @@ void to_json(nlohmann::json& j, const Usage& u) {
 
 }  // namespace res
 
-namespace explore {
+namespace design {
+
 
 void to_json(nlohmann::json& j, const ResourceFigures& r) {
   j = r.estimate.total;
@@ -34,6 +35,10 @@ void to_json(nlohmann::json& j, const ResourceFigures& r) {
   j["power_estimate_w"] = {{"static", r.power.static_w}, {"dynamic", r.power.dynamic_w}, {"total", r.power.total_w}};
   j["energy_estimate_mj_per_frame"] = r.power.energy_mj_per_frame;
 }
+
+}  // namespace design
+
+namespace eval {
 
 void to_json(nlohmann::json& j, const SimulationResult& t) {
   const sim::CycleReport& c = t.cycle;
@@ -81,5 +86,5 @@ void to_json(nlohmann::json& j, const SimulationResult& t) {
   }
 }
 
-}  // namespace explore
+}  // namespace eval
 }  // namespace parallax

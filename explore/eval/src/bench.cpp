@@ -20,7 +20,7 @@
 #include "parallax/sim/cycle.hpp"
 #include "parallax/sim/func.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 namespace {
 
 struct Measured {
@@ -137,4 +137,4 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
   return rows;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

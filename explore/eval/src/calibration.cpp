@@ -10,7 +10,7 @@
 #include <system_error>
 #include <vector>
 
-namespace parallax::explore {
+namespace parallax::eval {
 using detail::trim;
 namespace fs = std::filesystem;
 
@@ -223,4 +223,4 @@ int read_middlebury_dmin(const fs::path& file) {
   return static_cast<int>(v[0]);
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

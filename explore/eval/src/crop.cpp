@@ -11,7 +11,7 @@
 #include "dataset_internal.hpp"
 #include "parallax/eval/disparity_io.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 namespace fs = std::filesystem;
 using dataset_detail::gt_dir_name;
 using dataset_detail::is_file;
@@ -117,4 +117,4 @@ CropSummary crop_dataset(const fs::path& src_dir, const std::string& frame_filte
   return summary;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

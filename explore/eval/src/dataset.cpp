@@ -13,7 +13,7 @@
 
 #include "dataset_internal.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 using detail::trim;
 namespace fs = std::filesystem;
 
@@ -283,4 +283,4 @@ std::vector<FrameRef> list_frames(const Dataset& dataset, GtKind gt_kind, const 
   return frames;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -11,7 +11,7 @@
 
 #include "parallax/eval/dataset.hpp"
 
-namespace parallax::explore::dataset_detail {
+namespace parallax::eval::dataset_detail {
 
 // ---------------------------------------------------------------------------------------------
 // Common helpers (dataset.cpp)
@@ -89,4 +89,4 @@ int middlebury_2006_scale(int image_height_px);
 // is missing, a folder or undecodable.
 cv::Mat read_raw(const std::filesystem::path& file, const char* role);
 
-}  // namespace parallax::explore::dataset_detail
+}  // namespace parallax::eval::dataset_detail

@@ -15,7 +15,8 @@
 
 #include "parallax/eval/input_error.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
+
 namespace {
 
 constexpr int kPngCompressionLevel = 9;  // zlib level; fixed so that outputs are reproducible
@@ -279,4 +280,4 @@ cv::Mat colourize_disparity(const cv::Mat& disparity_px, const cv::Mat& valid_ma
   return picture;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

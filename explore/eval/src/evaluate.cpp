@@ -12,7 +12,7 @@
 #include <mutex>
 #include <thread>
 
-namespace parallax::explore {
+namespace parallax::eval {
 namespace fs = std::filesystem;
 
 sim::GreyImage to_grey_image(const cv::Mat& m) {
@@ -338,4 +338,4 @@ EvalResult score_predictions(const fs::path& pred_dir, const Dataset& dataset, c
   return result;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

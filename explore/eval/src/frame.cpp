@@ -11,7 +11,7 @@
 #include "dataset_internal.hpp"
 #include "parallax/eval/disparity_io.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 namespace fs = std::filesystem;
 
 namespace dataset_detail {
@@ -264,4 +264,4 @@ std::string disparity_range_warning(const Frame& frame, const Roi& roi, int disp
   return out.str();
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

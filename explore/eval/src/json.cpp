@@ -1,7 +1,7 @@
 // The JSON forms of the scoring room's result types (json.hpp).
 #include "parallax/eval/json.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 void to_json(nlohmann::json& j, const DerivedMetrics& m) {
   j = nlohmann::json::object();
@@ -40,4 +40,4 @@ void to_json(nlohmann::json& j, const BenchRow& r) {
        {"min_ratio_to_hh4", r.min_ratio_to_peer}};
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -6,7 +6,7 @@
 
 #include "dataset_internal.hpp"
 
-namespace parallax::explore::dataset_detail {
+namespace parallax::eval::dataset_detail {
 namespace fs = std::filesystem;
 
 namespace {
@@ -87,4 +87,4 @@ FrameRef kitti_frame_ref(const Dataset& dataset, const std::string& id, GtKind k
   return ref;
 }
 
-}  // namespace parallax::explore::dataset_detail
+}  // namespace parallax::eval::dataset_detail

@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace parallax::explore {
+namespace parallax::eval {
 namespace {
 
 void require_same_size(const cv::Mat& a, const cv::Mat& b, const char* name_a, const char* name_b) {
@@ -239,4 +239,4 @@ std::vector<std::pair<std::string, std::int64_t>> named_counts(const FrameCounts
           {"d1_outliers_filled", c.d1_outliers_filled}};
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

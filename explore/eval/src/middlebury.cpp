@@ -13,7 +13,7 @@
 
 #include "dataset_internal.hpp"
 
-namespace parallax::explore::dataset_detail {
+namespace parallax::eval::dataset_detail {
 using detail::trim;
 namespace fs = std::filesystem;
 
@@ -288,4 +288,4 @@ int middlebury_2006_scale(int image_height_px) {
   return 0;
 }
 
-}  // namespace parallax::explore::dataset_detail
+}  // namespace parallax::eval::dataset_detail

@@ -7,7 +7,7 @@
 
 #include "dataset_internal.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 using dataset_detail::all_digits;
 using dataset_detail::size_text;
 using detail::trim;
@@ -62,4 +62,4 @@ cv::Mat crop_to_roi(const cv::Mat& image, const Roi& roi) {
   return image(cv::Rect(roi.x0, roi.y0, roi.width_px, roi.height_px));
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

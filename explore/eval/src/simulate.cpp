@@ -8,7 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz) {
   sim::CycleOptions o;
@@ -160,4 +160,4 @@ void test_pattern(int w, int h, int disparities, uint32_t seed, cv::Mat& left, c
   }
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -11,7 +11,19 @@
 #include "parallax/resources/model.hpp"
 #include "parallax/sim/accesses.hpp"
 
-namespace parallax::explore {
+namespace parallax::hls_flow {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::RectifyMaps;
+using eval::SimulateOptions;
+using eval::SimulationResult;
+using eval::cycle_options;
+using eval::load_rectify_maps;
+using eval::maps_of_size;
+using eval::simulate;
+using eval::to_grey_image;
+using design::ResourceFigures;
+using design::resource_figures;
 
 std::string device_for_part(const std::string& part) {
   std::string upper;
@@ -182,4 +194,4 @@ hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg_in, const c
   return r;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::hls_flow

@@ -10,7 +10,13 @@
 #include "parallax/eval/simulate.hpp"
 #include "parallax/resources/model.hpp"
 
-namespace parallax::explore {
+namespace parallax::hls_flow {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::InputError;
+using eval::SimulationResult;
+using eval::cycle_options;
+using eval::simulate_timing;
 
 namespace {
 
@@ -128,9 +134,9 @@ std::vector<std::string> calibrate_from_hls(config::PipelineConfig& cfg, const H
   return set;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::hls_flow
 
-namespace parallax::explore {
+namespace parallax::hls_flow {
 
 std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& cfg_in, const HlsReport& r, int w, int h,
                                                  sim::CycleReport* model_cycle) {
@@ -170,4 +176,4 @@ std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& c
   return rows;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::hls_flow

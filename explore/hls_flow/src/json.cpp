@@ -32,7 +32,7 @@ void to_json(nlohmann::json& j, const ExportRequest& r) {
 
 }  // namespace parallax::hlsx
 
-namespace parallax::explore {
+namespace parallax::hls_flow {
 
 void to_json(nlohmann::json& j, const HlsLoop& l) {
   j = {{"name", l.name},
@@ -59,4 +59,4 @@ void to_json(nlohmann::json& j, const ModelVsSynthesis& c) {
   j = {{"figure", c.figure}, {"model", c.model}, {"synthesis", c.synthesis}, {"note", c.note}};
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::hls_flow

@@ -8,7 +8,7 @@
 
 #include "parallax/search/sweep.hpp"
 
-namespace parallax::explore {
+namespace parallax::search {
 namespace detail {
 
 // FNV-1a 64-bit hash of a text as 16 hex digits: a design's identity (its canonical YAML).
@@ -30,4 +30,4 @@ std::vector<double> objective_vector(const SweepSpec& s, const ResultStore::Row*
 void rank_and_crowd(const std::vector<std::vector<double>>& f, std::vector<int>& rank, std::vector<double>& crowd);
 
 }  // namespace nsga2
-}  // namespace parallax::explore
+}  // namespace parallax::search

@@ -1,10 +1,10 @@
 // The JSON forms of the explorer room's result types (json.hpp).
 #include "parallax/search/json.hpp"
 
-namespace parallax::explore {
+namespace parallax::search {
 
 void to_json(nlohmann::json& j, const ResultStore::Row& r) {
   j = {{"hash", r.hash}, {"configuration", r.config_yaml}, {"metrics", r.metrics}};
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::search

@@ -4,7 +4,7 @@
 
 #include "parallax/search/sweep.hpp"
 
-namespace parallax::explore {
+namespace parallax::search {
 
 bool meets_constraints(const SweepSpec& s, const ResultStore::Row& r) {
   if (r.status != "ok") return false;
@@ -72,4 +72,4 @@ int beaten_on_accuracy_by(const ResultStore::Row& reference, const std::vector<R
   return n;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::search

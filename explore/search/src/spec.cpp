@@ -15,7 +15,13 @@
 #include "parallax/search/sweep.hpp"
 #include "parallax/uav/scene.hpp"
 
-namespace parallax::explore {
+namespace parallax::search {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::DerivedMetrics;
+using eval::InputError;
+using eval::named_metrics;
+using uav::AvoidAccumulator;
 
 namespace {
 SweepSpec parse_sweep_fields(const std::string& text, const std::string& source);
@@ -317,4 +323,4 @@ void check_sweep_spec(const SweepSpec& s, const config::PipelineConfig& base, bo
     throw InputError(m.str());
   }
 }
-}  // namespace parallax::explore
+}  // namespace parallax::search

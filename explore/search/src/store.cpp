@@ -33,8 +33,11 @@
 #include "parallax/search/sweep.hpp"
 #include "parallax/eval/text_util.hpp"
 
-namespace parallax::explore {
-using detail::utc_now;
+namespace parallax::search {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::InputError;
+using eval::detail::utc_now;
 
 using json = nlohmann::json;
 namespace fs = std::filesystem;
@@ -709,4 +712,4 @@ int64_t ResultStore::merge_from(const std::string& other) {
   return after - before;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::search

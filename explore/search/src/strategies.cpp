@@ -12,7 +12,7 @@
 #include "parallax/config/config.hpp"
 #include "parallax/search/sweep.hpp"
 
-namespace parallax::explore {
+namespace parallax::search {
 
 std::vector<DesignPoint> enumerate_designs(const SweepSpec& s) {
   std::vector<DesignPoint> out;
@@ -192,4 +192,4 @@ std::string seed_hash(const SweepSpec& spec) {
   }
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::search

@@ -33,8 +33,48 @@
 #include "parallax/uav/scene.hpp"
 #include "parallax/resources/devices.hpp"
 
-namespace parallax::explore {
-using detail::utc_now;
+namespace parallax::search {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::Baseline;
+using eval::BaselineParams;
+using eval::Dataset;
+using eval::DisparityMap;
+using eval::EvalOptions;
+using eval::EvalResult;
+using eval::Frame;
+using eval::FrameRef;
+using eval::GtKind;
+using eval::InputError;
+using eval::Matcher;
+using eval::Roi;
+using eval::RoiSize;
+using eval::count_frame;
+using eval::crop_to_roi;
+using eval::evaluate;
+using eval::list_frames;
+using eval::load_frame;
+using eval::make_frame_row;
+using eval::named_metrics;
+using eval::open_dataset;
+using eval::parse_baseline;
+using eval::pool_rows;
+using eval::resolve_roi;
+using eval::roi_for;
+using eval::run_baseline;
+using eval::to_disparity_map;
+using eval::to_grey_image;
+using uav::AvoidAccumulator;
+using uav::kitti_default_rig;
+using uav::load_scenario;
+using uav::scenario_reference;
+using design::AccuracyFigures;
+using design::AvoidanceFigures;
+using design::DesignResult;
+using design::PointRequest;
+using design::complete_point;
+using design::frame_columns;
+using eval::detail::utc_now;
 
 using json = nlohmann::json;
 using nsga2::Genome;
@@ -572,4 +612,4 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }
-}  // namespace parallax::explore
+}  // namespace parallax::search

@@ -13,7 +13,10 @@
 
 #include "parallax/eval/dataset.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::InputError;
 
 const char* to_string(Manoeuvre m) {
   switch (m) {
@@ -380,4 +383,4 @@ std::vector<std::pair<std::string, double>> AvoidAccumulator::metrics() const {
           {"mean_ms_per_frame", frames_ ? timing_sum_.total_ms() / frames_ : 0.0}};
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

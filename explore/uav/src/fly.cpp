@@ -14,7 +14,13 @@
 #include "parallax/eval/simulate.hpp"
 #include "parallax/sim/cycle.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::DisparityMap;
+using eval::SimulationResult;
+using eval::run_design;
+using eval::simulate_timing;
 
 void design_timing(const config::PipelineConfig& cfg, int w, int h, double& interval_ms, double& latency_ms) {
   const SimulationResult sr = simulate_timing(cfg, w, h);
@@ -240,4 +246,4 @@ std::vector<std::vector<uint8_t>> flight_mavlink(const FlightResult& r, Setpoint
   return out;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

@@ -1,7 +1,7 @@
 // The JSON forms of the UAV room's result types (json.hpp).
 #include "parallax/uav/json.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 void to_json(nlohmann::json& j, const AvoidAccumulator& acc) {
   const AvoidTimings& t = acc.timing_sum();
@@ -51,4 +51,4 @@ void to_json(nlohmann::json& j, const FlightResult& r) {
        {"recoveries", r.recoveries},           {"frames", r.frames}};
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

@@ -10,7 +10,10 @@
 
 #include "parallax/eval/input_error.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::InputError;
 
 uint16_t mavlink_crc(const uint8_t* data, std::size_t n, uint16_t crc) {
   for (std::size_t i = 0; i < n; ++i) {
@@ -158,4 +161,4 @@ void MavlinkSink::send(const std::vector<uint8_t>& f) {
   if (fd_ >= 0) (void)sendto(fd_, f.data(), f.size(), 0, reinterpret_cast<const sockaddr*>(&addr_), sizeof addr_);
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

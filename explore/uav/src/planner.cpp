@@ -12,7 +12,7 @@
 
 #include "parallax/uav/fly.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 LocalMap::LocalMap(const MapParams& p)
     : p_(p),
@@ -522,4 +522,4 @@ void Planner::recover(Plan& plan, const VehicleState& s, double flyable_heading,
   }
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

@@ -10,7 +10,7 @@
 
 #include "parallax/uav/scene.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 namespace {
 
@@ -630,4 +630,4 @@ void apply_sensor(StereoFrame& f, const Imaging& im, std::mt19937& rng) {
   }
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

@@ -25,7 +25,12 @@ extern const char* const* const scenario_texts;
 extern const int scenario_count;
 }  // namespace parallax::res::data
 
-namespace parallax::explore {
+namespace parallax::uav {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::InputError;
+using eval::write_kitti_disparity;
+using eval::write_png;
 
 namespace {
 
@@ -360,4 +365,4 @@ std::string nearest_obstacle(const Scene& sc, const Eigen::Vector3d& p) {
   return name;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

@@ -10,7 +10,10 @@
 #include "parallax/eval/input_error.hpp"
 #include "parallax/uav/json.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::InputError;
 
 namespace {
 
@@ -242,4 +245,4 @@ std::vector<std::pair<std::string, double>> TruthAccumulator::metrics() const {
   return m;
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

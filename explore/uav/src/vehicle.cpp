@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 double wrap_angle(double a) {
   a = std::fmod(a + M_PI, 2.0 * M_PI);
@@ -35,4 +35,4 @@ void step_vehicle(VehicleState& s, const Eigen::Vector3d& v_sp, double yaw_sp, c
   s.pitch_rad = std::clamp(-std::atan2(lean.dot(ahead), kGravity), -tilt_max, tilt_max);
 }
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

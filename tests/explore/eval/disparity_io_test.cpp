@@ -20,7 +20,7 @@
 #include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
-namespace px = parallax::explore;
+namespace px = parallax::eval;
 
 using parallax::test::TempDir;
 

@@ -11,7 +11,7 @@
 
 namespace {
 
-namespace px = parallax::explore;
+namespace px = parallax::eval;
 using nlohmann::json;
 
 px::FrameCounts counts(std::int64_t roi, std::int64_t valid, std::int64_t correct) {

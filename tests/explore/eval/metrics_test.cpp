@@ -7,7 +7,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-namespace px = parallax::explore;
+namespace px = parallax::eval;
 
 namespace {
 

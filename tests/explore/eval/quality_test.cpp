@@ -9,7 +9,7 @@
 #include "parallax/config/config.hpp"
 #include "parallax/eval/evaluate.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 namespace {
 
 const std::filesystem::path kKitti2015 = std::filesystem::path(PARALLAX_SHARED_DATASETS) / "kitti2015";
@@ -87,4 +87,4 @@ TEST(Quality, ShippedCropScoresLikeTheSharedFrames) {
 }
 
 }  // namespace
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -5,7 +5,7 @@
 
 #include "parallax/eval/dataset.hpp"
 
-namespace px = parallax::explore;
+namespace px = parallax::eval;
 
 TEST(Roi, CentredKittiDefault) {
   const px::Roi roi = px::centred_roi(1242, 375, 640, 360);

@@ -7,7 +7,7 @@
 #include "parallax/config/config.hpp"
 #include "parallax/eval/simulate.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 namespace {
 
 const std::string kConfigs = PARALLAX_CONFIG_DIR;
@@ -53,4 +53,4 @@ TEST(PublishedTiming, SadPresetHasTheSameSchedule) {
 }
 
 }  // namespace
-}  // namespace parallax::explore
+}  // namespace parallax::eval

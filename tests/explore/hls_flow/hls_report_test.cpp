@@ -14,7 +14,8 @@
 namespace parallax::test {
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::hls_flow;
 const std::string kSample = PARALLAX_TEST_DATA "/csynth_sample.xml";
 
 TEST(HlsReport, ReadsTheCsynthSchema) {
@@ -73,16 +74,16 @@ namespace {
 // The models' figures beside the report's: the same design's cycle model and resource model, at
 // the report's clock; a loop is matched to its stage by name.
 TEST(HlsReport, ComparesModelAndSynthesisSideBySide) {
-  const explore::HlsReport r = explore::read_csynth_xml(kSample);
+  const hls_flow::HlsReport r = hls_flow::read_csynth_xml(kSample);
   config::PipelineConfig cfg = config::load_config(PARALLAX_CONFIG_DIR "/ruf2018-census.yaml");
   cfg.clock_mhz = 100;  // the report's 5 ns wins
   sim::CycleReport model_cycle;
-  const auto rows = explore::compare_with_model(cfg, r, 640, 360, &model_cycle);
-  std::map<std::string, explore::ModelVsSynthesis> by;
+  const auto rows = hls_flow::compare_with_model(cfg, r, 640, 360, &model_cycle);
+  std::map<std::string, hls_flow::ModelVsSynthesis> by;
   for (const auto& row : rows) by[row.figure] = row;
   ASSERT_TRUE(by.count("latency (cycles)"));
-  const explore::SimulationResult sim =
-      explore::simulate_timing(config::load_config(PARALLAX_CONFIG_DIR "/ruf2018-census.yaml"), 640, 360);
+  const eval::SimulationResult sim =
+      eval::simulate_timing(config::load_config(PARALLAX_CONFIG_DIR "/ruf2018-census.yaml"), 640, 360);
   EXPECT_EQ(by["latency (cycles)"].model, double(sim.cycle.last_pixel_cycle - sim.cycle.first_input_cycle));
   EXPECT_NE(by["latency (cycles)"].note.find("200 MHz"), std::string::npos);
   EXPECT_EQ(by["latency (cycles)"].synthesis, 4631240.0);

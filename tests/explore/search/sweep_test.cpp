@@ -19,8 +19,8 @@ namespace parallax::test {
 namespace {
 
 namespace fs = std::filesystem;
-using explore::ResultStore;
-using explore::SweepSpec;
+using search::ResultStore;
+using search::SweepSpec;
 
 const std::string kData = PARALLAX_DATA_DIR "/kitti2015-640x360";
 const std::string kCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
@@ -35,28 +35,28 @@ fs::path fresh(const std::string& name) {
 
 TEST(SweepSpec, GridIsTheFullProductInOdometerOrder) {
   SweepSpec s;
-  explore::add_axis(s, "p1=8,10");
-  explore::add_axis(s, "median=0,3,5");
-  const auto d = explore::enumerate_designs(s);
+  search::add_axis(s, "p1=8,10");
+  search::add_axis(s, "median=0,3,5");
+  const auto d = search::enumerate_designs(s);
   ASSERT_EQ(d.size(), 6u);
   EXPECT_EQ(d[0].fields[0].second, "8");
   EXPECT_EQ(d[0].fields[1].second, "0");
   EXPECT_EQ(d[1].fields[1].second, "3");
   EXPECT_EQ(d[5].fields[0].second, "10");
   EXPECT_EQ(d[5].fields[1].second, "5");
-  explore::add_axis(s, "p1=12");  // replaces the axis
-  EXPECT_EQ(explore::enumerate_designs(s).size(), 3u);
+  search::add_axis(s, "p1=12");  // replaces the axis
+  EXPECT_EQ(search::enumerate_designs(s).size(), 3u);
 }
 
 TEST(SweepSpec, RandomAndLatinHypercubeAreSeededAndDistinct) {
   SweepSpec s;
-  explore::add_axis(s, "p1=4,6,8,10,12");
-  explore::add_axis(s, "p2=20,30,40,50,60,70");
+  search::add_axis(s, "p1=4,6,8,10,12");
+  search::add_axis(s, "p2=20,30,40,50,60,70");
   for (const char* strategy : {"random", "lhs"}) {
     s.strategy = strategy;
     s.samples = 10;
     s.seed = 7;
-    const auto a = explore::enumerate_designs(s), b = explore::enumerate_designs(s);
+    const auto a = search::enumerate_designs(s), b = search::enumerate_designs(s);
     ASSERT_EQ(a.size(), b.size()) << strategy;
     std::set<std::string> keys;
     for (std::size_t i = 0; i < a.size(); ++i) {
@@ -66,57 +66,57 @@ TEST(SweepSpec, RandomAndLatinHypercubeAreSeededAndDistinct) {
     EXPECT_EQ(keys.size(), a.size()) << strategy << ": duplicates";
     EXPECT_GE(a.size(), 8u) << strategy;
     s.seed = 8;
-    EXPECT_NE(explore::enumerate_designs(s)[0].fields, a[0].fields) << strategy;
+    EXPECT_NE(search::enumerate_designs(s)[0].fields, a[0].fields) << strategy;
   }
 }
 
 // strategy list: the designs as written, in order; the axes are the fields they set, with the
 // values they take (for the checks and the report's columns); a round trip keeps them.
 TEST(SweepSpec, ListIsTheDesignsAsWritten) {
-  const SweepSpec s = explore::parse_sweep(
+  const SweepSpec s = search::parse_sweep(
       "strategy: list\ndesigns:\n  - {}\n  - {uniqueness_pct: 5}\n  - {paths: 5, window: 9x7}\n  - {paths: 8}\n",
       "list.yaml");
-  const auto d = explore::enumerate_designs(s);
+  const auto d = search::enumerate_designs(s);
   ASSERT_EQ(d.size(), 4u);
   EXPECT_TRUE(d[0].fields.empty());
   EXPECT_EQ(d[2].fields, (std::vector<std::pair<std::string, std::string>>{{"paths", "5"}, {"window", "9x7"}}));
   EXPECT_EQ(s.axes, (std::vector<std::pair<std::string, std::vector<std::string>>>{
                         {"uniqueness_pct", {"5"}}, {"paths", {"5", "8"}}, {"window", {"9x7"}}}));
-  const SweepSpec t = explore::parse_sweep(explore::sweep_to_yaml(s), "round trip");
+  const SweepSpec t = search::parse_sweep(search::sweep_to_yaml(s), "round trip");
   EXPECT_EQ(t.designs, s.designs);
   EXPECT_EQ(t.axes, s.axes);
-  EXPECT_THROW(explore::parse_sweep("strategy: list\n", "s.yaml"), explore::InputError);
-  EXPECT_THROW(explore::parse_sweep("designs:\n  - {p1: 4}\n", "s.yaml"), explore::InputError);  // grid
+  EXPECT_THROW(search::parse_sweep("strategy: list\n", "s.yaml"), eval::InputError);
+  EXPECT_THROW(search::parse_sweep("designs:\n  - {p1: 4}\n", "s.yaml"), eval::InputError);  // grid
 }
 
 TEST(SweepSpec, ShippedSweepsParse) {
   for (const char* f : {"ruf2018-neighbourhood.yaml", "census-penalties.yaml"}) {
-    const SweepSpec s = explore::load_sweep(std::string(PARALLAX_CONFIG_DIR) + "/sweeps/" + f);
+    const SweepSpec s = search::load_sweep(std::string(PARALLAX_CONFIG_DIR) + "/sweeps/" + f);
     EXPECT_FALSE(s.axes.empty()) << f;
-    EXPECT_FALSE(explore::enumerate_designs(s).empty()) << f;
+    EXPECT_FALSE(search::enumerate_designs(s).empty()) << f;
   }
 }
 
 TEST(SweepSpec, FileErrorsNameTheField) {
-  EXPECT_THROW(explore::parse_sweep("strategy: annealing\n", "s.yaml"), explore::InputError);
+  EXPECT_THROW(search::parse_sweep("strategy: annealing\n", "s.yaml"), eval::InputError);
   try {
-    explore::parse_sweep("axes: {p1: [8]}\nbogus: 1\n", "s.yaml");
+    search::parse_sweep("axes: {p1: [8]}\nbogus: 1\n", "s.yaml");
     FAIL();
-  } catch (const explore::InputError& e) {
+  } catch (const eval::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("bogus"), std::string::npos);
   }
   try {
-    explore::parse_sweep("objectives: [best correct_3px_pct]\n", "s.yaml");
+    search::parse_sweep("objectives: [best correct_3px_pct]\n", "s.yaml");
     FAIL();
-  } catch (const explore::InputError& e) {
+  } catch (const eval::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("max KEY"), std::string::npos);
   }
   SweepSpec s;
-  EXPECT_THROW(explore::add_axis(s, "p1"), explore::InputError);
+  EXPECT_THROW(search::add_axis(s, "p1"), eval::InputError);
   // Round trip.
-  explore::add_axis(s, "p2=32,64");
+  search::add_axis(s, "p2=32,64");
   s.objectives = {{"bram18k", false}};
-  const SweepSpec t = explore::parse_sweep(explore::sweep_to_yaml(s), "round trip");
+  const SweepSpec t = search::parse_sweep(search::sweep_to_yaml(s), "round trip");
   EXPECT_EQ(t.axes, s.axes);
   EXPECT_EQ(t.objectives.size(), 1u);
   EXPECT_FALSE(t.objectives[0].maximise);
@@ -128,12 +128,12 @@ TEST(SweepRun, InvalidDesignsAreStoredWithTheReasonAndRerunsSkip) {
   s.name = "t";
   s.base = kCensus;
   s.frames = "1";
-  explore::add_axis(s, "disparities=60,61");  // 61 is not a multiple of PU 6
+  search::add_axis(s, "disparities=60,61");  // 61 is not a multiple of PU 6
   ResultStore store((d / "r.db").string());
-  explore::SweepRunOptions ro;
+  search::SweepRunOptions ro;
   ro.dataset = kData;
   ro.jobs = 2;
-  const auto first = explore::run_sweep(s, store, ro);
+  const auto first = search::run_sweep(s, store, ro);
   EXPECT_EQ(first.total, 2);
   EXPECT_EQ(first.invalid, 1);
   const auto rows = store.designs("t");
@@ -151,7 +151,7 @@ TEST(SweepRun, InvalidDesignsAreStoredWithTheReasonAndRerunsSkip) {
     }
   }
   EXPECT_EQ(ok, 1);
-  const auto second = explore::run_sweep(s, store, ro);
+  const auto second = search::run_sweep(s, store, ro);
   EXPECT_EQ(second.skipped, 2);
   EXPECT_EQ(second.evaluated, 0);
   EXPECT_EQ(store.count_designs(), 2);
@@ -187,7 +187,7 @@ TEST(SweepRun, KilledMidSweepLosesNothingAndDuplicatesNothing) {
         before = peek.designs();
         break;
       }
-    } catch (const explore::InputError&) {  // the store is still being created
+    } catch (const eval::InputError&) {  // the store is still being created
     }
   }
   kill(pid, SIGKILL);
@@ -223,8 +223,8 @@ SweepSpec small_sweep() {
   s.name = "small";
   s.base = kCensus;
   s.frames = "1";
-  explore::add_axis(s, "p2=32,48,64");
-  explore::add_axis(s, "median=0,5");
+  search::add_axis(s, "p2=32,48,64");
+  search::add_axis(s, "median=0,5");
   return s;
 }
 
@@ -232,17 +232,17 @@ SweepSpec small_sweep() {
 TEST(SweepScale, ShardsMergeToTheWholeSweep) {
   const fs::path d = fresh("shards");
   const SweepSpec s = small_sweep();
-  explore::SweepRunOptions ro;
+  search::SweepRunOptions ro;
   ro.dataset = kData;
   ro.jobs = 1;
   ResultStore whole((d / "whole.db").string());
-  explore::run_sweep(s, whole, ro);
+  search::run_sweep(s, whole, ro);
   int sizes = 0;
   for (int k = 1; k <= 3; ++k) {
     ResultStore part((d / ("part" + std::to_string(k) + ".db")).string());
     ro.shard_index = k;
     ro.shard_count = 3;
-    sizes += explore::run_sweep(s, part, ro).total;
+    sizes += search::run_sweep(s, part, ro).total;
   }
   EXPECT_EQ(sizes, 6);
   ResultStore merged((d / "merged.db").string());
@@ -252,7 +252,7 @@ TEST(SweepScale, ShardsMergeToTheWholeSweep) {
   EXPECT_EQ(merged.sweeps().size(), 1u);
   EXPECT_EQ(merged.designs("small").size(), 6u);  // the sweep's membership came along
   ro.shard_index = 4;
-  EXPECT_THROW(explore::run_sweep(s, merged, ro), explore::InputError);
+  EXPECT_THROW(search::run_sweep(s, merged, ro), eval::InputError);
 }
 
 #ifdef PARALLAX_MPIEXEC
@@ -273,12 +273,12 @@ TEST(SweepScale, MpiTwoRanksEqualOneProcess) {
   ASSERT_EQ(WEXITSTATUS(system(cmd.c_str())), 0) << cmd;
   ResultStore mpi(db);
   ResultStore one((d / "one.db").string());
-  explore::SweepRunOptions ro;
+  search::SweepRunOptions ro;
   ro.dataset = kData;
   ro.jobs = 1;
   SweepSpec s = small_sweep();
   s.name = "sweep";  // the CLI's default name
-  explore::run_sweep(s, one, ro);
+  search::run_sweep(s, one, ro);
   EXPECT_EQ(mpi.count_designs(), 6);
   EXPECT_EQ(by_hash(mpi), by_hash(one));
 }
@@ -290,14 +290,14 @@ TEST(SweepSharing, SharedCostsGiveTheSameResults) {
   const fs::path d = fresh("sharing");
   SweepSpec s = small_sweep();
   s.frames = "1,5";
-  explore::add_axis(s, "p1=4,8");
-  explore::SweepRunOptions ro;
+  search::add_axis(s, "p1=4,8");
+  search::SweepRunOptions ro;
   ro.dataset = kData;
   ro.jobs = 2;
   ResultStore shared((d / "shared.db").string()), alone((d / "alone.db").string());
-  explore::run_sweep(s, shared, ro);
+  search::run_sweep(s, shared, ro);
   ro.share_costs = false;
-  explore::run_sweep(s, alone, ro);
+  search::run_sweep(s, alone, ro);
   EXPECT_EQ(shared.count_designs(), 12);
   EXPECT_EQ(by_hash(shared), by_hash(alone));
   // Census variants read other taps: they share no costs with each other (they once did, and a
@@ -306,13 +306,13 @@ TEST(SweepSharing, SharedCostsGiveTheSameResults) {
   v.name = "variants";
   v.base = kCensus;
   v.frames = "1";
-  explore::add_axis(v, "census=full,sparse,symmetric");
-  explore::add_axis(v, "window=9x7");
+  search::add_axis(v, "census=full,sparse,symmetric");
+  search::add_axis(v, "window=9x7");
   ResultStore shared_v((d / "shared_v.db").string()), alone_v((d / "alone_v.db").string());
   ro.share_costs = true;
-  explore::run_sweep(v, shared_v, ro);
+  search::run_sweep(v, shared_v, ro);
   ro.share_costs = false;
-  explore::run_sweep(v, alone_v, ro);
+  search::run_sweep(v, alone_v, ro);
   const auto variants = by_hash(shared_v);
   EXPECT_EQ(variants, by_hash(alone_v));
   std::set<double> correct;
@@ -325,13 +325,13 @@ TEST(SweepRun, AvoidanceScoresBecomeMetrics) {
   const fs::path d = fresh("avoid");
   SweepSpec s = small_sweep();
   s.avoidance = true;
-  explore::SweepRunOptions ro;
+  search::SweepRunOptions ro;
   ro.dataset = kData;
   ro.jobs = 2;
   ResultStore shared((d / "a.db").string()), alone((d / "b.db").string());
-  explore::run_sweep(s, shared, ro);
+  search::run_sweep(s, shared, ro);
   ro.share_costs = false;
-  explore::run_sweep(s, alone, ro);
+  search::run_sweep(s, alone, ro);
   const auto rows = shared.designs();
   ASSERT_EQ(rows.size(), 6u);
   for (const auto& r : rows)
@@ -359,17 +359,17 @@ TEST(SweepRun, FlightScoresBecomeMetrics) {
   s.flight_size_px = 160;  // quick: the default is the design's own 640 px
   s.objectives = {{"flight_success_rate", true}, {"flight_min_clearance_m", true}};
   ResultStore store((d / "f.db").string());
-  explore::SweepRunOptions ro;
+  search::SweepRunOptions ro;
   ro.dataset = kData;
-  explore::run_sweep(s, store, ro);
+  search::run_sweep(s, store, ro);
   const auto rows = store.designs();
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_DOUBLE_EQ(rows[0].metrics.at("flight_success_rate"), 100.0);
   EXPECT_DOUBLE_EQ(rows[0].metrics.at("flight_collisions"), 0.0);
   EXPECT_GT(rows[0].metrics.at("flight_min_clearance_m"), 0.0);
-  EXPECT_EQ(explore::pareto_front(s, rows).size(), 1u);
+  EXPECT_EQ(search::pareto_front(s, rows).size(), 1u);
   // The spec round-trips its flight.
-  const SweepSpec t = explore::parse_sweep(explore::sweep_to_yaml(s), "round trip");
+  const SweepSpec t = search::parse_sweep(search::sweep_to_yaml(s), "round trip");
   EXPECT_EQ(t.flight_scenario, s.flight_scenario);
   EXPECT_EQ(t.flight_seeds, 1);
   EXPECT_EQ(t.flight_size_px, 160);
@@ -390,15 +390,15 @@ TEST(SweepNsga2, SeededAndFindsTheGridFront) {
   s.seed = 11;
   s.require_fit = true;
   s.objectives = {{"correct_3px_pct", true}, {"bram18k", false}};
-  explore::add_axis(s, "median=0,3,5");
-  explore::add_axis(s, "disparities=48,60");
-  explore::add_axis(s, "paths=2,4");
-  explore::SweepRunOptions ro;
+  search::add_axis(s, "median=0,3,5");
+  search::add_axis(s, "disparities=48,60");
+  search::add_axis(s, "paths=2,4");
+  search::SweepRunOptions ro;
   ro.dataset = kData;
   ro.jobs = 2;
   ResultStore a((d / "a.db").string()), b((d / "b.db").string());
-  const auto sa = explore::run_sweep(s, a, ro);
-  explore::run_sweep(s, b, ro);
+  const auto sa = search::run_sweep(s, a, ro);
+  search::run_sweep(s, b, ro);
   EXPECT_EQ(by_hash(a), by_hash(b)) << "not deterministic under a seed";
   EXPECT_LE(sa.total, 12);
   EXPECT_EQ(a.count_designs(), sa.total);
@@ -408,10 +408,10 @@ TEST(SweepNsga2, SeededAndFindsTheGridFront) {
   g.strategy = "grid";
   g.name = "grid";
   ResultStore c((d / "c.db").string());
-  explore::run_sweep(g, c, ro);
+  search::run_sweep(g, c, ro);
   std::set<std::string> grid_front;
-  for (const auto& r : explore::pareto_front(g, c.designs())) grid_front.insert(r.hash);
-  const auto evo_front = explore::pareto_front(s, a.designs());
+  for (const auto& r : search::pareto_front(g, c.designs())) grid_front.insert(r.hash);
+  const auto evo_front = search::pareto_front(s, a.designs());
   ASSERT_FALSE(evo_front.empty());
   int on_grid_front = 0;
   for (const auto& r : evo_front) on_grid_front += grid_front.count(r.hash) ? 1 : 0;
@@ -436,7 +436,7 @@ TEST(SweepPareto, NonDominatedUnderConstraints) {
   bad.status = "invalid";
   rows.push_back(bad);
   std::set<std::string> front;
-  for (const auto& r : explore::pareto_front(s, rows)) front.insert(r.hash);
+  for (const auto& r : search::pareto_front(s, rows)) front.insert(r.hash);
   // c is dominated by b; d is too slow; e does not fit; h is invalid; a and f tie (both stay).
   EXPECT_EQ(front, (std::set<std::string>{"a", "b", "f", "g"}));
   // one_pass: a design that needs the second pass through DDR (passes 2) leaves the front.
@@ -445,7 +445,7 @@ TEST(SweepPareto, NonDominatedUnderConstraints) {
   for (auto& r : rows)
     if (!r.metrics.count("passes")) r.metrics["passes"] = 1;
   front.clear();
-  for (const auto& r : explore::pareto_front(s, rows)) front.insert(r.hash);
+  for (const auto& r : search::pareto_front(s, rows)) front.insert(r.hash);
   EXPECT_EQ(front, (std::set<std::string>{"a", "c", "f", "g"}));
 }
 
@@ -454,21 +454,21 @@ TEST(SweepPareto, NonDominatedUnderConstraints) {
 // them, and an unknown peer is refused by name.
 TEST(SweepRun, PeersAndSeedStoredBesideTheDesigns) {
   const fs::path d = fresh("peers");
-  SweepSpec s = explore::parse_sweep("name: p\nbase: " + kCensus +
+  SweepSpec s = search::parse_sweep("name: p\nbase: " + kCensus +
                                          "\naxes:\n  p1: [6]\n  paths: [4, 5]\nbaselines: [opencv-hh4, opencv-sgbm]\n"
                                          "frames: \"1-2\"\nconstraints:\n  one_pass: true\n",
                                      "peers.yaml");
   ASSERT_EQ(s.baselines, (std::vector<std::string>{"opencv-hh4", "opencv-sgbm"}));
   EXPECT_TRUE(s.one_pass);
-  EXPECT_EQ(explore::parse_sweep(explore::sweep_to_yaml(s), "round trip").baselines, s.baselines);
+  EXPECT_EQ(search::parse_sweep(search::sweep_to_yaml(s), "round trip").baselines, s.baselines);
   ResultStore store((d / "r.db").string());
-  explore::SweepRunOptions ro;
+  search::SweepRunOptions ro;
   ro.dataset = kData;
   ro.jobs = 2;
-  explore::run_sweep(s, store, ro);
+  search::run_sweep(s, store, ro);
   const auto designs = store.designs("p");
   ASSERT_EQ(designs.size(), 3u);  // two points and the seed (p1 8, paths 4)
-  const std::string seed = explore::seed_hash(s);
+  const std::string seed = search::seed_hash(s);
   EXPECT_EQ(std::count_if(designs.begin(), designs.end(), [&](const ResultStore::Row& r) { return r.hash == seed; }),
             1);
   for (const auto& r : designs) {
@@ -484,14 +484,14 @@ TEST(SweepRun, PeersAndSeedStoredBesideTheDesigns) {
     EXPECT_GT(r.metrics.at("correct_3px_pct"), 50.0);
     EXPECT_EQ(r.frames.size(), designs[0].frames.size());
   }
-  const auto again = explore::run_sweep(s, store, ro);
+  const auto again = search::run_sweep(s, store, ro);
   EXPECT_EQ(again.evaluated, 0);
   EXPECT_EQ(store.peers("p").size(), 2u);
   EXPECT_EQ(store.count_designs(), 5);
   try {
-    explore::parse_sweep("baselines: [opencv-bm]\n", "bad.yaml");
+    search::parse_sweep("baselines: [opencv-bm]\n", "bad.yaml");
     ADD_FAILURE() << "an unknown peer was accepted";
-  } catch (const explore::InputError& e) {
+  } catch (const eval::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("opencv-bm"), std::string::npos) << e.what();
   }
 }
@@ -508,9 +508,9 @@ TEST(SweepStore, DesignsFilterFramesBySweepAndCanSkipThem) {
       std::filesystem::temp_directory_path() / ("parallax_store_frames_" + std::to_string(::getpid()) + ".db");
   std::filesystem::remove(path);
   {
-    explore::ResultStore store(path.string());
+    search::ResultStore store(path.string());
     for (const char* sweep : {"a", "b"}) {
-      explore::ResultStore::Row row;
+      search::ResultStore::Row row;
       row.hash = std::string(sweep) + "000000000000000";
       row.sweep = sweep;
       row.config_yaml = "name: x\n";
@@ -549,8 +549,6 @@ namespace parallax::test {
 namespace {
 
 namespace fs = std::filesystem;
-using explore::ResultStore;
-using explore::SweepSpec;
 
 const std::string kStoreData = PARALLAX_DATA_DIR "/kitti2015-640x360";
 const std::string kStoreCensus = PARALLAX_CONFIG_DIR "/ruf2018-census.yaml";
@@ -585,12 +583,12 @@ SweepSpec two_designs(const std::string& name) {
   s.name = name;
   s.base = kStoreCensus;
   s.frames = "1";
-  explore::add_axis(s, "p2=32,64");
+  search::add_axis(s, "p2=32,64");
   return s;
 }
 
-explore::SweepRunOptions on(const std::string& dataset) {
-  explore::SweepRunOptions ro;
+search::SweepRunOptions on(const std::string& dataset) {
+  search::SweepRunOptions ro;
   ro.dataset = dataset;
   ro.jobs = 2;
   return ro;
@@ -617,10 +615,10 @@ TEST(SweepStoreKeys, RerunOnOtherFramesGroundTruthOrDatasetEvaluatesAnew) {
   const fs::path d = store_dir("keys");
   ResultStore store((d / "k.db").string());
   SweepSpec s = two_designs("k");
-  auto first = explore::run_sweep(s, store, on(kStoreData));
+  auto first = search::run_sweep(s, store, on(kStoreData));
   EXPECT_EQ(first.evaluated, 2);
   s.frames = "5";
-  auto other = explore::run_sweep(s, store, on(kStoreData));
+  auto other = search::run_sweep(s, store, on(kStoreData));
   EXPECT_EQ(other.evaluated, 2) << "results measured on frame 1 reused for frame 5";
   EXPECT_EQ(other.skipped, 0);
   EXPECT_FALSE(other.notes.empty());  // the sweep's measurement changed: said so
@@ -632,19 +630,19 @@ TEST(SweepStoreKeys, RerunOnOtherFramesGroundTruthOrDatasetEvaluatesAnew) {
     EXPECT_NE(r.measurement.find("\"000005\""), std::string::npos) << r.measurement;
   }
   s.frames = "1";
-  auto back = explore::run_sweep(s, store, on(kStoreData));
+  auto back = search::run_sweep(s, store, on(kStoreData));
   EXPECT_EQ(back.evaluated, 0);
   EXPECT_EQ(back.skipped, 2);
   for (const auto& r : store.designs("k")) EXPECT_EQ(r.frames.at(0).first, "000001");
   s.gt = "occ";
-  EXPECT_EQ(explore::run_sweep(s, store, on(kStoreData)).evaluated, 2);
+  EXPECT_EQ(search::run_sweep(s, store, on(kStoreData)).evaluated, 2);
   s.gt = "noc";
   const fs::path copy = copy_dataset(d);
-  EXPECT_EQ(explore::run_sweep(s, store, on(copy.string())).evaluated, 2);
+  EXPECT_EQ(search::run_sweep(s, store, on(copy.string())).evaluated, 2);
   EXPECT_EQ(store.sweep_dataset("k"), fs::canonical(copy).string());
   EXPECT_EQ(store.count_designs(), 8);
   // The measurement names the contract version, so a new contract never reuses old results.
-  EXPECT_NE(store.designs("k").at(0).measurement.find(explore::kResultsContract), std::string::npos);
+  EXPECT_NE(store.designs("k").at(0).measurement.find(search::kResultsContract), std::string::npos);
 }
 
 // A sweep name lists exactly its own designs, also those another sweep evaluated first.
@@ -655,19 +653,19 @@ TEST(SweepStoreKeys, OverlappingSweepNamesListExactlyTheirOwnDesigns) {
   {
     ResultStore store(db);
     SweepSpec a = two_designs("a");
-    explore::add_axis(a, "p2=32,48,64");
+    search::add_axis(a, "p2=32,48,64");
     SweepSpec b = two_designs("b");
-    explore::add_axis(b, "p2=48,64,96");
-    EXPECT_EQ(explore::run_sweep(a, store, on(kStoreData)).evaluated, 3);
-    const auto sb = explore::run_sweep(b, store, on(kStoreData));
+    search::add_axis(b, "p2=48,64,96");
+    EXPECT_EQ(search::run_sweep(a, store, on(kStoreData)).evaluated, 3);
+    const auto sb = search::run_sweep(b, store, on(kStoreData));
     EXPECT_EQ(sb.evaluated, 1);
     EXPECT_EQ(sb.skipped, 2);
     a_hashes = hashes(store.designs("a"));
     b_hashes = hashes(store.designs("b"));
     const config::PipelineConfig base = config::load_config(kStoreCensus);
     std::set<std::string> want_a, want_b;
-    for (const auto& p : explore::enumerate_designs(a)) want_a.insert(explore::materialise(base, p).hash);
-    for (const auto& p : explore::enumerate_designs(b)) want_b.insert(explore::materialise(base, p).hash);
+    for (const auto& p : search::enumerate_designs(a)) want_a.insert(search::materialise(base, p).hash);
+    for (const auto& p : search::enumerate_designs(b)) want_b.insert(search::materialise(base, p).hash);
     EXPECT_EQ(a_hashes, want_a);
     EXPECT_EQ(b_hashes, want_b);
     EXPECT_EQ(store.count_designs(), 4);
@@ -694,14 +692,14 @@ TEST(SweepStoreKeys, FailedDesignsAreNotReused) {
   ResultStore store((d / "f.db").string());
   SweepSpec s = two_designs("f");
   s.frames = "1,5";
-  auto broken = explore::run_sweep(s, store, on(data.string()));
+  auto broken = search::run_sweep(s, store, on(data.string()));
   EXPECT_EQ(broken.failed, 2);
   for (const auto& r : store.designs("f")) {
     EXPECT_EQ(r.status, "error");
     EXPECT_NE(r.reason.find("000005_10.png"), std::string::npos) << r.reason;
   }
   std::ofstream(frame, std::ios::binary | std::ios::trunc) << good;  // fixed
-  auto fixed = explore::run_sweep(s, store, on(data.string()));
+  auto fixed = search::run_sweep(s, store, on(data.string()));
   EXPECT_EQ(fixed.evaluated, 2);
   EXPECT_EQ(fixed.failed, 0);
   EXPECT_EQ(fixed.skipped, 0);
@@ -710,10 +708,10 @@ TEST(SweepStoreKeys, FailedDesignsAreNotReused) {
   // A bad frame filter or a missing flight scenario: an error, nothing stored.
   SweepSpec bad = two_designs("bad");
   bad.frames = "99";
-  EXPECT_THROW(explore::run_sweep(bad, store, on(data.string())), explore::InputError);
+  EXPECT_THROW(search::run_sweep(bad, store, on(data.string())), eval::InputError);
   bad.frames = "1";
   bad.flight_scenario = (d / "no-such-scenario.yaml").string();
-  EXPECT_THROW(explore::run_sweep(bad, store, on(data.string())), explore::InputError);
+  EXPECT_THROW(search::run_sweep(bad, store, on(data.string())), eval::InputError);
   EXPECT_EQ(store.count_designs(), 2);
   for (const auto& sw : store.sweeps()) EXPECT_NE(sw.name, "bad");
 }
@@ -752,11 +750,11 @@ TEST(SweepStoreNan, MissingMetricsAreAbsentAndRankLast) {
       row("b", {{"correct_3px_pct", 50}, {"density_pct", 50}}), row("c", {}),  // nothing: dominated
       row("d", {{"correct_3px_pct", std::nan("")}, {"density_pct", 40}})};     // NaN in memory: as absent
   std::set<std::string> front;
-  for (const auto& p : explore::pareto_front(s, pts)) front.insert(p.hash);
+  for (const auto& p : search::pareto_front(s, pts)) front.insert(p.hash);
   EXPECT_EQ(front, (std::set<std::string>{"a", "b"}));
   s.max_latency_ms = 50;  // a bound on a metric the design has not: not met
-  EXPECT_FALSE(explore::meets_constraints(s, pts[1]));
-  EXPECT_EQ(explore::objective_value(pts[3], s.objectives[0]), -std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(search::meets_constraints(s, pts[1]));
+  EXPECT_EQ(search::objective_value(pts[3], s.objectives[0]), -std::numeric_limits<double>::infinity());
 }
 
 // Stores holding null metrics (as NaN was written before) or a NULL metrics column: NSGA-II
@@ -769,10 +767,10 @@ TEST(SweepStoreNan, NullMetricsNeverCrashNsga2OrTheReaders) {
   s.strategy = "nsga2";
   s.samples = 4;
   s.generations = 1;
-  explore::add_axis(s, "median=0,3,5");
+  search::add_axis(s, "median=0,3,5");
   {
     ResultStore store(db);
-    explore::run_sweep(s, store, on(kStoreData));
+    search::run_sweep(s, store, on(kStoreData));
   }
   sql(db,
       "UPDATE results SET metrics = json_set(metrics, '$.correct_3px_pct', NULL);"
@@ -790,10 +788,10 @@ TEST(SweepStoreNan, NullMetricsNeverCrashNsga2OrTheReaders) {
     EXPECT_TRUE(before[0].metrics.empty());
     hash = before[0].hash;
     s.generations = 3;  // continue: the stored population is ranked with its missing objective
-    const auto sum = explore::run_sweep(s, store, on(kStoreData));
+    const auto sum = search::run_sweep(s, store, on(kStoreData));
     EXPECT_GE(sum.skipped, int(before.size()));
     std::set<std::string> front;
-    for (const auto& r : explore::pareto_front(s, store.designs("evo"))) front.insert(r.hash);
+    for (const auto& r : search::pareto_front(s, store.designs("evo"))) front.insert(r.hash);
     EXPECT_FALSE(front.count(hash)) << "a design without metrics on the front";
   }
   const Shell p = shell(kCli + " pareto --db " + db + " --sweep evo");
@@ -838,14 +836,14 @@ TEST(SweepStoreConcurrency, ClaimOfADeadProcessIsTakenOver) {
   char host[256] = {};
   gethostname(host, sizeof host - 1);
   const config::PipelineConfig base = config::load_config(kStoreCensus);
-  const std::string measurement = explore::measurement_of(s, fs::canonical(kStoreData).string(), {"000001"});
-  for (const auto& p : explore::enumerate_designs(s)) {
-    const std::string key = explore::result_key(explore::materialise(base, p).hash, measurement);
+  const std::string measurement = search::measurement_of(s, fs::canonical(kStoreData).string(), {"000001"});
+  for (const auto& p : search::enumerate_designs(s)) {
+    const std::string key = search::result_key(search::materialise(base, p).hash, measurement);
     sql(db, "INSERT INTO claims(key, owner, host, pid, started, claimed_at) VALUES('" + key + "', 'dead', '" + host +
                 "', " + std::to_string(child) + ", 12345, strftime('%s','now'))");
   }
   ResultStore store(db);
-  const auto sum = explore::run_sweep(s, store, on(kStoreData));
+  const auto sum = search::run_sweep(s, store, on(kStoreData));
   EXPECT_EQ(sum.evaluated, 2);
   EXPECT_EQ(store.designs("s").size(), 2u);
 }

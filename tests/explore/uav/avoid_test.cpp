@@ -12,7 +12,8 @@
 namespace parallax::test {
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::uav;
 
 // A flat ground 1.6 m below the camera and, optionally, a box standing on it.
 struct Scene {

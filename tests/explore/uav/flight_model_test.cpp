@@ -19,7 +19,8 @@
 namespace parallax::test {
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::uav;
 
 TEST(Vehicle, VelocityLoopKeepsPx4Limits) {
   const VehicleParams p;

@@ -8,7 +8,7 @@
 namespace parallax::test {
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::uav;
 
 TEST(Fly, PastASinglePoleToTheGoal) {
   const config::PipelineConfig cfg = config::load_config(std::string(PARALLAX_CONFIG_DIR) + "/ruf2018-census.yaml");

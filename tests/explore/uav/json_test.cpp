@@ -12,7 +12,7 @@
 
 namespace {
 
-namespace px = parallax::explore;
+namespace px = parallax::uav;
 using nlohmann::json;
 
 TEST(UavJson, ObstacleCarriesTheFieldsOfItsKind) {

@@ -20,7 +20,7 @@
 namespace parallax::test {
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::uav;
 
 // Bitwise CRC-16/MCRF4XX (reflected 0x1021 = 0x8408, init 0xFFFF), written independently of the
 // byte formula in mavlink.cpp.

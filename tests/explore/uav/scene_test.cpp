@@ -17,7 +17,8 @@
 namespace parallax::test {
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::uav;
 
 Rig rig640() {
   Rig r;

@@ -16,7 +16,8 @@
 namespace parallax::test {
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::uav;
 
 Rig uav_rig() {
   return rig_of(RigSpec{}, 640, 360);

@@ -31,7 +31,9 @@ namespace parallax::cli {
 namespace {
 
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::uav;
+using namespace parallax::search;
 
 struct AvoidOptions {
   ConfigArgs cfg;

@@ -21,7 +21,8 @@ namespace parallax::cli {
 namespace {
 
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::search;
 
 struct BenchOptions {
   ConfigArgs cfg;

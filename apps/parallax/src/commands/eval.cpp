@@ -10,7 +10,8 @@ namespace parallax::cli {
 
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::search;
 
 struct EvalCommandOptions {
   ConfigArgs cfg;

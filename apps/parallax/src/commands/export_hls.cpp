@@ -25,7 +25,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::search;
+using namespace parallax::hls_flow;
 
 struct ExportHlsOptions {
   ConfigArgs cfg;

@@ -29,7 +29,10 @@ namespace parallax::cli {
 namespace {
 
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::design;
+using namespace parallax::search;
+using namespace parallax::reports;
 
 struct FitOptions {
   std::string points = "models/data/vitis_vision_points.csv", designs = "models/data/published_points.yaml";

@@ -25,7 +25,9 @@ namespace parallax::cli {
 namespace {
 
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::uav;
+using namespace parallax::search;
 
 struct FlyOptions {
   ConfigArgs cfg;

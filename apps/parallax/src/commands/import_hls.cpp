@@ -22,7 +22,11 @@ namespace parallax::cli {
 namespace {
 
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::design;
+using namespace parallax::search;
+using namespace parallax::hls_flow;
+using namespace parallax::reports;
 
 struct ImportHlsOptions {
   std::string report, config, write, html;

@@ -17,7 +17,8 @@ namespace parallax::cli {
 namespace {
 
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::search;
 
 struct ParetoOptions {
   std::string db, sweep;

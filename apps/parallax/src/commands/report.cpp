@@ -13,7 +13,11 @@ namespace parallax::cli {
 
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::design;
+using namespace parallax::search;
+using namespace parallax::hls_flow;
+using namespace parallax::reports;
 
 struct ReportCommandOptions {
   std::string db, sweep, html, csv, frames_csv, json, dataset, frame;

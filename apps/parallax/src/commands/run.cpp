@@ -28,7 +28,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::design;
+using namespace parallax::search;
+using namespace parallax::hls_flow;
+using namespace parallax::reports;
 
 struct RunOptions {
   ConfigArgs cfg;

@@ -20,7 +20,9 @@ namespace parallax::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::uav;
+using namespace parallax::search;
 
 struct SceneOptions {
   std::string scenario, out;

@@ -12,7 +12,8 @@ namespace parallax::cli {
 
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::search;
 
 struct ScoreOptions {
   std::string pred, dataset, frames, gt = "noc", roi;

@@ -25,7 +25,9 @@ namespace parallax::cli {
 
 namespace {
 
-using namespace parallax::explore;
+using namespace parallax::eval;
+using namespace parallax::uav;
+using namespace parallax::search;
 
 struct SweepOptions {
   std::string spec, base, dataset, frames, gt, db, strategy, name, flight, shard;

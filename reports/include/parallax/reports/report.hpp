@@ -17,7 +17,17 @@
 #include "parallax/resources/model.hpp"
 #include "parallax/sim/cycle.hpp"
 
-namespace parallax::explore {
+namespace parallax::reports {
+
+// The names this file takes from the other rooms (one namespace per room).
+using design::AvoidanceView;
+using design::DesignResult;
+using design::FlightView;
+using design::FrameView;
+using search::ResultStore;
+using search::SweepSpec;
+using search::seed_hash;
+using hls_flow::ModelVsSynthesis;
 
 // Column order of the design CSV: hash, sweep, status, reason, every configuration field (in
 // the configuration's own order), then the metrics (metric_columns(), then any other key
@@ -89,4 +99,4 @@ void check_report_outputs(const std::string& store_path, const std::vector<std::
 // (ResultStore::sweep_dataset) when it still exists; "" (and a note on stderr) otherwise.
 std::string images_dataset(const std::string& swept_dataset);
 
-}  // namespace parallax::explore
+}  // namespace parallax::reports

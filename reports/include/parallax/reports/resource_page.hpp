@@ -8,8 +8,8 @@
 
 #include "parallax/resources/fit.hpp"
 
-namespace parallax::explore {
+namespace parallax::reports {
 
 std::string resource_model_page(const res::FitResult& fit, res::Flavour flavour, const std::string& points_path);
 
-}  // namespace parallax::explore
+}  // namespace parallax::reports

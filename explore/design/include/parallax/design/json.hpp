@@ -13,13 +13,18 @@ namespace res {
 void to_json(nlohmann::json& j, const Usage& u);
 }  // namespace res
 
-namespace explore {
+namespace design {
 // device, estimate (csynth | routed), the totals, fits_device, utilisation_pct, resource_stages
 // (with LUTRAM and SRL LUTs), power_estimate_w and energy_estimate_mj_per_frame.
 void to_json(nlohmann::json& j, const ResourceFigures& r);
+}  // namespace design
+
+// In the namespace of its type (eval: simulate.hpp) so that lookup finds it; here, beside the
+// design's other figures.
+namespace eval {
 // The cycle model's figures at the design's clock: cycles, latencies, host copies, frame
 // interval and fps with what limits them, DDR traffic of two-pass designs, the stages (II,
 // latency, firings, stalls) and the FIFOs (depth, tokens, high water, stall-free depth if sized).
 void to_json(nlohmann::json& j, const SimulationResult& t);
-}  // namespace explore
+}  // namespace eval
 }  // namespace parallax

@@ -19,7 +19,13 @@
 #include "parallax/eval/simulate.hpp"
 #include "parallax/resources/model.hpp"
 
-namespace parallax::explore {
+namespace parallax::design {
+
+// The names this file takes from the other rooms (one namespace per room).
+using eval::Dataset;
+using eval::FrameRow;
+using eval::GtKind;
+using eval::SimulationResult;
 
 // Accuracy over frames (docs/evaluation.md): every frame's counts and their pooled measures.
 struct AccuracyFigures {
@@ -116,4 +122,4 @@ ResourceFigures resource_figures(const config::PipelineConfig& cfg, int width_px
 std::map<std::string, double> metric_columns(const DesignResult& r);
 std::vector<std::pair<std::string, std::map<std::string, double>>> frame_columns(const DesignResult& r);
 
-}  // namespace parallax::explore
+}  // namespace parallax::design

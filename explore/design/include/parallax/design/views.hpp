@@ -8,7 +8,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace parallax::explore {
+namespace parallax::design {
 
 // The avoidance stage on one disparity map (docs/avoidance.md): its U and V maps (CV_32S counts,
 // D x W and H x D), the obstacles it found (nearest first) and the ground line it fitted.
@@ -59,4 +59,4 @@ struct FlightView {
   std::vector<Frame> frames;                 // start, middle, end
 };
 
-}  // namespace parallax::explore
+}  // namespace parallax::design

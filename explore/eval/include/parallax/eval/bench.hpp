@@ -9,7 +9,7 @@
 
 #include "parallax/config/config.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 struct BenchRow {
   std::string method;
@@ -28,4 +28,4 @@ struct BenchRow {
 std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
                                  int iterations);
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

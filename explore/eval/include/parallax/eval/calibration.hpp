@@ -11,7 +11,7 @@
 
 #include "parallax/eval/input_error.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 // The geometry of a rectified stereo pair, in the left image's pixels. Depth of a pixel with
 // disparity d: Z_m = focal_px * baseline_m / (d + doffs_px).
@@ -60,4 +60,4 @@ StereoCalibration read_kitti_calib(const std::filesystem::path& file, const std:
 // as given). Throws InputError naming the file if it holds anything else.
 int read_middlebury_dmin(const std::filesystem::path& file);
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -25,7 +25,7 @@
 #include "parallax/eval/calibration.hpp"
 #include "parallax/eval/input_error.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 // ---------------------------------------------------------------------------------------------
 // Region of interest
@@ -208,4 +208,4 @@ CropSummary crop_dataset(const std::filesystem::path& src_dir, const std::string
                          const std::vector<GtKind>& gt_kinds, int roi_w, int roi_h,
                          const std::filesystem::path& out_dir);
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

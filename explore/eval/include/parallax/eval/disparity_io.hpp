@@ -8,7 +8,7 @@
 #include <string>
 #include <opencv2/core.hpp>
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 // A disparity map and its validity: disparity_px CV_32FC1 in pixels, valid_mask CV_8UC1 of the
 // same size, non-zero = valid. Values under an invalid mask are meaningless.
@@ -56,4 +56,4 @@ cv::Mat colourize_disparity(const cv::Mat& disparity_px, const cv::Mat& valid_ma
 // Throws InputError naming the file if it cannot be written.
 void write_png(const std::filesystem::path& file, const cv::Mat& image);
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -15,7 +15,7 @@
 #include "parallax/eval/metrics.hpp"
 #include "parallax/sim/func.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 // Remap tables of both cameras in the kernel's fixed point (docs/algorithm.md §1).
 struct RectifyMaps {
@@ -107,4 +107,4 @@ EvalResult score_predictions(const std::filesystem::path& pred_dir, const Datase
 // The ROI size for a dataset: the config's unless overridden ("full" keeps whole images).
 RoiSize roi_for(const config::PipelineConfig& cfg);
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -3,7 +3,7 @@
 
 #include "parallax/config/user_error.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 // Any problem with the user's input data or arguments (missing or unreadable file, size
 // mismatch, unknown layout, bad frame filter, bad ROI, malformed calibration). The message names
@@ -13,4 +13,4 @@ class InputError : public UserError {
   using UserError::UserError;
 };
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -12,7 +12,7 @@
 #include "parallax/eval/evaluate.hpp"
 #include "parallax/eval/metrics.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 // The measures under their report keys (named_metrics): density_pct, density_gt_pct,
 // correct_3px_pct, d1_all_pct, d1_all_filled_pct, mean_abs_error_px.
@@ -33,4 +33,4 @@ void to_json(nlohmann::json& j, const Roi& r);
 // min_ratio_to_hh4 (the ratios to the first OpenCV row, MODE_HH4).
 void to_json(nlohmann::json& j, const BenchRow& r);
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

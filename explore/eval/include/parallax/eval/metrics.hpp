@@ -14,7 +14,7 @@
 
 #include "parallax/eval/disparity_io.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 constexpr double kCorrectThresholdPx = 3.0;  // correct: error < 3 px
 constexpr double kD1AbsThresholdPx = 3.0;    // D1 outlier: error > 3 px ...
@@ -83,4 +83,4 @@ std::vector<std::pair<std::string, std::int64_t>> named_counts(const FrameCounts
 // rows) stay invalid (mask 0).
 DisparityMap interpolate_background(const cv::Mat& disparity_px, const cv::Mat& valid_mask);
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -10,7 +10,7 @@
 #include "parallax/config/config.hpp"
 #include "parallax/sim/cycle.hpp"
 
-namespace parallax::explore {
+namespace parallax::eval {
 
 // The cycle model's options for a design at a clock (MHz), from its configuration.
 sim::CycleOptions cycle_options(const config::PipelineConfig& cfg, int clock_mhz);
@@ -64,4 +64,4 @@ std::string calibrate(config::PipelineConfig& cfg, const SimulationResult& at_cl
 // when no pair is given.
 void test_pattern(int width_px, int height_px, int disparities, uint32_t seed, cv::Mat& left, cv::Mat& right);
 
-}  // namespace parallax::explore
+}  // namespace parallax::eval

@@ -6,7 +6,7 @@
 #include <ctime>
 #include <string>
 
-namespace parallax::explore::detail {
+namespace parallax::eval::detail {
 
 // s without leading and trailing white space.
 inline std::string trim(const std::string& s) {
@@ -27,4 +27,4 @@ inline std::string utc_now() {
   return buf;
 }
 
-}  // namespace parallax::explore::detail
+}  // namespace parallax::eval::detail

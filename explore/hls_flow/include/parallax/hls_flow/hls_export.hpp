@@ -11,7 +11,7 @@
 #include "parallax/config/config.hpp"
 #include "parallax/hls/export.hpp"
 
-namespace parallax::explore {
+namespace parallax::hls_flow {
 
 struct ExportOptions {
   std::string part = "xczu3eg-sbva484-1-e";
@@ -30,4 +30,4 @@ std::string device_for_part(const std::string& part);
 hlsx::ExportRequest prepare_export(const config::PipelineConfig& cfg, const cv::Mat& left, const cv::Mat& right,
                                    const std::string& origin, const std::string& pair_source, const ExportOptions& opt);
 
-}  // namespace parallax::explore
+}  // namespace parallax::hls_flow

@@ -11,7 +11,7 @@
 #include "parallax/config/config.hpp"
 #include "parallax/sim/cycle.hpp"
 
-namespace parallax::explore {
+namespace parallax::hls_flow {
 
 struct HlsLoop {
   std::string name;
@@ -35,9 +35,9 @@ HlsReport read_csynth_xml(const std::string& path);
 // Returns the fields set, "key=value".
 std::vector<std::string> calibrate_from_hls(config::PipelineConfig& cfg, const HlsReport& r);
 
-}  // namespace parallax::explore
+}  // namespace parallax::hls_flow
 
-namespace parallax::explore {
+namespace parallax::hls_flow {
 
 // One figure predicted by Parallax's models next to what synthesis reported.
 struct ModelVsSynthesis {
@@ -54,4 +54,4 @@ struct ModelVsSynthesis {
 std::vector<ModelVsSynthesis> compare_with_model(const config::PipelineConfig& cfg, const HlsReport& r, int width_px,
                                                  int height_px, sim::CycleReport* model_cycle = nullptr);
 
-}  // namespace parallax::explore
+}  // namespace parallax::hls_flow

@@ -26,7 +26,7 @@ void to_json(nlohmann::json& j, const ExportRequest& r);
 
 }  // namespace parallax::hlsx
 
-namespace parallax::explore {
+namespace parallax::hls_flow {
 
 // A loop of a csynth report: name, trip_count, latency_cycles, ii and depth (-1: not reported or
 // not pipelined).
@@ -38,4 +38,4 @@ void to_json(nlohmann::json& j, const HlsReport& r);
 // A figure of the models beside synthesis: figure, model, synthesis (-1: no figure) and note.
 void to_json(nlohmann::json& j, const ModelVsSynthesis& c);
 
-}  // namespace parallax::explore
+}  // namespace parallax::hls_flow

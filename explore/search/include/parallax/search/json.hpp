@@ -8,11 +8,11 @@
 
 #include "parallax/search/sweep.hpp"
 
-namespace parallax::explore {
+namespace parallax::search {
 
 // A stored design: hash, configuration (its YAML as stored) and metrics (the pooled figures under
 // their column keys; non-finite figures are absent from the store). The sweep, status, frames,
 // times and measurement are not part of it (`parallax report --json` writes the whole row).
 void to_json(nlohmann::json& j, const ResultStore::Row& r);
 
-}  // namespace parallax::explore
+}  // namespace parallax::search

@@ -14,7 +14,7 @@
 
 #include "parallax/config/config.hpp"
 
-namespace parallax::explore {
+namespace parallax::search {
 
 struct Objective {
   std::string
@@ -215,4 +215,4 @@ std::vector<ResultStore::Row> pareto_front(const SweepSpec& spec, const std::vec
 bool meets_constraints(const SweepSpec& spec, const ResultStore::Row& row);
 double objective_value(const ResultStore::Row& row, const Objective& objective);
 
-}  // namespace parallax::explore
+}  // namespace parallax::search

@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 // Pinhole stereo rig of the processed image (the ROI): focal length and principal point in px,
 // baseline in m.
@@ -114,4 +114,4 @@ class AvoidAccumulator {
   AvoidResult last_design_, last_reference_;
 };
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

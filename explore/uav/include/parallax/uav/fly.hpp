@@ -17,7 +17,7 @@
 #include "parallax/uav/scene.hpp"
 #include "parallax/uav/vehicle.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 struct FlightParams {
   double speed_mps = 5.0;  // cruise speed the planner commands when free
@@ -100,4 +100,4 @@ double stopping_distance_speed_bound(double accel_mps2, double reaction_s, doubl
 // 95 %); {0, 100} when there are no trials.
 std::pair<double, double> wilson_interval_pct(int hits, int trials, double z = 1.96);
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

@@ -10,7 +10,7 @@
 #include "parallax/uav/fly.hpp"
 #include "parallax/uav/truth.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 // The scores over the frames so far: frames, the named scores (AvoidAccumulator::metrics():
 // obstacle_precision, obstacle_recall, range_error_m, decision_agreement_pct, mean_ms_per_frame)
@@ -32,4 +32,4 @@ void to_json(nlohmann::json& j, const FlightSetup& s);
 // wall-clock figures are not part of it.
 void to_json(nlohmann::json& j, const FlightResult& r);
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <netinet/in.h>
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 // CRC-16/MCRF4XX (X.25) as MAVLink uses it: init 0xFFFF, reflected polynomial 0x1021.
 uint16_t mavlink_crc(const uint8_t* data, std::size_t n, uint16_t crc = 0xFFFF);
@@ -95,4 +95,4 @@ class MavlinkSink {
   sockaddr_in addr_{};
 };
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

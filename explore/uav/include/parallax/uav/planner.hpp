@@ -15,7 +15,7 @@
 #include "parallax/uav/scene.hpp"
 #include "parallax/uav/vehicle.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 struct MapParams {
   double cell_m = 0.2;
@@ -142,4 +142,4 @@ class Planner {
   int side_ = 0, flips_ = 0;
 };
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

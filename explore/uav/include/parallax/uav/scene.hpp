@@ -15,7 +15,7 @@
 
 #include "parallax/uav/avoid.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 // World frame: x right, y down, z forward (the camera's at the start); the ground is y = 0 and
 // everything stands on it (heights are negative y).
@@ -153,4 +153,4 @@ double clearance_m(const Scene& scene, const Eigen::Vector3d& p);
 // (r 0.03 m, 2.10 m up) of the tree at ...", "wall x -3.0..3.0 z 20.0..20.4".
 std::string nearest_obstacle(const Scene& scene, const Eigen::Vector3d& p);
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

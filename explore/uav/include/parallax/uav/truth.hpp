@@ -11,7 +11,7 @@
 #include "parallax/uav/avoid.hpp"
 #include "parallax/uav/scene.hpp"
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 // One obstacle of the scene as a camera sees it, in the camera's horizontal coordinates (x right,
 // z forward, m; the scene command's cameras look along +z): a circle (trees, poles, pillars) or
@@ -70,4 +70,4 @@ class TruthAccumulator {
   std::map<int, bool> ever_seen_;
 };
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav

@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-namespace parallax::explore {
+namespace parallax::uav {
 
 struct VehicleParams {
   double vel_gain_per_s = 1.8;     // MPC_XY_VEL_P_ACC: acceleration per m/s of velocity error
@@ -38,4 +38,4 @@ void step_vehicle(VehicleState& s, const Eigen::Vector3d& velocity_setpoint_mps,
 // An angle wrapped into (-pi, pi].
 double wrap_angle(double rad);
 
-}  // namespace parallax::explore
+}  // namespace parallax::uav
