@@ -283,7 +283,8 @@ DisparityCodes FuncPipeline::run_from_costs(CostRecording& rec, const kern::Ster
 std::vector<uint32_t> FuncPipeline::kernels_aggregate_volume(const GreyImage& left, const GreyImage& right,
                                                              const kern::StereoParams& p_in) {
   const auto errors = func_param_errors(p_in);
-  if (!errors.empty()) internal_error(("invalid parameters reached kernels_aggregate_volume: " + errors.front()).c_str());
+  if (!errors.empty())
+    internal_error(("invalid parameters reached kernels_aggregate_volume: " + errors.front()).c_str());
   kern::StereoParams p = p_in;
   p.parallel_units = largest_divisor_at_most(p.disparities, 64);
   const std::size_t w = std::size_t(p.width_px), pixels = w * std::size_t(p.height_px);

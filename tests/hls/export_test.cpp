@@ -517,11 +517,11 @@ TEST(HlsExport, TheDataflowRegionsAreThePipelineTable) {
     unsigned paths;
     bool rectify;
   };
-  for (const Variant& v : {Variant{"configs/ruf2018-census.yaml", "", kern::kForwardPaths, false},
-                           Variant{"configs/ruf2018-census.yaml", "--set paths=5", kern::kForwardPaths | kern::kPath180,
-                                   false},
-                           Variant{"configs/ruf2018-census.yaml", "--set paths=8", kern::kAllPaths, false},
-                           Variant{"configs/ruf2018-synthesised.yaml", "", kern::kForwardPaths, true}}) {
+  for (const Variant& v :
+       {Variant{"configs/ruf2018-census.yaml", "", kern::kForwardPaths, false},
+        Variant{"configs/ruf2018-census.yaml", "--set paths=5", kern::kForwardPaths | kern::kPath180, false},
+        Variant{"configs/ruf2018-census.yaml", "--set paths=8", kern::kAllPaths, false},
+        Variant{"configs/ruf2018-synthesised.yaml", "", kern::kForwardPaths, true}}) {
     SCOPED_TRACE(std::string(v.config) + " " + v.sets);
     const fs::path out = fresh_dir("dataflow");
     ASSERT_EQ(export_design(v.config, out, v.sets).status, 0);

@@ -122,7 +122,8 @@ TEST(FuncStages, KernelsPathCostsAndAggregateEqualTheGoldenModel) {
   for (const Design& d : {kDesigns[0], kDesigns[1], kDesigns[4]}) {
     kern::StereoParams base = params(d);
     const GreyImage l = noise(base.width_px, base.height_px, 21), r = noise(base.width_px, base.height_px, 22);
-    ref::Image8 rl = ref::make_image(base.width_px, base.height_px), rr = ref::make_image(base.width_px, base.height_px);
+    ref::Image8 rl = ref::make_image(base.width_px, base.height_px),
+                rr = ref::make_image(base.width_px, base.height_px);
     rl.px = l.px;
     rr.px = r.px;
     const std::vector<uint32_t> cost = ref::cost_volume(rl, rr, base);

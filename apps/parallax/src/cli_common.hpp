@@ -96,14 +96,13 @@ void write_text_file(const std::string& path, const std::string& text);
 int default_threads();
 
 // The EvalOptions that eval and baseline share. Throws InputError on a bad `gt` kind.
-eval::EvalOptions eval_options(const std::string& gt, const std::string& frames, int threads,
-                                  const std::string& save, double colour_max_px, bool quiet);
+eval::EvalOptions eval_options(const std::string& gt, const std::string& frames, int threads, const std::string& save,
+                               double colour_max_px, bool quiet);
 
 // An evaluation on stdout. As JSON (`as_json`): its own form (parallax/eval/json.hpp: pooled
 // metrics, frame count, pooled counts, per-frame rows and seconds) with the fields of `extra`
 // added. As text: a table under `title`, one row per frame, then the pooled row and the time.
-void print_evaluation(const eval::EvalResult& r, bool as_json, const nlohmann::json& extra,
-                      const std::string& title);
+void print_evaluation(const eval::EvalResult& r, bool as_json, const nlohmann::json& extra, const std::string& title);
 
 // --- inputs ------------------------------------------------------------------------------------
 

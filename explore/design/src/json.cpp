@@ -12,7 +12,6 @@ void to_json(nlohmann::json& j, const Usage& u) {
 
 namespace design {
 
-
 void to_json(nlohmann::json& j, const ResourceFigures& r) {
   j = r.estimate.total;
   if (r.utilisation.device != nullptr) j["device"] = r.utilisation.device->name;

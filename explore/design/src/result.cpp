@@ -12,32 +12,32 @@
 namespace parallax::design {
 
 // The names this file takes from the other rooms (one namespace per room).
+using eval::crop_to_roi;
+using eval::design_size;
 using eval::DisparityMap;
 using eval::EvalOptions;
 using eval::EvalResult;
+using eval::evaluate_design;
 using eval::Frame;
 using eval::InputError;
-using eval::Roi;
-using eval::SimulationResult;
-using eval::crop_to_roi;
-using eval::design_size;
-using eval::evaluate_design;
 using eval::list_frames;
 using eval::load_frame;
 using eval::named_metrics;
 using eval::pool_rows;
 using eval::resolve_roi;
+using eval::Roi;
 using eval::roi_for;
 using eval::run_design;
 using eval::simulate_timing;
+using eval::SimulationResult;
 using uav::AvoidAccumulator;
 using uav::FlightParams;
 using uav::FlightResult;
-using uav::Scenario;
 using uav::fly;
 using uav::generate_scene;
 using uav::kitti_default_rig;
 using uav::load_scenario;
+using uav::Scenario;
 namespace {
 
 AccuracyFigures measure_accuracy(const config::PipelineConfig& cfg, const PointRequest& req) {

@@ -13,35 +13,35 @@
 namespace parallax::design {
 
 // The names this file takes from the other rooms (one namespace per room).
+using eval::colourize_disparity;
+using eval::crop_to_roi;
 using eval::Dataset;
 using eval::DisparityMap;
 using eval::Frame;
 using eval::GtKind;
 using eval::InputError;
-using eval::Roi;
-using eval::colourize_disparity;
-using eval::crop_to_roi;
 using eval::list_frames;
 using eval::load_frame;
 using eval::open_dataset;
 using eval::resolve_roi;
+using eval::Roi;
 using eval::roi_for;
 using eval::run_design;
+using uav::avoid;
 using uav::AvoidResult;
+using uav::flight_setup;
 using uav::FlightParams;
 using uav::FlightResult;
 using uav::FlightSetup;
-using uav::Obstacle;
-using uav::Scenario;
-using uav::Scene;
-using uav::StereoFrame;
-using uav::avoid;
-using uav::flight_setup;
 using uav::fly;
 using uav::generate_scene;
 using uav::kitti_default_rig;
 using uav::load_scenario;
+using uav::Obstacle;
 using uav::render;
+using uav::Scenario;
+using uav::Scene;
+using uav::StereoFrame;
 
 AvoidanceView view_avoidance(const cv::Mat& disparity_px, const cv::Mat& valid_mask, int max_disparity, int roi_x0_px,
                              int roi_y0_px) {

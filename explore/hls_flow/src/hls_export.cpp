@@ -14,16 +14,16 @@
 namespace parallax::hls_flow {
 
 // The names this file takes from the other rooms (one namespace per room).
-using eval::RectifyMaps;
-using eval::SimulateOptions;
-using eval::SimulationResult;
+using design::resource_figures;
+using design::ResourceFigures;
 using eval::cycle_options;
 using eval::load_rectify_maps;
 using eval::maps_of_size;
+using eval::RectifyMaps;
 using eval::simulate;
+using eval::SimulateOptions;
+using eval::SimulationResult;
 using eval::to_grey_image;
-using design::ResourceFigures;
-using design::resource_figures;
 
 std::string device_for_part(const std::string& part) {
   std::string upper;

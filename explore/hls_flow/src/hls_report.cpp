@@ -13,10 +13,10 @@
 namespace parallax::hls_flow {
 
 // The names this file takes from the other rooms (one namespace per room).
-using eval::InputError;
-using eval::SimulationResult;
 using eval::cycle_options;
+using eval::InputError;
 using eval::simulate_timing;
+using eval::SimulationResult;
 
 namespace {
 

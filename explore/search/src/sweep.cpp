@@ -36,45 +36,45 @@
 namespace parallax::search {
 
 // The names this file takes from the other rooms (one namespace per room).
+using design::AccuracyFigures;
+using design::AvoidanceFigures;
+using design::complete_point;
+using design::DesignResult;
+using design::frame_columns;
+using design::PointRequest;
 using eval::Baseline;
 using eval::BaselineParams;
+using eval::count_frame;
+using eval::crop_to_roi;
 using eval::Dataset;
 using eval::DisparityMap;
 using eval::EvalOptions;
 using eval::EvalResult;
+using eval::evaluate;
 using eval::Frame;
 using eval::FrameRef;
 using eval::GtKind;
 using eval::InputError;
-using eval::Matcher;
-using eval::Roi;
-using eval::RoiSize;
-using eval::count_frame;
-using eval::crop_to_roi;
-using eval::evaluate;
 using eval::list_frames;
 using eval::load_frame;
 using eval::make_frame_row;
+using eval::Matcher;
 using eval::named_metrics;
 using eval::open_dataset;
 using eval::parse_baseline;
 using eval::pool_rows;
 using eval::resolve_roi;
+using eval::Roi;
 using eval::roi_for;
+using eval::RoiSize;
 using eval::run_baseline;
 using eval::to_disparity_map;
 using eval::to_grey_image;
+using eval::detail::utc_now;
 using uav::AvoidAccumulator;
 using uav::kitti_default_rig;
 using uav::load_scenario;
 using uav::scenario_reference;
-using design::AccuracyFigures;
-using design::AvoidanceFigures;
-using design::DesignResult;
-using design::PointRequest;
-using design::complete_point;
-using design::frame_columns;
-using eval::detail::utc_now;
 
 using json = nlohmann::json;
 using nsga2::Genome;

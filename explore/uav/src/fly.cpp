@@ -18,9 +18,9 @@ namespace parallax::uav {
 
 // The names this file takes from the other rooms (one namespace per room).
 using eval::DisparityMap;
-using eval::SimulationResult;
 using eval::run_design;
 using eval::simulate_timing;
+using eval::SimulationResult;
 
 void design_timing(const config::PipelineConfig& cfg, int w, int h, double& interval_ms, double& latency_ms) {
   const SimulationResult sr = simulate_timing(cfg, w, h);

@@ -455,9 +455,9 @@ TEST(SweepPareto, NonDominatedUnderConstraints) {
 TEST(SweepRun, PeersAndSeedStoredBesideTheDesigns) {
   const fs::path d = fresh("peers");
   SweepSpec s = search::parse_sweep("name: p\nbase: " + kCensus +
-                                         "\naxes:\n  p1: [6]\n  paths: [4, 5]\nbaselines: [opencv-hh4, opencv-sgbm]\n"
-                                         "frames: \"1-2\"\nconstraints:\n  one_pass: true\n",
-                                     "peers.yaml");
+                                        "\naxes:\n  p1: [6]\n  paths: [4, 5]\nbaselines: [opencv-hh4, opencv-sgbm]\n"
+                                        "frames: \"1-2\"\nconstraints:\n  one_pass: true\n",
+                                    "peers.yaml");
   ASSERT_EQ(s.baselines, (std::vector<std::string>{"opencv-hh4", "opencv-sgbm"}));
   EXPECT_TRUE(s.one_pass);
   EXPECT_EQ(search::parse_sweep(search::sweep_to_yaml(s), "round trip").baselines, s.baselines);

@@ -24,10 +24,10 @@ using design::AvoidanceView;
 using design::DesignResult;
 using design::FlightView;
 using design::FrameView;
-using search::ResultStore;
-using search::SweepSpec;
-using search::seed_hash;
 using hls_flow::ModelVsSynthesis;
+using search::ResultStore;
+using search::seed_hash;
+using search::SweepSpec;
 
 // Column order of the design CSV: hash, sweep, status, reason, every configuration field (in
 // the configuration's own order), then the metrics (metric_columns(), then any other key
