@@ -264,7 +264,8 @@ Command add_fly(CLI::App& app) {
                    "sensor; smaller is faster, with the design's timing and range at that size)")
       ->capture_default_str()
       ->check(CLI::Range(0, 0) | InRange(64, 4096));
-  flyc->add_option("--jobs", o->jobs, "Seeds in parallel (default: all cores)")->check(InRange(0, 256));
+  flyc->add_option("--threads,--jobs", o->jobs, "Seeds in parallel (default: all cores; --jobs: the same)")
+      ->check(InRange(0, 256));
   flyc->add_flag("--find-max-speed", o->find, "Search the highest speed without a collision over the seeds");
   flyc->add_flag("--no-oracle", o->no_oracle, "Skip the oracle flights (the exact disparity through the same loop)");
   flyc->add_option("--noise-grey", o->noise,

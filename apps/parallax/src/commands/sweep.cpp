@@ -178,7 +178,8 @@ Command add_sweep(CLI::App& app) {
       ->transform(FrameList());
   sweepc->add_option("--gt", o->gt, "Ground truth: noc or occ (default: the file's, else noc)");
   sweepc->add_option("--db", o->db, "Results store (SQLite); created if absent")->required();
-  sweepc->add_option("--jobs", o->jobs, "Designs in parallel (default: all cores)")->check(InRange(0, 256));
+  sweepc->add_option("--threads,--jobs", o->jobs, "Designs in parallel (default: all cores; --jobs: the same)")
+      ->check(InRange(0, 256));
   sweepc->add_option("--strategy", o->strategy, "grid, random, lhs or nsga2 (default: the file's, else grid)");
   sweepc->add_option("--samples", o->samples, "Designs drawn by random / lhs; population of nsga2")
       ->check(InRange(1, 1000000));
