@@ -96,16 +96,16 @@ struct StoredCosts final : CostRows {
   }
 };
 
-// Computes a cost row from the images: census codes of both images once, then per row.
+// Computes a cost row from the images: census codes of both images once (byte planes,
+// isa.hpp), then per row.
 struct DirectCosts final : CostRows {
   const kern::StereoParams& p;
   const uint8_t* left;
   const uint8_t* right;
-  std::vector<uint64_t> cl, cr, scratch64;
-  std::vector<uint32_t> cl32, cr32, scratch32;
+  int planes = 0;
+  std::vector<uint8_t> cl, cr, scratch;
   std::vector<uint16_t> out, sad_cols;
   detail::CostRow cr_args;
-  bool narrow = false;
 
   DirectCosts(const kern::StereoParams& params, const uint8_t* l, const uint8_t* r) : p(params), left(l), right(r) {
     const int W = p.width_px, H = p.height_px;
@@ -116,18 +116,12 @@ struct DirectCosts final : CostRows {
     cr_args.cost_max = static_cast<uint16_t>(kern::cost_max(p));
     cr_args.out = out.data();
     if (p.cost == kern::kCostCensus) {
-      cl.resize(sz(int64_t(W) * H));
+      planes = detail::census_planes(kern::census_bits(p.census, p.window_w, p.window_h));
+      cl.resize(sz(int64_t(W) * H * planes));
       cr.resize(cl.size());
-      isa().census(left, W, H, p.window_w, p.window_h, p.census, cl.data());
-      isa().census(right, W, H, p.window_w, p.window_h, p.census, cr.data());
-      narrow = kern::census_bits(p.census, p.window_w, p.window_h) <= 32;
-      if (narrow) {
-        cl32.assign(cl.begin(), cl.end());
-        cr32.assign(cr.begin(), cr.end());
-        scratch32.resize(sz(W));
-      } else {
-        scratch64.resize(sz(W));
-      }
+      isa().census(left, W, H, p.window_w, p.window_h, p.census, planes, cl.data());
+      isa().census(right, W, H, p.window_w, p.window_h, p.census, planes, cr.data());
+      scratch.resize(sz(int64_t(planes) * detail::census_scratch_len(W, p.min_disparity, p.disparities)));
     } else {
       sad_cols.resize(sz(int64_t(W + p.window_w) * p.disparities));
     }
@@ -135,11 +129,8 @@ struct DirectCosts final : CostRows {
   const uint16_t* row(int y) override {
     const int W = p.width_px, H = p.height_px;
     if (p.cost == kern::kCostCensus) {
-      const std::size_t o = sz(int64_t(y) * W);
-      if (narrow)
-        isa().cost_census32(cr_args, cl32.data() + o, cr32.data() + o, scratch32.data());
-      else
-        isa().cost_census64(cr_args, cl.data() + o, cr.data() + o, scratch64.data());
+      const std::size_t o = sz(int64_t(y) * W * planes);
+      isa().cost_census(cr_args, cl.data() + o, cr.data() + o, planes, scratch.data());
     } else {
       const uint8_t* lr[9];
       const uint8_t* rr[9];

@@ -23,6 +23,15 @@ constexpr int cost_stride(int disparities) {
   return (disparities + 31) / 32 * 32;
 }
 
+// Byte planes of a census code of `bits` bits (bits <= 64; a 1x1 window's empty code takes one
+// plane of zeros), and the length per plane of the reversed right row that cost_census reads.
+constexpr int census_planes(int bits) {
+  return bits <= 8 ? 1 : (bits + 7) / 8;
+}
+constexpr int census_scratch_len(int width_px, int min_disparity, int disparities) {
+  return width_px + min_disparity + cost_stride(disparities);
+}
+
 // The recursions one raster pass can hold (docs/algorithm.md §3, in stream coordinates: the
 // backward pass runs the same kinds with the directions mirrored). SGM: one per path; MGM: the
 // 0/90 and 45/135 pairs are one recursion each.
@@ -76,12 +85,13 @@ struct CostRow {
 
 struct IsaTable {
   const char* name;
-  // Census codes of a whole image (docs §2), kind = kern::CensusKind.
-  void (*census)(const uint8_t* img, int width_px, int height_px, int window_w, int window_h, int kind,
-                 uint64_t* codes);
-  // One cost row from census codes of that row (left) and of the right image's row.
-  void (*cost_census32)(const CostRow& r, const uint32_t* left, const uint32_t* right, uint32_t* scratch);
-  void (*cost_census64)(const CostRow& r, const uint64_t* left, const uint64_t* right, uint64_t* scratch);
+  // Census codes of a whole image (docs §2), kind = kern::CensusKind, as byte planes:
+  // codes[y][plane][x], planes = census_planes(bits); the engine's own bit order (isa.cpp).
+  void (*census)(const uint8_t* img, int width_px, int height_px, int window_w, int window_h, int kind, int planes,
+                 uint8_t* codes);
+  // One cost row from the census planes of that row ([planes][W]) of the left and of the right
+  // image. scratch: planes * census_scratch_len(W, m, D) bytes.
+  void (*cost_census)(const CostRow& r, const uint8_t* left, const uint8_t* right, int planes, uint8_t* scratch);
   // One SAD cost row y: rows[j] = the image rows clampy(y + j - rh), j < window_h, of both images.
   // scratch: (W + 2 rw) * D uint16 column sums.
   void (*cost_sad)(const CostRow& r, const uint8_t* const* left_rows, const uint8_t* const* right_rows, int window_w,
