@@ -124,15 +124,21 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
   bp.block_size = cfg.window_w;
   add("opencv StereoSGBM MODE_HH4", [&] { (void)run_baseline(Baseline::opencv_hh4, bp, left, right); });
   add("opencv StereoSGBM MODE_SGBM", [&] { (void)run_baseline(Baseline::opencv_sgbm, bp, left, right); });
-  double peer = 0.0, peer_min = 0.0;
-  for (const auto& r : rows)
+  double peer = 0.0, peer_min = 0.0, sgbm = 0.0, sgbm_min = 0.0;
+  for (const auto& r : rows) {
     if (r.method == "opencv StereoSGBM MODE_HH4") {
       peer = r.median_ms;
       peer_min = r.min_ms;
+    } else if (r.method == "opencv StereoSGBM MODE_SGBM") {
+      sgbm = r.median_ms;
+      sgbm_min = r.min_ms;
     }
+  }
   for (auto& r : rows) {
     r.ratio_to_peer = peer > 0 ? r.median_ms / peer : 0.0;
     r.min_ratio_to_peer = peer_min > 0 ? r.min_ms / peer_min : 0.0;
+    r.ratio_to_sgbm = sgbm > 0 ? r.median_ms / sgbm : 0.0;
+    r.min_ratio_to_sgbm = sgbm_min > 0 ? r.min_ms / sgbm_min : 0.0;
   }
   return rows;
 }

@@ -37,7 +37,9 @@ void to_json(nlohmann::json& j, const BenchRow& r) {
        {"peak_rss_mib", r.peak_rss_mib},
        {"peak_extra_rss_mib", r.peak_extra_rss_mib},
        {"ratio_to_hh4", r.ratio_to_peer},
-       {"min_ratio_to_hh4", r.min_ratio_to_peer}};
+       {"min_ratio_to_hh4", r.min_ratio_to_peer},
+       {"ratio_to_sgbm", r.ratio_to_sgbm},
+       {"min_ratio_to_sgbm", r.min_ratio_to_sgbm}};
 }
 
 }  // namespace parallax::eval

@@ -413,8 +413,193 @@ void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
   }
 }
 
+// ---- 16-bit vectors (GCC vector extensions, one register of the level) ---------------------
+
+#if defined(__AVX512BW__)
+constexpr int kVecBytes = 64;
+#elif defined(__AVX2__)
+constexpr int kVecBytes = 32;
+#else
+constexpr int kVecBytes = 16;
+#endif
+constexpr int kLanes16 = kVecBytes / 2;
+typedef uint16_t U16V __attribute__((vector_size(kVecBytes)));
+typedef uint16_t U16VUnaligned __attribute__((vector_size(kVecBytes), aligned(2), may_alias));
+
+inline U16V load16(const uint16_t* p) {
+  return *reinterpret_cast<const U16VUnaligned*>(p);
+}
+inline void store16(uint16_t* p, U16V v) {
+  *reinterpret_cast<U16VUnaligned*>(p) = v;
+}
+inline U16V splat16(int v) {
+  return U16V{} + static_cast<uint16_t>(v);
+}
+#if defined(__AVX512BW__)
+typedef __m512i IntV;
+#elif defined(__AVX2__)
+typedef __m256i IntV;
+#else
+typedef __m128i IntV;
+#endif
+inline IntV as_int(U16V v) {
+  return __builtin_bit_cast(IntV, v);
+}
+inline U16V as_u16(IntV v) {
+  return __builtin_bit_cast(U16V, v);
+}
+inline U16V vmin16(U16V a, U16V b) {
+#if defined(__AVX512BW__)
+  return as_u16(_mm512_min_epu16(as_int(a), as_int(b)));
+#elif defined(__AVX2__)
+  return as_u16(_mm256_min_epu16(as_int(a), as_int(b)));
+#else
+  return a - as_u16(_mm_subs_epu16(as_int(a), as_int(b)));  // SSE2 has no unsigned 16-bit min
+#endif
+}
+inline uint16_t hmin16(U16V v) {
+  const IntV z = as_int(v);
+#if defined(__AVX512BW__)
+  const __m256i h = _mm256_min_epu16(_mm512_castsi512_si256(z), _mm512_extracti64x4_epi64(z, 1));
+  const __m128i q = _mm_min_epu16(_mm256_castsi256_si128(h), _mm256_extracti128_si256(h, 1));
+  return static_cast<uint16_t>(_mm_cvtsi128_si32(_mm_minpos_epu16(q)));
+#elif defined(__AVX2__)
+  const __m128i q = _mm_min_epu16(_mm256_castsi256_si128(z), _mm256_extracti128_si256(z, 1));
+  return static_cast<uint16_t>(_mm_cvtsi128_si32(_mm_minpos_epu16(q)));
+#else
+  __m128i q = z;
+  q = _mm_sub_epi16(q, _mm_subs_epu16(q, _mm_srli_si128(q, 8)));
+  q = _mm_sub_epi16(q, _mm_subs_epu16(q, _mm_srli_si128(q, 4)));
+  q = _mm_sub_epi16(q, _mm_subs_epu16(q, _mm_srli_si128(q, 2)));
+  return static_cast<uint16_t>(_mm_cvtsi128_si32(q));
+#endif
+}
+// Lane shifts across two registers: lanes_up(a, b)[i] = (a:b)[kLanes16 - 1 + i] (the d - 1
+// neighbour of b's lanes, a's last lane first), lanes_down(a, b)[i] = (a:b)[i + 1] (the d + 1
+// neighbour of a's lanes).
+typedef int16_t I16V __attribute__((vector_size(kVecBytes)));
+#if defined(__AVX512BW__)
+constexpr I16V kShiftUp = {31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46,
+                           47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62};
+constexpr I16V kShiftDown = {1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16,
+                             17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32};
+#elif defined(__AVX2__)
+constexpr I16V kShiftUp = {15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30};
+constexpr I16V kShiftDown = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+#else
+constexpr I16V kShiftUp = {7, 8, 9, 10, 11, 12, 13, 14};
+constexpr I16V kShiftDown = {1, 2, 3, 4, 5, 6, 7, 8};
+#endif
+inline U16V lanes_up(U16V a, U16V b) {
+  return __builtin_shuffle(a, b, kShiftUp);
+}
+inline U16V lanes_down(U16V a, U16V b) {
+  return __builtin_shuffle(a, b, kShiftDown);
+}
+
+// Zeros for a missing predecessor (L = C + min(0, 0 + P1, 0 + P2) - 0 = C: a path start).
+struct ZeroRow {
+  uint16_t v[288] = {};
+};
+constexpr ZeroRow kZeroRow{};
+
+// A row of SGM recursions (each of weight 1) in 16 bits over NC lanes, a whole number of
+// registers: one sweep over the pixels for all recursions, each pixel's costs loaded once and its
+// sum kept in registers until stored once. The 0-degree path lives in registers from one pixel to
+// the next (its d -+ 1 neighbours by lane shifts; its row buffer is not written, nothing reads it:
+// only the next pixel of the same row uses it). The other paths read the previous stream row; a
+// missing predecessor reads kZeroRow with Mq = 0. Same arithmetic as sgm_step, lane for lane.
+template <int NC, bool Acc>
+void aggregate_sgm16(const AggregateRow& r) {
+  constexpr int NV = NC / kLanes16;
+  const int W = r.width_px, dir = r.dir, P = NC + 2, cs = r.cost_stride;
+  const uint16_t guard = static_cast<uint16_t>(0xFFFF - r.p1);
+  const U16V vp1 = splat16(r.p1), vguard = splat16(guard);
+  const bool adapt = r.p2_adaptive > 0, has_up = !r.first_row;
+  bool has0 = false;
+  int mem[4];
+  int nmem = 0;
+  for (int k = 0; k < r.recursions; ++k) {
+    if (r.rec[k].kind == kSgm0)
+      has0 = true;
+    else
+      mem[nmem++] = k;
+  }
+  uint16_t* const sum_base = static_cast<uint16_t*>(r.sum);
+  U16V l0[NV];
+  for (int v = 0; v < NV; ++v) l0[v] = U16V{};
+  uint16_t m0 = 0;
+  for (int i = 0; i < W; ++i) {
+    const int x = dir > 0 ? i : W - 1 - i;
+    const uint16_t* __restrict c = r.cost + static_cast<int64_t>(x) * cs;
+    uint16_t* __restrict sum = sum_base + static_cast<int64_t>(x) * NC;
+    U16V s[NV];
+    for (int v = 0; v < NV; ++v) s[v] = Acc ? load16(sum + v * kLanes16) : U16V{};
+    if (has0) {
+      int p2 = r.p2;
+      if (adapt && i > 0) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.intensity[x - dir]);
+      const U16V vm = splat16(m0), mp2 = splat16(static_cast<uint16_t>(m0 + p2));
+      U16V nl[NV];
+      U16V mn = splat16(0xFFFF);
+      for (int v = 0; v < NV; ++v) {
+        const U16V lo = lanes_up(v == 0 ? vguard : l0[v - 1], l0[v]);
+        const U16V hi = lanes_down(l0[v], v == NV - 1 ? vguard : l0[v + 1]);
+        const U16V t = vmin16(vmin16(l0[v], vmin16(lo, hi) + vp1), mp2);
+        nl[v] = load16(c + v * kLanes16) + (t - vm);
+        mn = vmin16(mn, nl[v]);
+        s[v] += nl[v];
+      }
+      for (int v = 0; v < NV; ++v) l0[v] = nl[v];
+      m0 = hmin16(mn);
+    }
+    for (int j = 0; j < nmem; ++j) {
+      const Recursion& rc = r.rec[mem[j]];
+      int qx = x + dir;  // kSgm135
+      bool ok = has_up && i < W - 1;
+      if (rc.kind == kSgm45) {
+        qx = x - dir;
+        ok = has_up && i > 0;
+      } else if (rc.kind == kSgm90) {
+        qx = x;
+        ok = has_up;
+      }
+      const uint16_t* __restrict lq =
+          ok ? static_cast<const uint16_t*>(rc.prev) + static_cast<int64_t>(qx) * P : kZeroRow.v;
+      const uint16_t mq = ok ? static_cast<const uint16_t*>(rc.prev_min)[qx] : 0;
+      int p2 = r.p2;
+      if (adapt && ok) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[qx]);
+      const U16V vm = splat16(mq), mp2 = splat16(static_cast<uint16_t>(mq + p2));
+      uint16_t* __restrict out = static_cast<uint16_t*>(rc.cur) + static_cast<int64_t>(x) * P;
+      U16V mn = splat16(0xFFFF);
+      for (int v = 0; v < NV; ++v) {
+        const uint16_t* q = lq + v * kLanes16;
+        const U16V t = vmin16(vmin16(load16(q + 1), vmin16(load16(q), load16(q + 2)) + vp1), mp2);
+        const U16V l = load16(c + v * kLanes16) + (t - vm);
+        store16(out + 1 + v * kLanes16, l);
+        mn = vmin16(mn, l);
+        s[v] += l;
+      }
+      static_cast<uint16_t*>(rc.cur_min)[x] = hmin16(mn);
+      out[0] = guard;
+      out[NC + 1] = guard;
+    }
+    for (int v = 0; v < NV; ++v) store16(sum + v * kLanes16, s[v]);
+  }
+}
+
 template <class T, int NC>
 void aggregate_row_n(const AggregateRow& r) {
+  if constexpr (sizeof(T) == 2 && NC > 0 && NC <= 128 && NC % kLanes16 == 0) {
+    bool sgm = r.recursions > 0;
+    for (int k = 0; k < r.recursions; ++k) sgm = sgm && r.rec[k].kind < kMgmPixel && r.rec[k].weight == 1;
+    if (sgm) {
+      if (r.accumulate)
+        aggregate_sgm16<NC, true>(r);
+      else
+        aggregate_sgm16<NC, false>(r);
+      return;
+    }
+  }
   for (int k = 0; k < r.recursions; ++k) {
     const bool acc = r.accumulate || k > 0, twice = r.rec[k].weight == 2;
     if (acc && twice)
@@ -494,8 +679,139 @@ inline void right_update(const T* __restrict s, T* __restrict rb, uint16_t* __re
   }
 }
 
+// The first lane of v[0..NV) equal to b (one exists: b is their minimum).
+template <int NV>
+inline int first_equal16(const U16V* v, U16V b) {
+  for (int k = 0; k < NV - 1; ++k) {
+#if defined(__AVX512BW__)
+    const unsigned hit = _mm512_cmpeq_epi16_mask(as_int(v[k]), as_int(b));
+    if (hit != 0) return k * kLanes16 + __builtin_ctz(hit);
+#elif defined(__AVX2__)
+    const unsigned hit = static_cast<unsigned>(_mm256_movemask_epi8(_mm256_cmpeq_epi16(as_int(v[k]), as_int(b))));
+    if (hit != 0) return k * kLanes16 + __builtin_ctz(hit) / 2;
+#else
+    const unsigned hit = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi16(as_int(v[k]), as_int(b))));
+    if (hit != 0) return k * kLanes16 + __builtin_ctz(hit) / 2;
+#endif
+  }
+#if defined(__AVX512BW__)
+  const unsigned hit = _mm512_cmpeq_epi16_mask(as_int(v[NV - 1]), as_int(b));
+  return (NV - 1) * kLanes16 + __builtin_ctz(hit | 0x80000000u);
+#elif defined(__AVX2__)
+  const unsigned hit = static_cast<unsigned>(_mm256_movemask_epi8(_mm256_cmpeq_epi16(as_int(v[NV - 1]), as_int(b))));
+  return (NV - 1) * kLanes16 + __builtin_ctz(hit | 0x80000000u) / 2;
+#else
+  const unsigned hit = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi16(as_int(v[NV - 1]), as_int(b))));
+  return (NV - 1) * kLanes16 + __builtin_ctz(hit | 0x8000u) / 2;
+#endif
+}
+
+// select_row for 16-bit sums over NC lanes, a whole number of registers. The right image's
+// winners travel in registers: at pixel x lane d of the window belongs to the right pixel
+// x - m - d (t = W - 1 - x + m + d); from x to x + 1 every entry moves up one lane, a fresh one
+// (the type's maximum, code 0) enters lane 0 and lane NC - 1 leaves, final (no later left pixel
+// reaches that right pixel), to right_code[t]; the window left after the row is stored whole.
+// Same results as select_row: ties keep the smaller d in both images.
+template <int NC>
+void select_row16(const SelectRow& r) {
+  constexpr int NV = NC / kLanes16;
+  const int W = r.width_px, D = r.disparities, m = r.min_disparity, f = r.subpixel_bits;
+  const uint16_t* S = static_cast<const uint16_t*>(r.sum);
+  U16V lane[NV], best[NV], code[NV];
+  const U16V fresh_best = splat16(0xFFFF), fresh_code = U16V{};
+  for (int v = 0; v < NV; ++v) {
+    lane[v] = load16(kLanes.v + v * kLanes16);
+    best[v] = fresh_best;
+    code[v] = fresh_code;
+  }
+  for (int x = 0; x < W; ++x) {
+    const uint16_t* __restrict s = S + static_cast<int64_t>(x) * NC;
+    U16V sv[NV];
+    for (int v = 0; v < NV; ++v) sv[v] = load16(s + v * kLanes16);
+    U16V mn = sv[0];
+    for (int v = 1; v < NV; ++v) mn = vmin16(mn, sv[v]);
+    const uint16_t sl = hmin16(mn);
+    const int dl = first_equal16<NV>(sv, splat16(sl));
+    if (r.lr_check) {
+      for (int v = 0; v < NV; ++v) {
+        const U16V nb = vmin16(sv[v], best[v]);
+        const U16V keep = __builtin_bit_cast(U16V, nb == best[v]);
+        code[v] = (code[v] & keep) | (lane[v] & ~keep);
+        best[v] = nb;
+      }
+      r.right_code[W - 1 - x + m + NC - 1] = code[NV - 1][kLanes16 - 1];
+      for (int v = NV - 1; v > 0; --v) {
+        best[v] = lanes_up(best[v - 1], best[v]);
+        code[v] = lanes_up(code[v - 1], code[v]);
+      }
+      best[0] = lanes_up(fresh_best, best[0]);
+      code[0] = lanes_up(fresh_code, code[0]);
+    }
+    bool valid = m + dl <= x;
+    if (valid && r.uniqueness_pct > 0) {
+      // The minimum over the lanes d with |d - dl| > 1 (padding lanes hold the maximum).
+      const I16V lo = I16V{} + static_cast<int16_t>(dl - 1), hi = I16V{} + static_cast<int16_t>(dl + 1);
+      U16V second = splat16(0xFFFF);
+      for (int v = 0; v < NV; ++v) {
+        const I16V li = __builtin_bit_cast(I16V, lane[v]);
+        const I16V out = (li < lo) | (li > hi);
+        const U16V sel = __builtin_bit_cast(U16V, out);
+        second = vmin16(second, (sv[v] & sel) | (fresh_best & ~sel));
+      }
+      if (dl - 1 > 0 || dl + 2 < D)
+        valid = !(static_cast<uint64_t>(hmin16(second)) * 100u < static_cast<uint64_t>(100 + r.uniqueness_pct) * sl);
+    }
+    int off = 0;
+    if (valid && f > 0 && dl > 0 && dl < D - 1) {
+      const uint64_t a = s[dl - 1] - sl, b = s[dl + 1] - sl;
+      if (a + b > 0) {
+        const uint64_t diff = a > b ? a - b : b - a;
+        const uint64_t t = (diff << f) / (a + b);
+        const int mag = static_cast<int>((t + 1) >> 1);
+        off = a > b ? mag : -mag;
+      }
+    }
+    r.left_code[x] = valid ? dl : -1;
+    r.offset[x] = off;
+  }
+  if (r.lr_check) {  // after x = W - 1 the shifted window's lane d holds t = m + d - 1; lane 0 is fresh
+    uint16_t rest[NC];
+    for (int v = 0; v < NV; ++v) store16(rest + v * kLanes16, code[v]);
+    for (int d = 1; d < NC; ++d) r.right_code[m - 1 + d] = rest[d];
+  }
+  const uint16_t invalid = static_cast<uint16_t>(D << f);
+  for (int x = 0; x < W; ++x) {
+    const int dl = r.left_code[x];
+    bool valid = dl >= 0;
+    if (valid && r.lr_check) {
+      const int xr = x - m - dl;
+      const int dr = r.right_code[W - 1 - xr];
+      valid = absi(dl - dr) <= r.lr_tolerance;
+    }
+    r.out[x] = valid ? static_cast<uint16_t>((dl << f) + r.offset[x]) : invalid;
+  }
+}
+
 template <class T>
 void select_row(const SelectRow& r) {
+  if constexpr (sizeof(T) == 2) {
+    switch (r.lanes) {
+      case 32:
+        select_row16<32>(r);
+        return;
+      case 64:
+        select_row16<64>(r);
+        return;
+      case 96:
+        select_row16<96>(r);
+        return;
+      case 128:
+        select_row16<128>(r);
+        return;
+      default:
+        break;
+    }
+  }
   const int W = r.width_px, D = r.disparities, N = r.lanes, m = r.min_disparity, f = r.subpixel_bits;
   const T* S = static_cast<const T*>(r.sum);
   T* rbest = static_cast<T*>(r.right_best);

@@ -63,17 +63,21 @@ TEST(EvalJson, EmptyEvaluationHasAnEmptyFrameList) {
   EXPECT_EQ(j["frames"].get<int>(), 0);
 }
 
-TEST(EvalJson, BenchRowNamesTheRatiosToHh4) {
+TEST(EvalJson, BenchRowNamesTheRatiosToHh4AndSgbm) {
   px::BenchRow row;
   row.method = "func";
   row.ratio_to_peer = 0.5;
   row.min_ratio_to_peer = 0.25;
+  row.ratio_to_sgbm = 0.75;
+  row.min_ratio_to_sgbm = 0.5;
   const json j = std::vector<px::BenchRow>{row};
   ASSERT_TRUE(j.is_array());
   EXPECT_EQ(j[0]["method"].get<std::string>(), "func");
   EXPECT_DOUBLE_EQ(j[0]["ratio_to_hh4"].get<double>(), 0.5);
   EXPECT_DOUBLE_EQ(j[0]["min_ratio_to_hh4"].get<double>(), 0.25);
-  EXPECT_EQ(j[0].size(), 7u);
+  EXPECT_DOUBLE_EQ(j[0]["ratio_to_sgbm"].get<double>(), 0.75);
+  EXPECT_DOUBLE_EQ(j[0]["min_ratio_to_sgbm"].get<double>(), 0.5);
+  EXPECT_EQ(j[0].size(), 9u);
 }
 
 }  // namespace

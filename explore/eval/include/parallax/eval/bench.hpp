@@ -19,12 +19,14 @@ struct BenchRow {
   double peak_extra_rss_mib = 0.0;  // the same minus an idle process's peak (images loaded)
   double ratio_to_peer = 0.0;       // median_ms / the first OpenCV row's median_ms
   double min_ratio_to_peer = 0.0;   // min_ms / the first OpenCV row's min_ms (less sensitive to load)
+  double ratio_to_sgbm = 0.0;       // median_ms / OpenCV MODE_SGBM's median_ms, the speed peer
+  double min_ratio_to_sgbm = 0.0;   // min_ms / MODE_SGBM's min_ms
 };
 
 // Runs each method `iterations` times in its own forked process (so that peak memory is its
 // own), one thread each. Rows: the design's func run, the func run at the design's PU (the
 // cycle model's granularity), its cycle run (at the config's clock), OpenCV MODE_HH4, OpenCV
-// MODE_SGBM. Ratios are to MODE_HH4.
+// MODE_SGBM. Ratios are to MODE_HH4 (the accuracy peer) and to MODE_SGBM (the speed peer).
 std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
                                  int iterations);
 
