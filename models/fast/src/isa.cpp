@@ -516,14 +516,33 @@ void aggregate_sgm16(const AggregateRow& r) {
   const uint16_t guard = static_cast<uint16_t>(0xFFFF - r.p1);
   const U16V vp1 = splat16(r.p1), vguard = splat16(guard);
   const bool adapt = r.p2_adaptive > 0, has_up = !r.first_row;
+  // The recursions on the previous stream row, resolved once per row: predecessor column
+  // x + qoff, present for the stream positions i in [ilo, ihi] (none on the first row).
+  struct RowRec {
+    const uint16_t* prev;
+    const uint16_t* prev_min;
+    uint16_t* cur;
+    uint16_t* cur_min;
+    int qoff, ilo, ihi;
+  };
   bool has0 = false;
-  int mem[4];
+  RowRec mem[4];
   int nmem = 0;
   for (int k = 0; k < r.recursions; ++k) {
-    if (r.rec[k].kind == kSgm0)
+    const Recursion& rc = r.rec[k];
+    if (rc.kind == kSgm0) {
       has0 = true;
-    else
-      mem[nmem++] = k;
+      continue;
+    }
+    RowRec& q = mem[nmem++];
+    q.prev = static_cast<const uint16_t*>(rc.prev);
+    q.prev_min = static_cast<const uint16_t*>(rc.prev_min);
+    q.cur = static_cast<uint16_t*>(rc.cur);
+    q.cur_min = static_cast<uint16_t*>(rc.cur_min);
+    q.qoff = rc.kind == kSgm45 ? -dir : (rc.kind == kSgm90 ? 0 : dir);
+    q.ilo = rc.kind == kSgm45 ? 1 : 0;
+    q.ihi = rc.kind == kSgm135 ? W - 2 : W - 1;
+    if (!has_up) q.ilo = W;
   }
   uint16_t* const sum_base = static_cast<uint16_t*>(r.sum);
   U16V l0[NV];
@@ -553,33 +572,25 @@ void aggregate_sgm16(const AggregateRow& r) {
       m0 = hmin16(mn);
     }
     for (int j = 0; j < nmem; ++j) {
-      const Recursion& rc = r.rec[mem[j]];
-      int qx = x + dir;  // kSgm135
-      bool ok = has_up && i < W - 1;
-      if (rc.kind == kSgm45) {
-        qx = x - dir;
-        ok = has_up && i > 0;
-      } else if (rc.kind == kSgm90) {
-        qx = x;
-        ok = has_up;
-      }
-      const uint16_t* __restrict lq =
-          ok ? static_cast<const uint16_t*>(rc.prev) + static_cast<int64_t>(qx) * P : kZeroRow.v;
-      const uint16_t mq = ok ? static_cast<const uint16_t*>(rc.prev_min)[qx] : 0;
+      const RowRec& q = mem[j];
+      const bool ok = i >= q.ilo && i <= q.ihi;
+      const int qx = x + q.qoff;
+      const uint16_t* __restrict lq = ok ? q.prev + static_cast<int64_t>(qx) * P : kZeroRow.v;
+      const uint16_t mq = ok ? q.prev_min[qx] : 0;
       int p2 = r.p2;
       if (adapt && ok) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[qx]);
       const U16V vm = splat16(mq), mp2 = splat16(static_cast<uint16_t>(mq + p2));
-      uint16_t* __restrict out = static_cast<uint16_t*>(rc.cur) + static_cast<int64_t>(x) * P;
+      uint16_t* __restrict out = q.cur + static_cast<int64_t>(x) * P;
       U16V mn = splat16(0xFFFF);
       for (int v = 0; v < NV; ++v) {
-        const uint16_t* q = lq + v * kLanes16;
-        const U16V t = vmin16(vmin16(load16(q + 1), vmin16(load16(q), load16(q + 2)) + vp1), mp2);
+        const uint16_t* lv = lq + v * kLanes16;
+        const U16V t = vmin16(vmin16(load16(lv + 1), vmin16(load16(lv), load16(lv + 2)) + vp1), mp2);
         const U16V l = load16(c + v * kLanes16) + (t - vm);
         store16(out + 1 + v * kLanes16, l);
         mn = vmin16(mn, l);
         s[v] += l;
       }
-      static_cast<uint16_t*>(rc.cur_min)[x] = hmin16(mn);
+      q.cur_min[x] = hmin16(mn);
       out[0] = guard;
       out[NC + 1] = guard;
     }
