@@ -1,0 +1,319 @@
+// The fast engine's hot loops, part 2 of 4 (isa.cpp): the SGM and MGM recursions over one
+// stream row. Included once per level by isa.cpp (see isa_common.hpp).
+#pragma once
+
+#include "isa_common.hpp"
+
+namespace parallax::fast::detail {
+namespace {
+
+// ---- aggregation --------------------------------------------------------------------------
+
+// The SGM step from a predecessor's padded path costs lq (lq[0] and lq[N + 1] are guards that
+// never win): L(d) = C(d) + min(Lq(d), Lq(d -+ 1) + P1, Mq + P2) - Mq over N lanes. Writes
+// out[1..N], adds weight * L into sum (Acc) or sets it, returns min_d L.
+template <class T, bool Acc, bool Twice, int NC>
+inline T sgm_step(const uint16_t* __restrict c, const T* __restrict lq, T mq, T p1, T p2, T* __restrict out,
+                  T* __restrict sum, int n) {
+  const int N = NC > 0 ? NC : n;
+  const T mp2 = static_cast<T>(mq + p2);
+  T mn = type_max<T>();
+  for (int d = 0; d < N; ++d) {
+    T v = tmin<T>(lq[d + 1], static_cast<T>(tmin<T>(lq[d], lq[d + 2]) + p1));
+    v = tmin<T>(v, mp2);
+    const T l = static_cast<T>(c[d] + static_cast<T>(v - mq));
+    out[d + 1] = l;
+    mn = tmin<T>(mn, l);
+    const T w = Twice ? static_cast<T>(l + l) : l;
+    sum[d] = Acc ? static_cast<T>(sum[d] + w) : w;
+  }
+  return mn;
+}
+
+// A path start: L = C.
+template <class T, bool Acc, bool Twice, int NC>
+inline T start_step(const uint16_t* __restrict c, T* __restrict out, T* __restrict sum, int n) {
+  const int N = NC > 0 ? NC : n;
+  T mn = type_max<T>();
+  for (int d = 0; d < N; ++d) {
+    const T l = static_cast<T>(c[d]);
+    out[d + 1] = l;
+    mn = tmin<T>(mn, l);
+    const T w = Twice ? static_cast<T>(l + l) : l;
+    sum[d] = Acc ? static_cast<T>(sum[d] + w) : w;
+  }
+  return mn;
+}
+
+// The MGM step from two predecessors (both inside): L = C + floor((u_q + u_q2) / 2).
+template <class T, bool Acc, bool Twice, int NC>
+inline T mgm_step(const uint16_t* __restrict c, const T* __restrict la, T ma, T pa2, const T* __restrict lb, T mb,
+                  T pb2, T p1, T* __restrict out, T* __restrict sum, int n) {
+  const int N = NC > 0 ? NC : n;
+  const T ea = static_cast<T>(ma + pa2), eb = static_cast<T>(mb + pb2);
+  T mn = type_max<T>();
+  for (int d = 0; d < N; ++d) {
+    T va = tmin<T>(la[d + 1], static_cast<T>(tmin<T>(la[d], la[d + 2]) + p1));
+    va = tmin<T>(va, ea);
+    T vb = tmin<T>(lb[d + 1], static_cast<T>(tmin<T>(lb[d], lb[d + 2]) + p1));
+    vb = tmin<T>(vb, eb);
+    const T u = static_cast<T>(static_cast<T>(static_cast<T>(va - ma) + static_cast<T>(vb - mb)) >> 1);
+    const T l = static_cast<T>(c[d] + u);
+    out[d + 1] = l;
+    mn = tmin<T>(mn, l);
+    const T w = Twice ? static_cast<T>(l + l) : l;
+    sum[d] = Acc ? static_cast<T>(sum[d] + w) : w;
+  }
+  return mn;
+}
+
+inline int adaptive(int p1, int p2, int a, int ip, int iq) {
+  const int lowered = p2 - ((a * absi(ip - iq)) >> 4);
+  return lowered > p1 + 1 ? lowered : p1 + 1;
+}
+
+// One recursion over one stream row.
+template <class T, bool Acc, bool Twice, int NC>
+void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
+  const int W = r.width_px, N = NC > 0 ? NC : r.lanes, dir = r.dir, P = N + 2, cs = r.cost_stride;
+  const T p1 = static_cast<T>(r.p1), guard = static_cast<T>(type_max<T>() - r.p1);
+  const bool adapt = r.p2_adaptive > 0;
+  T* sum_base = static_cast<T*>(r.sum);
+  T* cur = static_cast<T*>(rc.cur);
+  const T* prev = static_cast<const T*>(rc.prev);
+  T* cur_min = static_cast<T*>(rc.cur_min);
+  const T* prev_min = static_cast<const T*>(rc.prev_min);
+  const bool has_up = !r.first_row;
+  for (int i = 0; i < W; ++i) {
+    const int x = dir > 0 ? i : W - 1 - i;
+    const uint16_t* c = r.cost + static_cast<int64_t>(x) * cs;
+    T* out = cur + static_cast<int64_t>(x) * P;
+    T* sum = sum_base + static_cast<int64_t>(x) * N;
+    // Predecessors in stream terms: x - dir comes before x in the stream, x + dir after it.
+    const bool has_before = i > 0, has_after = i < W - 1;
+    int qx = -1;  // column of the (first) predecessor
+    bool up = false;
+    int q2x = -1;  // MGM: second predecessor's column, always on the previous row
+    bool q2ok = false, qok = false;
+    switch (rc.kind) {
+      case kSgm0:
+        qok = has_before;
+        qx = x - dir;
+        break;
+      case kSgm45:
+        qok = has_before && has_up;
+        qx = x - dir;
+        up = true;
+        break;
+      case kSgm90:
+        qok = has_up;
+        qx = x;
+        up = true;
+        break;
+      case kSgm135:
+        qok = has_after && has_up;
+        qx = x + dir;
+        up = true;
+        break;
+      case kMgmPixel:
+        qok = has_before;
+        qx = x - dir;
+        q2ok = has_up;
+        q2x = x;
+        break;
+      default:
+        qok = has_before && has_up;
+        qx = x - dir;
+        up = true;
+        q2ok = has_after && has_up;
+        q2x = x + dir;
+        break;
+    }
+    T mn;
+    if (rc.kind < kMgmPixel || !q2ok) {
+      if (!qok) {
+        mn = start_step<T, Acc, Twice, NC>(c, out, sum, N);
+      } else {
+        const T* lq = (up ? prev : cur) + static_cast<int64_t>(qx) * P;
+        const T mq = (up ? prev_min : cur_min)[qx];
+        int p2 = r.p2;
+        if (adapt) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], (up ? r.prev_intensity : r.intensity)[qx]);
+        mn = sgm_step<T, Acc, Twice, NC>(c, lq, mq, p1, static_cast<T>(p2), out, sum, N);
+      }
+    } else if (!qok) {  // MGM, the second predecessor alone
+      const T* lq = prev + static_cast<int64_t>(q2x) * P;
+      int p2 = r.p2;
+      if (adapt) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[q2x]);
+      mn = sgm_step<T, Acc, Twice, NC>(c, lq, prev_min[q2x], p1, static_cast<T>(p2), out, sum, N);
+    } else {
+      const T* la = (up ? prev : cur) + static_cast<int64_t>(qx) * P;
+      const T ma = (up ? prev_min : cur_min)[qx];
+      const T* lb = prev + static_cast<int64_t>(q2x) * P;
+      int pa2 = r.p2, pb2 = r.p2;
+      if (adapt) {
+        pa2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], (up ? r.prev_intensity : r.intensity)[qx]);
+        pb2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[q2x]);
+      }
+      mn = mgm_step<T, Acc, Twice, NC>(c, la, ma, static_cast<T>(pa2), lb, prev_min[q2x], static_cast<T>(pb2), p1, out,
+                                       sum, N);
+    }
+    cur_min[x] = mn;
+    out[0] = guard;
+    out[N + 1] = guard;
+  }
+}
+
+// Zeros for a missing predecessor (L = C + min(0, 0 + P1, 0 + P2) - 0 = C: a path start).
+struct ZeroRow {
+  uint16_t v[288] = {};
+};
+constexpr ZeroRow kZeroRow{};
+
+// A row of SGM recursions (each of weight 1) in 16 bits over NC lanes, a whole number of
+// registers: one sweep over the pixels for all recursions, each pixel's costs loaded once and its
+// sum kept in registers until stored once. The 0-degree path lives in registers from one pixel to
+// the next (its d -+ 1 neighbours by lane shifts; its row buffer is not written, nothing reads it:
+// only the next pixel of the same row uses it). The other paths read the previous stream row; a
+// missing predecessor reads kZeroRow with Mq = 0. Same arithmetic as sgm_step, lane for lane.
+template <int NC, bool Acc>
+void aggregate_sgm16(const AggregateRow& r) {
+  constexpr int NV = NC / kLanes16;
+  const int W = r.width_px, dir = r.dir, P = NC + 2, cs = r.cost_stride;
+  const uint16_t guard = static_cast<uint16_t>(0xFFFF - r.p1);
+  const U16V vp1 = splat16(r.p1), vguard = splat16(guard);
+  const bool adapt = r.p2_adaptive > 0, has_up = !r.first_row;
+  // The recursions on the previous stream row, resolved once per row: predecessor column
+  // x + qoff, present for the stream positions i in [ilo, ihi] (none on the first row).
+  struct RowRec {
+    const uint16_t* prev;
+    const uint16_t* prev_min;
+    uint16_t* cur;
+    uint16_t* cur_min;
+    int qoff, ilo, ihi;
+  };
+  bool has0 = false;
+  RowRec mem[4];
+  int nmem = 0;
+  for (int k = 0; k < r.recursions; ++k) {
+    const Recursion& rc = r.rec[k];
+    if (rc.kind == kSgm0) {
+      has0 = true;
+      continue;
+    }
+    RowRec& q = mem[nmem++];
+    q.prev = static_cast<const uint16_t*>(rc.prev);
+    q.prev_min = static_cast<const uint16_t*>(rc.prev_min);
+    q.cur = static_cast<uint16_t*>(rc.cur);
+    q.cur_min = static_cast<uint16_t*>(rc.cur_min);
+    q.qoff = rc.kind == kSgm45 ? -dir : (rc.kind == kSgm90 ? 0 : dir);
+    q.ilo = rc.kind == kSgm45 ? 1 : 0;
+    q.ihi = rc.kind == kSgm135 ? W - 2 : W - 1;
+    if (!has_up) q.ilo = W;
+  }
+  uint16_t* const sum_base = static_cast<uint16_t*>(r.sum);
+  U16V l0[NV];
+  for (int v = 0; v < NV; ++v) l0[v] = U16V{};
+  uint16_t m0 = 0;
+  for (int i = 0; i < W; ++i) {
+    const int x = dir > 0 ? i : W - 1 - i;
+    const uint16_t* __restrict c = r.cost + static_cast<int64_t>(x) * cs;
+    uint16_t* __restrict sum = sum_base + static_cast<int64_t>(x) * NC;
+    U16V s[NV];
+    for (int v = 0; v < NV; ++v) s[v] = Acc ? load16(sum + v * kLanes16) : U16V{};
+    if (has0) {
+      int p2 = r.p2;
+      if (adapt && i > 0) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.intensity[x - dir]);
+      const U16V vm = splat16(m0), mp2 = splat16(static_cast<uint16_t>(m0 + p2));
+      U16V nl[NV];
+      U16V mn = splat16(0xFFFF);
+      for (int v = 0; v < NV; ++v) {
+        const U16V lo = lanes_up(v == 0 ? vguard : l0[v - 1], l0[v]);
+        const U16V hi = lanes_down(l0[v], v == NV - 1 ? vguard : l0[v + 1]);
+        const U16V t = vmin16(vmin16(l0[v], vmin16(lo, hi) + vp1), mp2);
+        nl[v] = load16(c + v * kLanes16) + (t - vm);
+        mn = vmin16(mn, nl[v]);
+        s[v] += nl[v];
+      }
+      for (int v = 0; v < NV; ++v) l0[v] = nl[v];
+      m0 = hmin16(mn);
+    }
+    for (int j = 0; j < nmem; ++j) {
+      const RowRec& q = mem[j];
+      const bool ok = i >= q.ilo && i <= q.ihi;
+      const int qx = x + q.qoff;
+      const uint16_t* __restrict lq = ok ? q.prev + static_cast<int64_t>(qx) * P : kZeroRow.v;
+      const uint16_t mq = ok ? q.prev_min[qx] : 0;
+      int p2 = r.p2;
+      if (adapt && ok) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[qx]);
+      const U16V vm = splat16(mq), mp2 = splat16(static_cast<uint16_t>(mq + p2));
+      uint16_t* __restrict out = q.cur + static_cast<int64_t>(x) * P;
+      U16V mn = splat16(0xFFFF);
+      for (int v = 0; v < NV; ++v) {
+        const uint16_t* lv = lq + v * kLanes16;
+        const U16V t = vmin16(vmin16(load16(lv + 1), vmin16(load16(lv), load16(lv + 2)) + vp1), mp2);
+        const U16V l = load16(c + v * kLanes16) + (t - vm);
+        store16(out + 1 + v * kLanes16, l);
+        mn = vmin16(mn, l);
+        s[v] += l;
+      }
+      q.cur_min[x] = hmin16(mn);
+      out[0] = guard;
+      out[NC + 1] = guard;
+    }
+    for (int v = 0; v < NV; ++v) store16(sum + v * kLanes16, s[v]);
+  }
+}
+
+template <class T, int NC>
+void aggregate_row_n(const AggregateRow& r) {
+  if constexpr (sizeof(T) == 2 && NC > 0 && NC <= 128 && NC % kLanes16 == 0) {
+    bool sgm = r.recursions > 0;
+    for (int k = 0; k < r.recursions; ++k) sgm = sgm && r.rec[k].kind < kMgmPixel && r.rec[k].weight == 1;
+    if (sgm) {
+      if (r.accumulate)
+        aggregate_sgm16<NC, true>(r);
+      else
+        aggregate_sgm16<NC, false>(r);
+      return;
+    }
+  }
+  for (int k = 0; k < r.recursions; ++k) {
+    const bool acc = r.accumulate || k > 0, twice = r.rec[k].weight == 2;
+    if (acc && twice)
+      aggregate_recursion<T, true, true, NC>(r, r.rec[k]);
+    else if (acc)
+      aggregate_recursion<T, true, false, NC>(r, r.rec[k]);
+    else if (twice)
+      aggregate_recursion<T, false, true, NC>(r, r.rec[k]);
+    else
+      aggregate_recursion<T, false, false, NC>(r, r.rec[k]);
+  }
+}
+
+// Common lane counts as constants (whole vectors, no loop remainders), any other at run time.
+template <class T>
+void aggregate_row(const AggregateRow& r) {
+  switch (r.lanes) {
+    case 32:
+      aggregate_row_n<T, 32>(r);
+      break;
+    case 64:
+      aggregate_row_n<T, 64>(r);
+      break;
+    case 96:
+      aggregate_row_n<T, 96>(r);
+      break;
+    case 128:
+      aggregate_row_n<T, 128>(r);
+      break;
+    case 256:
+      aggregate_row_n<T, 256>(r);
+      break;
+    default:
+      aggregate_row_n<T, 0>(r);
+      break;
+  }
+}
+
+}  // namespace
+}  // namespace parallax::fast::detail

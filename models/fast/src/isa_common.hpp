@@ -1,0 +1,143 @@
+// The fast engine's hot loops, part 1 of 4 (isa.cpp): scalar helpers and one register of 16-bit
+// lanes of the level being built. Included only by the isa*.cpp/hpp files of one translation unit
+// per level (models/fast/CMakeLists.txt); everything sits in an unnamed namespace, so that no
+// inline function of one level can be picked by the linker for another. No standard library (isa.hpp).
+#pragma once
+
+#include "isa.hpp"
+
+// Intrinsics only where the compiler does not find the instruction itself (byte table lookups);
+// their functions are always-inline and define no symbol (check_isa_object.sh).
+#if defined(__AVX2__)
+// GCC 12 warns inside its own AVX-512 headers (a vector left undefined on purpose, GCC bug
+// 105593); the warning is about the header's code, not this file's.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <immintrin.h>
+#pragma GCC diagnostic pop
+#else
+#include <emmintrin.h>
+#endif
+
+namespace parallax::fast::detail {
+namespace {
+
+template <class T>
+constexpr T tmin(T a, T b) {
+  return b < a ? b : a;
+}
+template <class T>
+constexpr T tmax(T a, T b) {
+  return a < b ? b : a;
+}
+inline int clampi(int v, int lo, int hi) {
+  return v < lo ? lo : (v > hi ? hi : v);
+}
+inline int absi(int v) {
+  return v < 0 ? -v : v;
+}
+template <class T>
+inline T type_max() {
+  return static_cast<T>(~T(0));
+}
+
+// ---- 16-bit vectors (GCC vector extensions, one register of the level) ---------------------
+
+#if defined(__AVX512BW__)
+constexpr int kVecBytes = 64;
+#elif defined(__AVX2__)
+constexpr int kVecBytes = 32;
+#else
+constexpr int kVecBytes = 16;
+#endif
+constexpr int kLanes16 = kVecBytes / 2;
+typedef uint16_t U16V __attribute__((vector_size(kVecBytes)));
+typedef uint16_t U16VUnaligned __attribute__((vector_size(kVecBytes), aligned(2), may_alias));
+
+inline U16V load16(const uint16_t* p) {
+  return *reinterpret_cast<const U16VUnaligned*>(p);
+}
+inline void store16(uint16_t* p, U16V v) {
+  *reinterpret_cast<U16VUnaligned*>(p) = v;
+}
+inline U16V splat16(int v) {
+  return U16V{} + static_cast<uint16_t>(v);
+}
+#if defined(__AVX512BW__)
+typedef __m512i IntV;
+#elif defined(__AVX2__)
+typedef __m256i IntV;
+#else
+typedef __m128i IntV;
+#endif
+inline IntV as_int(U16V v) {
+  return __builtin_bit_cast(IntV, v);
+}
+inline U16V as_u16(IntV v) {
+  return __builtin_bit_cast(U16V, v);
+}
+inline U16V vmin16(U16V a, U16V b) {
+#if defined(__AVX512BW__)
+  return as_u16(_mm512_min_epu16(as_int(a), as_int(b)));
+#elif defined(__AVX2__)
+  return as_u16(_mm256_min_epu16(as_int(a), as_int(b)));
+#else
+  return a - as_u16(_mm_subs_epu16(as_int(a), as_int(b)));  // SSE2 has no unsigned 16-bit min
+#endif
+}
+inline uint16_t hmin16(U16V v) {
+  const IntV z = as_int(v);
+#if defined(__AVX512BW__)
+  const __m256i h = _mm256_min_epu16(_mm512_castsi512_si256(z), _mm512_extracti64x4_epi64(z, 1));
+  const __m128i q = _mm_min_epu16(_mm256_castsi256_si128(h), _mm256_extracti128_si256(h, 1));
+  return static_cast<uint16_t>(_mm_cvtsi128_si32(_mm_minpos_epu16(q)));
+#elif defined(__AVX2__)
+  const __m128i q = _mm_min_epu16(_mm256_castsi256_si128(z), _mm256_extracti128_si256(z, 1));
+  return static_cast<uint16_t>(_mm_cvtsi128_si32(_mm_minpos_epu16(q)));
+#else
+  __m128i q = z;
+  q = _mm_sub_epi16(q, _mm_subs_epu16(q, _mm_srli_si128(q, 8)));
+  q = _mm_sub_epi16(q, _mm_subs_epu16(q, _mm_srli_si128(q, 4)));
+  q = _mm_sub_epi16(q, _mm_subs_epu16(q, _mm_srli_si128(q, 2)));
+  return static_cast<uint16_t>(_mm_cvtsi128_si32(q));
+#endif
+}
+// Lane shifts across two registers: lanes_up(a, b)[i] = (a:b)[kLanes16 - 1 + i] (the d - 1
+// neighbour of b's lanes, a's last lane first), lanes_down(a, b)[i] = (a:b)[i + 1] (the d + 1
+// neighbour of a's lanes).
+typedef int16_t I16V __attribute__((vector_size(kVecBytes)));
+#if defined(__AVX512BW__)
+struct ShiftIndex {
+  int16_t up[32] = {}, down[32] = {};
+  constexpr ShiftIndex() {
+    for (int i = 0; i < 32; ++i) {
+      up[i] = static_cast<int16_t>(31 + i);
+      down[i] = static_cast<int16_t>(1 + i);
+    }
+  }
+};
+constexpr ShiftIndex kShift{};
+inline U16V lanes_up(U16V a, U16V b) {
+  return as_u16(_mm512_permutex2var_epi16(as_int(a), _mm512_loadu_si512(kShift.up), as_int(b)));
+}
+inline U16V lanes_down(U16V a, U16V b) {
+  return as_u16(_mm512_permutex2var_epi16(as_int(a), _mm512_loadu_si512(kShift.down), as_int(b)));
+}
+#elif defined(__AVX2__)
+inline U16V lanes_up(U16V a, U16V b) {  // (a.high:b.low) then byte-align per 128-bit half
+  return as_u16(_mm256_alignr_epi8(as_int(b), _mm256_permute2x128_si256(as_int(a), as_int(b), 0x21), 14));
+}
+inline U16V lanes_down(U16V a, U16V b) {
+  return as_u16(_mm256_alignr_epi8(_mm256_permute2x128_si256(as_int(a), as_int(b), 0x21), as_int(a), 2));
+}
+#else
+inline U16V lanes_up(U16V a, U16V b) {
+  return as_u16(_mm_or_si128(_mm_slli_si128(as_int(b), 2), _mm_srli_si128(as_int(a), 14)));
+}
+inline U16V lanes_down(U16V a, U16V b) {
+  return as_u16(_mm_or_si128(_mm_srli_si128(as_int(a), 2), _mm_slli_si128(as_int(b), 14)));
+}
+#endif
+
+}  // namespace
+}  // namespace parallax::fast::detail

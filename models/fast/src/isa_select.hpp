@@ -1,0 +1,362 @@
+// The fast engine's hot loops, part 3 of 4 (isa.cpp): winner takes all, uniqueness, sub-pixel,
+// left-right check and the median. Included once per level by isa.cpp (see isa_common.hpp).
+#pragma once
+
+#include "isa_common.hpp"
+
+namespace parallax::fast::detail {
+namespace {
+
+// ---- winner takes all, uniqueness, sub-pixel, left-right check ----------------------------
+
+template <class T>
+inline T lane_min(const T* __restrict s, int n) {
+  T v = type_max<T>();
+  for (int d = 0; d < n; ++d) v = tmin<T>(v, s[d]);
+  return v;
+}
+// 0, 1, 2, ...: the lane numbers as data, so that the search below is a vector min. Constant
+// initialised (constexpr): a dynamic initialiser here would run this file's instructions at
+// program start, on every CPU.
+struct LaneNumbers {
+  uint16_t v[288] = {};
+  constexpr LaneNumbers() {
+    for (int i = 0; i < 288; ++i) v[i] = static_cast<uint16_t>(i);
+  }
+};
+constexpr LaneNumbers kLanes{};
+
+template <class T>
+inline int first_lane_of(const T* __restrict s, int n, T value) {
+  const uint16_t* __restrict lane = kLanes.v;
+  uint16_t first = 0xFFFF;
+  for (int d = 0; d < n; ++d) {
+    const uint16_t hit = static_cast<uint16_t>(-static_cast<int>(s[d] == value));  // all ones when equal
+    first = tmin<uint16_t>(first, static_cast<uint16_t>((lane[d] & hit) | static_cast<uint16_t>(~hit)));
+  }
+  return first;
+}
+// Candidates of one left pixel for the right disparities it may decide: rb[d] / rc[d] belong to
+// the right pixel x - m - d. A padding lane (the type's maximum) is never better.
+template <class T>
+inline void right_update(const T* __restrict s, T* __restrict rb, uint16_t* __restrict rc, int n) {
+  const uint16_t* __restrict lane = kLanes.v;
+  for (int d = 0; d < n; ++d) {
+    const uint16_t better = static_cast<uint16_t>(-static_cast<int>(s[d] < rb[d]));  // all ones when better
+    rb[d] = tmin<T>(s[d], rb[d]);
+    rc[d] = static_cast<uint16_t>((lane[d] & better) | (rc[d] & static_cast<uint16_t>(~better)));
+  }
+}
+
+// The first lane of v[0..NV) equal to b (one exists: b is their minimum).
+template <int NV>
+inline int first_equal16(const U16V* v, U16V b) {
+  for (int k = 0; k < NV - 1; ++k) {
+#if defined(__AVX512BW__)
+    const unsigned hit = _mm512_cmpeq_epi16_mask(as_int(v[k]), as_int(b));
+    if (hit != 0) return k * kLanes16 + __builtin_ctz(hit);
+#elif defined(__AVX2__)
+    const unsigned hit = static_cast<unsigned>(_mm256_movemask_epi8(_mm256_cmpeq_epi16(as_int(v[k]), as_int(b))));
+    if (hit != 0) return k * kLanes16 + __builtin_ctz(hit) / 2;
+#else
+    const unsigned hit = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi16(as_int(v[k]), as_int(b))));
+    if (hit != 0) return k * kLanes16 + __builtin_ctz(hit) / 2;
+#endif
+  }
+#if defined(__AVX512BW__)
+  const unsigned hit = _mm512_cmpeq_epi16_mask(as_int(v[NV - 1]), as_int(b));
+  return (NV - 1) * kLanes16 + __builtin_ctz(hit | 0x80000000u);
+#elif defined(__AVX2__)
+  const unsigned hit = static_cast<unsigned>(_mm256_movemask_epi8(_mm256_cmpeq_epi16(as_int(v[NV - 1]), as_int(b))));
+  return (NV - 1) * kLanes16 + __builtin_ctz(hit | 0x80000000u) / 2;
+#else
+  const unsigned hit = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi16(as_int(v[NV - 1]), as_int(b))));
+  return (NV - 1) * kLanes16 + __builtin_ctz(hit | 0x8000u) / 2;
+#endif
+}
+
+// select_row for 16-bit sums over NC lanes, a whole number of registers. The right image's
+// winners travel in registers: at pixel x lane d of the window belongs to the right pixel
+// x - m - d (t = W - 1 - x + m + d); from x to x + 1 every entry moves up one lane, a fresh one
+// (the type's maximum, code 0) enters lane 0 and lane NC - 1 leaves, final (no later left pixel
+// reaches that right pixel), to right_code[t]; the window left after the row is stored whole.
+// Same results as select_row: ties keep the smaller d in both images.
+template <int NC>
+void select_row16(const SelectRow& r) {
+  constexpr int NV = NC / kLanes16;
+  const int W = r.width_px, D = r.disparities, m = r.min_disparity, f = r.subpixel_bits;
+  const uint16_t* S = static_cast<const uint16_t*>(r.sum);
+  U16V lane[NV], best[NV], code[NV];
+  const U16V fresh_best = splat16(0xFFFF), fresh_code = U16V{};
+  for (int v = 0; v < NV; ++v) {
+    lane[v] = load16(kLanes.v + v * kLanes16);
+    best[v] = fresh_best;
+    code[v] = fresh_code;
+  }
+  for (int x = 0; x < W; ++x) {
+    const uint16_t* __restrict s = S + static_cast<int64_t>(x) * NC;
+    U16V sv[NV];
+    for (int v = 0; v < NV; ++v) sv[v] = load16(s + v * kLanes16);
+    U16V mn = sv[0];
+    for (int v = 1; v < NV; ++v) mn = vmin16(mn, sv[v]);
+    const uint16_t sl = hmin16(mn);
+    const int dl = first_equal16<NV>(sv, splat16(sl));
+    if (r.lr_check) {
+      for (int v = 0; v < NV; ++v) {
+        const U16V nb = vmin16(sv[v], best[v]);
+        const U16V keep = __builtin_bit_cast(U16V, nb == best[v]);
+        code[v] = (code[v] & keep) | (lane[v] & ~keep);
+        best[v] = nb;
+      }
+      r.right_code[W - 1 - x + m + NC - 1] = code[NV - 1][kLanes16 - 1];
+      for (int v = NV - 1; v > 0; --v) {
+        best[v] = lanes_up(best[v - 1], best[v]);
+        code[v] = lanes_up(code[v - 1], code[v]);
+      }
+      best[0] = lanes_up(fresh_best, best[0]);
+      code[0] = lanes_up(fresh_code, code[0]);
+    }
+    bool valid = m + dl <= x;
+    if (valid && r.uniqueness_pct > 0) {
+      // The minimum over the lanes d with |d - dl| > 1 (padding lanes hold the maximum).
+      const I16V lo = I16V{} + static_cast<int16_t>(dl - 1), hi = I16V{} + static_cast<int16_t>(dl + 1);
+      U16V second = splat16(0xFFFF);
+      for (int v = 0; v < NV; ++v) {
+        const I16V li = __builtin_bit_cast(I16V, lane[v]);
+        const I16V out = (li < lo) | (li > hi);
+        const U16V sel = __builtin_bit_cast(U16V, out);
+        second = vmin16(second, (sv[v] & sel) | (fresh_best & ~sel));
+      }
+      if (dl - 1 > 0 || dl + 2 < D)
+        valid = !(static_cast<uint64_t>(hmin16(second)) * 100u < static_cast<uint64_t>(100 + r.uniqueness_pct) * sl);
+    }
+    int off = 0;
+    if (valid && f > 0 && dl > 0 && dl < D - 1) {
+      const uint64_t a = s[dl - 1] - sl, b = s[dl + 1] - sl;
+      if (a + b > 0) {
+        const uint64_t diff = a > b ? a - b : b - a;
+        const uint64_t t = (diff << f) / (a + b);
+        const int mag = static_cast<int>((t + 1) >> 1);
+        off = a > b ? mag : -mag;
+      }
+    }
+    r.left_code[x] = valid ? dl : -1;
+    r.offset[x] = off;
+  }
+  if (r.lr_check) {  // after x = W - 1 the shifted window's lane d holds t = m + d - 1; lane 0 is fresh
+    uint16_t rest[NC];
+    for (int v = 0; v < NV; ++v) store16(rest + v * kLanes16, code[v]);
+    for (int d = 1; d < NC; ++d) r.right_code[m - 1 + d] = rest[d];
+  }
+  const uint16_t invalid = static_cast<uint16_t>(D << f);
+  for (int x = 0; x < W; ++x) {
+    const int dl = r.left_code[x];
+    bool valid = dl >= 0;
+    if (valid && r.lr_check) {
+      const int xr = x - m - dl;
+      const int dr = r.right_code[W - 1 - xr];
+      valid = absi(dl - dr) <= r.lr_tolerance;
+    }
+    r.out[x] = valid ? static_cast<uint16_t>((dl << f) + r.offset[x]) : invalid;
+  }
+}
+
+template <class T>
+void select_row(const SelectRow& r) {
+  if constexpr (sizeof(T) == 2) {
+    switch (r.lanes) {
+      case 32:
+        select_row16<32>(r);
+        return;
+      case 64:
+        select_row16<64>(r);
+        return;
+      case 96:
+        select_row16<96>(r);
+        return;
+      case 128:
+        select_row16<128>(r);
+        return;
+      default:
+        break;
+    }
+  }
+  const int W = r.width_px, D = r.disparities, N = r.lanes, m = r.min_disparity, f = r.subpixel_bits;
+  const T* S = static_cast<const T*>(r.sum);
+  T* rbest = static_cast<T*>(r.right_best);
+  const int rlen = W + N + m + 1;
+  if (r.lr_check) {
+    for (int k = 0; k < rlen; ++k) {
+      rbest[k] = type_max<T>();
+      r.right_code[k] = 0;
+    }
+  }
+  for (int x = 0; x < W; ++x) {
+    const T* __restrict s = S + static_cast<int64_t>(x) * N;
+    // The minimum, then the smallest d holding it (padding lanes hold the type's maximum and
+    // come after every real lane, so they never decide either).
+    const T sl = lane_min<T>(s, N);
+    const int dl = first_lane_of<T>(s, N, sl);
+    if (r.lr_check) {
+      // dR(xr) over d with xr = x - m - d: right_best is indexed t = W - 1 - xr = W - 1 - x + m + d
+      // (t >= W: xr < 0, never read). Strict < keeps the smallest d (x increases with d).
+      right_update<T>(s, rbest + (W - 1 - x + m), r.right_code + (W - 1 - x + m), N);
+    }
+    bool valid = m + dl <= x;
+    if (valid && r.uniqueness_pct > 0) {
+      T second = type_max<T>();
+      for (int d = 0; d < dl - 1; ++d) second = tmin<T>(second, s[d]);
+      for (int d = dl + 2; d < D; ++d) second = tmin<T>(second, s[d]);
+      if (dl - 1 > 0 || dl + 2 < D)
+        valid = !(static_cast<uint64_t>(second) * 100u < static_cast<uint64_t>(100 + r.uniqueness_pct) * sl);
+    }
+    int off = 0;
+    if (valid && f > 0 && dl > 0 && dl < D - 1) {
+      const uint64_t a = s[dl - 1] - sl, b = s[dl + 1] - sl;
+      if (a + b > 0) {
+        const uint64_t diff = a > b ? a - b : b - a;
+        const uint64_t t = (diff << f) / (a + b);
+        const int mag = static_cast<int>((t + 1) >> 1);
+        off = a > b ? mag : -mag;
+      }
+    }
+    r.left_code[x] = valid ? dl : -1;
+    r.offset[x] = off;
+  }
+  const uint16_t invalid = static_cast<uint16_t>(D << f);
+  for (int x = 0; x < W; ++x) {
+    const int dl = r.left_code[x];
+    bool valid = dl >= 0;
+    if (valid && r.lr_check) {
+      const int xr = x - m - dl;
+      const int dr = r.right_code[W - 1 - xr];
+      valid = absi(dl - dr) <= r.lr_tolerance;
+    }
+    r.out[x] = valid ? static_cast<uint16_t>((dl << f) + r.offset[x]) : invalid;
+  }
+}
+
+// ---- median -------------------------------------------------------------------------------
+
+// The pruned Batcher network of engine.cpp's median_network(), built at compile time for the
+// common windows so that the network runs on registers: for k x k taps, the comparators (i, j)
+// (min to i) that decide the output of rank (k * k - 1) / 2. Any selection network gives the
+// same median; this one is the engine's own, comparator for comparator.
+struct MedianNet {
+  int16_t lo[256] = {}, hi[256] = {};
+  int n = 0;
+};
+constexpr MedianNet make_median_net(int taps) {
+  const int rank = (taps - 1) / 2;
+  int n = 1;
+  while (n < taps) n *= 2;
+  int16_t all_lo[1024] = {}, all_hi[1024] = {};
+  int count = 0;
+  for (int p = 1; p < n; p *= 2)
+    for (int k = p; k >= 1; k /= 2)
+      for (int j = k % p; j <= n - 1 - k; j += 2 * k)
+        for (int i = 0; i <= tmin(k - 1, n - j - k - 1); ++i)
+          if ((i + j) / (2 * p) == (i + j + k) / (2 * p)) {
+            all_lo[count] = static_cast<int16_t>(i + j);
+            all_hi[count] = static_cast<int16_t>(i + j + k);
+            ++count;
+          }
+  bool needed[64] = {};
+  needed[rank] = true;
+  int16_t kept_lo[256] = {}, kept_hi[256] = {};
+  int kept = 0;
+  for (int c = count - 1; c >= 0; --c) {
+    if (all_hi[c] >= taps) continue;
+    if (needed[all_lo[c]] || needed[all_hi[c]]) {
+      kept_lo[kept] = all_lo[c];
+      kept_hi[kept] = all_hi[c];
+      ++kept;
+      needed[all_lo[c]] = needed[all_hi[c]] = true;
+    }
+  }
+  MedianNet net;
+  for (int c = 0; c < kept; ++c) {
+    net.lo[c] = kept_lo[kept - 1 - c];
+    net.hi[c] = kept_hi[kept - 1 - c];
+  }
+  net.n = kept;
+  return net;
+}
+template <int K>
+struct MedianNetOf {
+  static constexpr MedianNet net = make_median_net(K * K);
+};
+inline U16V vmax16(U16V a, U16V b) {
+#if defined(__AVX512BW__)
+  return as_u16(_mm512_max_epu16(as_int(a), as_int(b)));
+#elif defined(__AVX2__)
+  return as_u16(_mm256_max_epu16(as_int(a), as_int(b)));
+#else
+  return b + as_u16(_mm_subs_epu16(as_int(a), as_int(b)));
+#endif
+}
+template <int K, int C>
+inline void median_comparators(U16V* t) {
+  constexpr MedianNet net = MedianNetOf<K>::net;
+  if constexpr (C < net.n) {
+    const U16V a = t[net.lo[C]], b = t[net.hi[C]];
+    t[net.lo[C]] = vmin16(a, b);
+    t[net.hi[C]] = vmax16(a, b);
+    median_comparators<K, C + 1>(t);
+  }
+}
+// k x k median of one row with the network unrolled over whole registers of pixels (the last
+// register overlaps the one before when W is not a multiple of it; W >= kLanes16).
+template <int K>
+void median_row_k(const uint16_t* const* rows, int W, uint16_t* out) {
+  constexpr int rk = K / 2;
+  uint16_t pad[K][4096 + 8];
+  for (int j = 0; j < K; ++j)
+    for (int x = -rk; x < W + rk; ++x) pad[j][x + rk] = rows[j][clampi(x, 0, W - 1)];
+  for (int x0 = 0; x0 < W; x0 += kLanes16) {
+    const int x = x0 + kLanes16 <= W ? x0 : W - kLanes16;
+    U16V t[K * K];
+    for (int j = 0; j < K; ++j)
+      for (int i = 0; i < K; ++i) t[j * K + i] = load16(pad[j] + x + i);
+    median_comparators<K, 0>(t);
+    store16(out + x, t[(K * K - 1) / 2]);
+  }
+}
+
+void median_row(const uint16_t* const* rows, int W, int k, const int16_t* pairs, int pair_count, int rank,
+                uint16_t* taps, uint16_t* out) {
+  if (W >= kLanes16 && rank == (k * k - 1) / 2) {  // the same network, compiled in
+    if (k == 3) {
+      median_row_k<3>(rows, W, out);
+      return;
+    }
+    if (k == 5) {
+      median_row_k<5>(rows, W, out);
+      return;
+    }
+  }
+  const int rk = k / 2;
+  uint16_t pad[4096 + 8];
+  for (int j = 0; j < k; ++j) {
+    for (int x = -rk; x < W + rk; ++x) pad[x + rk] = rows[j][clampi(x, 0, W - 1)];
+    for (int i = 0; i < k; ++i) {
+      uint16_t* t = taps + static_cast<int64_t>(j * k + i) * W;
+      const uint16_t* src = pad + i;  // pad[x + i] = code(clampx(x + i - rk))
+      for (int x = 0; x < W; ++x) t[x] = src[x];
+    }
+  }
+  for (int p = 0; p < pair_count; ++p) {
+    uint16_t* a = taps + static_cast<int64_t>(pairs[2 * p]) * W;
+    uint16_t* b = taps + static_cast<int64_t>(pairs[2 * p + 1]) * W;
+    for (int x = 0; x < W; ++x) {
+      const uint16_t lo = tmin<uint16_t>(a[x], b[x]), hi = tmax<uint16_t>(a[x], b[x]);
+      a[x] = lo;
+      b[x] = hi;
+    }
+  }
+  const uint16_t* res = taps + static_cast<int64_t>(rank) * W;
+  for (int x = 0; x < W; ++x) out[x] = res[x];
+}
+
+}  // namespace
+}  // namespace parallax::fast::detail
