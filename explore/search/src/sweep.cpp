@@ -295,6 +295,7 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
                     const Dataset& dataset, const SweepRunOptions& opt, SweepSummary& sum, int total_for_progress,
                     int done_before, const std::string& measurement) {
   std::atomic<int> done{0}, skipped{0}, evaluated{0}, invalid{0}, failed{0};
+  std::atomic<int64_t> design_frames{0};
   std::mutex mu;  // progress, the waiting list, the first failure
   const int skipped_before = sum.skipped;
   auto report = [&] {
@@ -360,6 +361,8 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
         ++failed;
         note_problem(r);
       }
+      const auto frames = r.metrics.find("frames");
+      if (frames != r.metrics.end()) design_frames += int64_t(frames->second);
       ++evaluated;
     } else {
       ++skipped;  // another process stored it meanwhile (it took over a claim it thought stale)
@@ -423,6 +426,7 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
   sum.evaluated += evaluated;
+  sum.design_frames += design_frames;
   sum.skipped += skipped;
   sum.invalid += invalid;
   sum.failed += failed;

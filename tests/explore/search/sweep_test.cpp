@@ -136,6 +136,7 @@ TEST(SweepRun, InvalidDesignsAreStoredWithTheReasonAndRerunsSkip) {
   const auto first = search::run_sweep(s, store, ro);
   EXPECT_EQ(first.total, 2);
   EXPECT_EQ(first.invalid, 1);
+  EXPECT_EQ(first.design_frames, 1) << "one valid design x one frame; the invalid one scores none";
   const auto rows = store.designs("t");
   ASSERT_EQ(rows.size(), 2u);
   int ok = 0;
@@ -154,6 +155,7 @@ TEST(SweepRun, InvalidDesignsAreStoredWithTheReasonAndRerunsSkip) {
   const auto second = search::run_sweep(s, store, ro);
   EXPECT_EQ(second.skipped, 2);
   EXPECT_EQ(second.evaluated, 0);
+  EXPECT_EQ(second.design_frames, 0) << "skipped designs are not counted";
   EXPECT_EQ(store.count_designs(), 2);
 }
 

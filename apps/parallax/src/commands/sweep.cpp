@@ -1,18 +1,21 @@
 // parallax sweep: evaluate many designs (accuracy, timing, resources) into a SQLite store; reruns
 // skip finished designs. Shards (--shard K/N) and, under mpirun, ranks (--mpi) split the designs.
 // Exits 2 when no design could be evaluated.
+#include <sys/resource.h>
 #include <unistd.h>
 
 #ifdef PARALLAX_HAVE_MPI
 #include <mpi.h>
 #endif
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "commands.hpp"
@@ -24,6 +27,13 @@
 namespace parallax::cli {
 
 namespace {
+
+// This process's peak resident memory so far (Linux reports ru_maxrss in KiB).
+double peak_rss_mib() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return double(ru.ru_maxrss) / 1024.0;
+}
 
 using namespace parallax::eval;
 using namespace parallax::uav;
@@ -139,6 +149,13 @@ int run_sweep_command(const SweepOptions& o, const Invocation& inv) {
       ro.shard_count > 1 ? (" shard " + std::to_string(ro.shard_index) + "/" + std::to_string(ro.shard_count)).c_str()
                          : "",
       sum.total, sum.evaluated + sum.invalid, sum.invalid, sum.failed, sum.skipped, db_path.c_str(), sum.seconds);
+  // The throughput figure (docs/benchmarks.md): design-frames scored per hour of this run.
+  if (sum.design_frames > 0 && sum.seconds > 0) {
+    const int threads = ro.jobs > 0 ? ro.jobs : std::max(1, int(std::thread::hardware_concurrency()));
+    std::printf("%lld design-frames in %.1f s: %.0f design-frames per hour on %d thread%s; peak memory %.0f MiB\n",
+                static_cast<long long>(sum.design_frames), sum.seconds,
+                double(sum.design_frames) * 3600.0 / sum.seconds, threads, threads == 1 ? "" : "s", peak_rss_mib());
+  }
   for (const auto& p : sum.first_problems) std::fprintf(stderr, "parallax: %s\n", p.c_str());
   const bool all_failed = sum.total > 0 && sum.skipped == 0 && sum.invalid + sum.failed >= sum.evaluated + sum.invalid;
 #ifdef PARALLAX_HAVE_MPI
