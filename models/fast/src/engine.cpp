@@ -105,6 +105,7 @@ struct DirectCosts final : CostRows {
   int planes = 0;
   std::vector<uint8_t> cl, cr, scratch;
   std::vector<uint16_t> out, sad_cols;
+  int sad_row = -1;  // the row whose window sad_cols holds (-1: none)
   detail::CostRow cr_args;
 
   DirectCosts(const kern::StereoParams& params, const uint8_t* l, const uint8_t* r) : p(params), left(l), right(r) {
@@ -123,24 +124,40 @@ struct DirectCosts final : CostRows {
       isa().census(right, W, H, p.window_w, p.window_h, p.census, planes, cr.data());
       scratch.resize(sz(int64_t(planes) * detail::census_scratch_len(W, p.min_disparity, p.disparities)));
     } else {
-      sad_cols.resize(sz(int64_t(W + p.window_w) * p.disparities));
+      sad_cols.resize(sz(int64_t(W + 2 * (p.window_w / 2)) * detail::cost_stride(p.disparities)));
+      scratch.resize(sz(detail::sad_scratch_len(W, p.window_w, p.min_disparity, p.disparities)));
     }
   }
+  // SAD: the column sums of row y's window. From the row before or after (the passes run the
+  // rows in order), one image row leaves and one enters; else they are summed afresh. The sums
+  // are exact integers (at most 255 * window_h), so the order of additions does not matter.
+  void sad_window(int y) {
+    const int W = p.width_px, H = p.height_px, rh = p.window_h / 2;
+    auto add = [&](int yy, int sign) {
+      const std::size_t o = sz(int64_t(std::clamp(yy, 0, H - 1)) * W);
+      isa().sad_columns(cr_args, left + o, right + o, p.window_w, sign, sad_cols.data(), scratch.data());
+    };
+    if (sad_row >= 0 && (y == sad_row + 1 || y == sad_row - 1)) {
+      const int leaving = y > sad_row ? sad_row - rh : sad_row + rh;
+      const int entering = y > sad_row ? y + rh : y - rh;
+      if (std::clamp(leaving, 0, H - 1) != std::clamp(entering, 0, H - 1)) {
+        add(entering, 1);
+        add(leaving, -1);
+      }
+    } else {
+      std::fill(sad_cols.begin(), sad_cols.end(), uint16_t(0));
+      for (int j = -rh; j <= rh; ++j) add(y + j, 1);
+    }
+    sad_row = y;
+  }
   const uint16_t* row(int y) override {
-    const int W = p.width_px, H = p.height_px;
+    const int W = p.width_px;
     if (p.cost == kern::kCostCensus) {
       const std::size_t o = sz(int64_t(y) * W * planes);
       isa().cost_census(cr_args, cl.data() + o, cr.data() + o, planes, scratch.data());
     } else {
-      const uint8_t* lr[9];
-      const uint8_t* rr[9];
-      const int rh = p.window_h / 2;
-      for (int j = 0; j < p.window_h; ++j) {
-        const int yy = std::clamp(y + j - rh, 0, H - 1);
-        lr[j] = left + sz(int64_t(yy) * W);
-        rr[j] = right + sz(int64_t(yy) * W);
-      }
-      isa().cost_sad(cr_args, lr, rr, p.window_w, p.window_h, sad_cols.data());
+      sad_window(y);
+      isa().sad_box(cr_args, p.window_w, sad_cols.data());
     }
     return out.data();
   }

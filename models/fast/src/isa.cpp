@@ -189,43 +189,58 @@ void cost_census(const CostRow& r, const uint8_t* left, const uint8_t* right, in
 
 // ---- SAD ----------------------------------------------------------------------------------
 
-// Column sums col(u, d) = sum_j |L(clampx(u), yj) - R(clampx(u - m - d), yj)| for
-// u in [-rw, W + rw), then the box over u. The right rows are read through a reversed, clamped
-// copy g[t] = R(clampx(vmax - t)), vmax = W - 1 + rw, so that d reads forwards.
-void cost_sad(const CostRow& r, const uint8_t* const* lrows, const uint8_t* const* rrows, int ww, int wh,
-              uint16_t* col) {
-  const int W = r.width_px, D = r.disparities, m = r.min_disparity, rw = ww / 2;
-  const int vmax = W - 1 + rw, vmin = -rw - m - (D - 1), span = vmax - vmin + 1;
-  const int cols = W + 2 * rw;
-  for (int64_t i = 0; i < static_cast<int64_t>(cols) * D; ++i) col[i] = 0;
-  uint8_t g[4096 + 2 * 9 + 2 * 256 + 16];
-  for (int j = 0; j < wh; ++j) {
-    for (int t = 0; t < span; ++t) g[t] = rrows[j][clampi(vmax - t, 0, W - 1)];
-    for (int u = -rw; u < W + rw; ++u) {
-      const int lv = lrows[j][clampi(u, 0, W - 1)];
-      const uint8_t* gr = g + (vmax - u + m);
-      uint16_t* c = col + static_cast<int64_t>(u + rw) * D;
-      for (int d = 0; d < D; ++d) c[d] = static_cast<uint16_t>(c[d] + absi(lv - static_cast<int>(gr[d])));
+// Column sums over the window's rows, kept by the caller from row to row: one image row pair
+// added (Sign +1) or taken off (Sign -1), col[u + rw][d] += Sign * |L(clampx(u)) - R(clampx(u - m - d))|
+// for u in [-rw, W + rw) and every lane d < stride (lanes d >= D are never read). The right row
+// is read through a reversed, clamped copy g[t] = R(clampx(vmax - t)), vmax = W - 1 + rw, so that
+// d reads forwards; the absolute differences are taken in bytes and widened to 16-bit lanes.
+typedef uint8_t U8Half __attribute__((vector_size(kLanes16)));
+typedef uint8_t U8HalfUnaligned __attribute__((vector_size(kLanes16), aligned(1), may_alias));
+template <int Sign>
+void sad_rows(const CostRow& r, const uint8_t* lrow, const uint8_t* rrow, int ww, uint16_t* col, uint8_t* g) {
+  const int W = r.width_px, m = r.min_disparity, rw = ww / 2, S = cost_stride(r.disparities);
+  const int vmax = W - 1 + rw, span = sad_scratch_len(W, ww, m, r.disparities);
+  for (int t = 0; t < span; ++t) g[t] = rrow[clampi(vmax - t, 0, W - 1)];
+  for (int u = -rw; u < W + rw; ++u) {
+    const U8Half lv = U8Half{} + lrow[clampi(u, 0, W - 1)];
+    const uint8_t* gr = g + (vmax - u + m);
+    uint16_t* __restrict c = col + static_cast<int64_t>(u + rw) * S;
+    for (int d0 = 0; d0 < S; d0 += kLanes16) {
+      const U8Half a = *reinterpret_cast<const U8HalfUnaligned*>(gr + d0);
+      const U8Half diff = (a > lv ? a : lv) - (a > lv ? lv : a);
+      const U16V w = __builtin_convertvector(diff, U16V);
+      store16(c + d0, Sign > 0 ? load16(c + d0) + w : load16(c + d0) - w);
     }
   }
-  const int stride = cost_stride(D);
-  uint16_t* out0 = r.out;
-  for (int d = 0; d < D; ++d) out0[d] = 0;
-  for (int i = 0; i < ww; ++i) {
-    const uint16_t* c = col + static_cast<int64_t>(i) * D;
-    for (int d = 0; d < D; ++d) out0[d] = static_cast<uint16_t>(out0[d] + c[d]);
+}
+void sad_columns(const CostRow& r, const uint8_t* left_row, const uint8_t* right_row, int ww, int sign, uint16_t* col,
+                 uint8_t* scratch) {
+  if (sign > 0)
+    sad_rows<1>(r, left_row, right_row, ww, col, scratch);
+  else
+    sad_rows<-1>(r, left_row, right_row, ww, col, scratch);
+}
+
+// One SAD cost row from the column sums: the box over ww columns, then cost_max where
+// x - m - d < 0 and kCostPad in the lanes d >= D.
+void sad_box(const CostRow& r, int ww, const uint16_t* col) {
+  const int W = r.width_px, D = r.disparities, m = r.min_disparity, S = cost_stride(D);
+  for (int d0 = 0; d0 < S; d0 += kLanes16) {
+    U16V v = U16V{};
+    for (int i = 0; i < ww; ++i) v += load16(col + static_cast<int64_t>(i) * S + d0);
+    store16(r.out + d0, v);
   }
   for (int x = 1; x < W; ++x) {
-    const uint16_t* prev = r.out + static_cast<int64_t>(x - 1) * stride;
-    const uint16_t* add = col + static_cast<int64_t>(x - 1 + ww) * D;
-    const uint16_t* sub = col + static_cast<int64_t>(x - 1) * D;
-    uint16_t* out = r.out + static_cast<int64_t>(x) * stride;
-    for (int d = 0; d < D; ++d) out[d] = static_cast<uint16_t>(prev[d] + add[d] - sub[d]);
+    const uint16_t* prev = r.out + static_cast<int64_t>(x - 1) * S;
+    const uint16_t* add = col + static_cast<int64_t>(x - 1 + ww) * S;
+    const uint16_t* sub = col + static_cast<int64_t>(x - 1) * S;
+    uint16_t* out = r.out + static_cast<int64_t>(x) * S;
+    for (int d0 = 0; d0 < S; d0 += kLanes16) store16(out + d0, load16(prev + d0) + load16(add + d0) - load16(sub + d0));
   }
   for (int x = 0; x < W; ++x) {
-    uint16_t* out = r.out + static_cast<int64_t>(x) * stride;
+    uint16_t* out = r.out + static_cast<int64_t>(x) * S;
     for (int d = clampi(x - m + 1, 0, D); d < D; ++d) out[d] = r.cost_max;
-    for (int d = D; d < stride; ++d) out[d] = kCostPad;
+    for (int d = D; d < S; ++d) out[d] = kCostPad;
   }
 }
 
@@ -239,7 +254,7 @@ namespace parallax::fast::detail {
 namespace {
 
 const IsaTable kTable = {
-    PARALLAX_FAST_ISA_NAME,  census_image,         cost_census,          cost_sad,  aggregate_row<uint16_t>,
+    PARALLAX_FAST_ISA_NAME,  census_image,         cost_census,          sad_columns, sad_box, aggregate_row<uint16_t>,
     aggregate_row<uint32_t>, select_row<uint16_t>, select_row<uint32_t>, median_row};
 
 }  // namespace

@@ -23,6 +23,11 @@ constexpr int cost_stride(int disparities) {
   return (disparities + 31) / 32 * 32;
 }
 
+// The reversed right row sad_columns reads: u - m - d over u in [-rw, W + rw), d < cost_stride(D).
+constexpr int sad_scratch_len(int width_px, int window_w, int min_disparity, int disparities) {
+  return width_px + 2 * (window_w / 2) + min_disparity + cost_stride(disparities);
+}
+
 // Byte planes of a census code of `bits` bits (bits <= 64; a 1x1 window's empty code takes one
 // plane of zeros), and the length per plane of the reversed right row that cost_census reads.
 constexpr int census_planes(int bits) {
@@ -92,10 +97,13 @@ struct IsaTable {
   // One cost row from the census planes of that row ([planes][W]) of the left and of the right
   // image. scratch: planes * census_scratch_len(W, m, D) bytes.
   void (*cost_census)(const CostRow& r, const uint8_t* left, const uint8_t* right, int planes, uint8_t* scratch);
-  // One SAD cost row y: rows[j] = the image rows clampy(y + j - rh), j < window_h, of both images.
-  // scratch: (W + 2 rw) * D uint16 column sums.
-  void (*cost_sad)(const CostRow& r, const uint8_t* const* left_rows, const uint8_t* const* right_rows, int window_w,
-                   int window_h, uint16_t* scratch);
+  // SAD in two steps. Column sums [W + 2 rw][cost_stride(D)] of the rows in the window, kept
+  // from row to row by the caller: sad_columns adds (sign +1) or takes off (sign -1) one image
+  // row pair's |L(clampx(u)) - R(clampx(u - m - d))|; scratch: sad_scratch_len bytes. sad_box
+  // makes one cost row from them (the box over window_w columns).
+  void (*sad_columns)(const CostRow& r, const uint8_t* left_row, const uint8_t* right_row, int window_w, int sign,
+                      uint16_t* col, uint8_t* scratch);
+  void (*sad_box)(const CostRow& r, int window_w, const uint16_t* col);
   void (*aggregate16)(const AggregateRow& r);
   void (*aggregate32)(const AggregateRow& r);
   void (*select16)(const SelectRow& r);
