@@ -175,7 +175,9 @@ constexpr ZeroRow kZeroRow{};
 // the next (its d -+ 1 neighbours by lane shifts; its row buffer is not written, nothing reads it:
 // only the next pixel of the same row uses it). The other paths read the previous stream row; a
 // missing predecessor reads kZeroRow with Mq = 0. Same arithmetic as sgm_step, lane for lane.
-template <int NC, bool Acc>
+// Fixed: the number of previous-row recursions when known at compile time (3: the 45, 90 and
+// 135 degree paths of a four-path pass, the common case, unrolled), else -1.
+template <int NC, bool Acc, int Fixed>
 void aggregate_sgm16(const AggregateRow& r) {
   constexpr int NV = NC / kLanes16;
   const int W = r.width_px, dir = r.dir, P = NC + 2, cs = r.cost_stride;
@@ -237,7 +239,8 @@ void aggregate_sgm16(const AggregateRow& r) {
       for (int v = 0; v < NV; ++v) l0[v] = nl[v];
       m0 = hmin16(mn);
     }
-    for (int j = 0; j < nmem; ++j) {
+    const int count = Fixed >= 0 ? Fixed : nmem;
+    for (int j = 0; j < count; ++j) {
       const RowRec& q = mem[j];
       const bool ok = i >= q.ilo && i <= q.ihi;
       const int qx = x + q.qoff;
@@ -270,10 +273,11 @@ void aggregate_row_n(const AggregateRow& r) {
     bool sgm = r.recursions > 0;
     for (int k = 0; k < r.recursions; ++k) sgm = sgm && r.rec[k].kind < kMgmPixel && r.rec[k].weight == 1;
     if (sgm) {
+      const bool four = r.recursions == 4;  // kinds 0, 45, 90, 135: one in registers, three on the row
       if (r.accumulate)
-        aggregate_sgm16<NC, true>(r);
+        four ? aggregate_sgm16<NC, true, 3>(r) : aggregate_sgm16<NC, true, -1>(r);
       else
-        aggregate_sgm16<NC, false>(r);
+        four ? aggregate_sgm16<NC, false, 3>(r) : aggregate_sgm16<NC, false, -1>(r);
       return;
     }
   }

@@ -75,6 +75,18 @@ inline int first_equal16(const U16V* v, U16V b) {
 #endif
 }
 
+// keep_or_take(nb, ob, code, lane): code where nb == ob (the old best stays), else lane.
+inline U16V keep_or_take(U16V nb, U16V ob, U16V code, U16V lane) {
+#if defined(__AVX512BW__)
+  return as_u16(_mm512_mask_blend_epi16(_mm512_cmpeq_epi16_mask(as_int(nb), as_int(ob)), as_int(lane), as_int(code)));
+#elif defined(__AVX2__)
+  return as_u16(_mm256_blendv_epi8(as_int(lane), as_int(code), _mm256_cmpeq_epi16(as_int(nb), as_int(ob))));
+#else
+  const U16V keep = __builtin_bit_cast(U16V, nb == ob);
+  return (code & keep) | (lane & ~keep);
+#endif
+}
+
 // select_row for 16-bit sums over NC lanes, a whole number of registers. The right image's
 // winners travel in registers: at pixel x lane d of the window belongs to the right pixel
 // x - m - d (t = W - 1 - x + m + d); from x to x + 1 every entry moves up one lane, a fresh one
@@ -86,10 +98,9 @@ void select_row16(const SelectRow& r) {
   constexpr int NV = NC / kLanes16;
   const int W = r.width_px, D = r.disparities, m = r.min_disparity, f = r.subpixel_bits;
   const uint16_t* S = static_cast<const uint16_t*>(r.sum);
-  U16V lane[NV], best[NV], code[NV];
+  U16V best[NV], code[NV];
   const U16V fresh_best = splat16(0xFFFF), fresh_code = U16V{};
   for (int v = 0; v < NV; ++v) {
-    lane[v] = load16(kLanes.v + v * kLanes16);
     best[v] = fresh_best;
     code[v] = fresh_code;
   }
@@ -104,8 +115,7 @@ void select_row16(const SelectRow& r) {
     if (r.lr_check) {
       for (int v = 0; v < NV; ++v) {
         const U16V nb = vmin16(sv[v], best[v]);
-        const U16V keep = __builtin_bit_cast(U16V, nb == best[v]);
-        code[v] = (code[v] & keep) | (lane[v] & ~keep);
+        code[v] = keep_or_take(nb, best[v], code[v], load16(kLanes.v + v * kLanes16));
         best[v] = nb;
       }
       r.right_code[W - 1 - x + m + NC - 1] = code[NV - 1][kLanes16 - 1];
@@ -122,7 +132,7 @@ void select_row16(const SelectRow& r) {
       const I16V lo = I16V{} + static_cast<int16_t>(dl - 1), hi = I16V{} + static_cast<int16_t>(dl + 1);
       U16V second = splat16(0xFFFF);
       for (int v = 0; v < NV; ++v) {
-        const I16V li = __builtin_bit_cast(I16V, lane[v]);
+        const I16V li = __builtin_bit_cast(I16V, load16(kLanes.v + v * kLanes16));
         const I16V out = (li < lo) | (li > hi);
         const U16V sel = __builtin_bit_cast(U16V, out);
         second = vmin16(second, (sv[v] & sel) | (fresh_best & ~sel));
