@@ -226,17 +226,18 @@ void aggregate_sgm16(const AggregateRow& r) {
       int p2 = r.p2;
       if (adapt && i > 0) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.intensity[x - dir]);
       const U16V vm = splat16(m0), mp2 = splat16(static_cast<uint16_t>(m0 + p2));
-      U16V nl[NV];
       U16V mn = splat16(0xFFFF);
-      for (int v = 0; v < NV; ++v) {
-        const U16V lo = lanes_up(v == 0 ? vguard : l0[v - 1], l0[v]);
-        const U16V hi = lanes_down(l0[v], v == NV - 1 ? vguard : l0[v + 1]);
-        const U16V t = vmin16(vmin16(l0[v], vmin16(lo, hi) + vp1), mp2);
-        nl[v] = load16(c + v * kLanes16) + (t - vm);
-        mn = vmin16(mn, nl[v]);
-        s[v] += nl[v];
+      U16V before = vguard;  // the previous register's old value (its last lane is d - 1 of lane 0)
+      for (int v = 0; v < NV; ++v) {  // in place: l0[v] is replaced once its neighbours are read
+        const U16V old = l0[v];
+        const U16V lo = lanes_up(before, old);
+        const U16V hi = lanes_down(old, v == NV - 1 ? vguard : l0[v + 1]);
+        const U16V t = vmin16(vmin16(old, vmin16(lo, hi) + vp1), mp2);
+        l0[v] = load16(c + v * kLanes16) + (t - vm);
+        mn = vmin16(mn, l0[v]);
+        s[v] += l0[v];
+        before = old;
       }
-      for (int v = 0; v < NV; ++v) l0[v] = nl[v];
       m0 = hmin16(mn);
     }
     const int count = Fixed >= 0 ? Fixed : nmem;
