@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <string>
@@ -65,6 +66,26 @@ TEST(Cli, RunWritesKittiPngAndColourAndScores) {
   EXPECT_EQ(disp.rows, 360);
   const cv::Mat colour = cv::imread((d / "d_colour.png").string(), cv::IMREAD_UNCHANGED);
   EXPECT_EQ(colour.type(), CV_8UC3);
+}
+
+// fly on one and on two threads: the same trace row for row (design flights first, each kind in
+// seed order), whatever order the flights end in.
+TEST(Cli, FlyTraceDoesNotDependOnTheThreads) {
+  const fs::path d = temp_dir("fly_threads");
+  const std::string base =
+      "fly --config " + kCensus + " --scenario corridor --seeds 2 --size 96 --time-limit-s 3 --trace-csv ";
+  const CliRun one = run_cli(base + (d / "one.csv").string() + " --threads 1");
+  const CliRun two = run_cli(base + (d / "two.csv").string() + " --threads 2");
+  ASSERT_EQ(one.status, 0) << one.output;
+  ASSERT_EQ(two.status, 0) << two.output;
+  auto read = [](const fs::path& f) {
+    std::ifstream in(f);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string a = read(d / "one.csv"), b = read(d / "two.csv");
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a.find("\ndesign,1,"), std::string::npos);
+  EXPECT_LT(a.find("\ndesign,2,"), a.find("\noracle,1,"));
 }
 
 TEST(Cli, MissingImageNamesTheFile) {

@@ -93,38 +93,10 @@ struct MavlinkOut {
   }
 };
 
-// Flies seeds first..first+`seeds`-1 at `speed` on `jobs` threads; one progress line per flight on
-// stderr.
-FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, FlightParams fp, int first, int seeds,
-                      double speed, int jobs, const char* label, std::FILE* trace,
-                      const MavlinkOut* mavlink = nullptr) {
-  fp.speed_mps = speed;
-  std::vector<FlightResult> results(static_cast<std::size_t>(seeds));
-  std::vector<double> goal_z(std::size_t(seeds), 0.0);
-  std::atomic<int> next{first};
-  std::mutex out;
-  auto worker = [&] {
-    for (int s = next++; s < first + seeds; s = next++) {
-      const Scene scene = generate_scene(sc, uint32_t(s));
-      FlightResult r = fly(cfg, sc, scene, fp, uint32_t(s));
-      const std::lock_guard<std::mutex> lock(out);
-      std::fprintf(stderr,
-                   "parallax: %s %s seed %d at %.1f m/s: %s%s%s after %.1f s (min clearance %.2f m, %d frames)\n",
-                   label, sc.name.c_str(), s, speed, to_string(r.outcome), r.hit.empty() ? "" : " with ", r.hit.c_str(),
-                   r.time_s, r.min_clearance_m, r.frames);
-      goal_z[std::size_t(s - first)] = scene.goal_z_m;
-      if (trace != nullptr)
-        for (const SentSetpoint& p : r.setpoints)
-          std::fprintf(trace, "%s,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%.3f,%.3f,%.1f,%.2f,%d\n", label, s, p.time_s,
-                       p.position_m.x(), p.position_m.z(), p.vehicle_velocity_mps.x(), p.vehicle_velocity_mps.z(),
-                       p.vehicle_yaw_rad * 180.0 / M_PI, p.velocity_mps.x(), p.velocity_mps.z(),
-                       p.yaw_rad * 180.0 / M_PI, p.free_m, p.braking ? 1 : 0);
-      results[std::size_t(s - first)] = std::move(r);
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < std::max(1, std::min(jobs, seeds)); ++j) pool.emplace_back(worker);
-  for (auto& t : pool) t.join();
+// The tally of one kind of flight over seeds first.. (results and goal_z in seed order).
+FlightTally tally_flights(const std::vector<FlightResult>& results, const std::vector<double>& goal_z, int first,
+                          const FlightParams& fp, const MavlinkOut* mavlink) {
+  const int seeds = int(results.size());
   FlightTally g;
   g.seeds = seeds;
   for (int s = first; s < first + seeds; ++s) {
@@ -150,6 +122,63 @@ FlightTally fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, Fli
     g.per_seed.push_back(flight);
   }
   return g;
+}
+
+void write_trace(std::FILE* trace, const char* label, int seed, const FlightResult& r) {
+  for (const SentSetpoint& p : r.setpoints)
+    std::fprintf(trace, "%s,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%.3f,%.3f,%.1f,%.2f,%d\n", label, seed, p.time_s,
+                 p.position_m.x(), p.position_m.z(), p.vehicle_velocity_mps.x(), p.vehicle_velocity_mps.z(),
+                 p.vehicle_yaw_rad * 180.0 / M_PI, p.velocity_mps.x(), p.velocity_mps.z(), p.yaw_rad * 180.0 / M_PI,
+                 p.free_m, p.braking ? 1 : 0);
+}
+
+struct FlightSet {
+  FlightTally design, oracle;
+  std::vector<double> goal_z;  // per seed
+};
+
+// Flies seeds first..first+`seeds`-1 at `speed`: the design's flights and, with `oracle`, the
+// oracle's (the exact disparity through the same loop), all in one pool of `jobs` threads so that
+// flights of both kinds balance one another. One progress line per flight on stderr (in the order
+// they end); the trace rows are written after the pool, design flights first and each kind in seed
+// order, so that the trace does not depend on the threads.
+FlightSet fly_seeds(const config::PipelineConfig& cfg, const Scenario& sc, FlightParams fp, int first, int seeds,
+                    double speed, int jobs, bool oracle, std::FILE* trace, const MavlinkOut* mavlink = nullptr) {
+  fp.speed_mps = speed;
+  FlightParams ofp = fp;
+  ofp.oracle = true;
+  const int kinds = oracle ? 2 : 1, tasks = kinds * seeds;
+  std::vector<FlightResult> results[2];
+  for (auto& r : results) r.resize(std::size_t(seeds));
+  FlightSet set;
+  set.goal_z.assign(std::size_t(seeds), 0.0);
+  std::atomic<int> next{0};
+  std::mutex out;
+  auto worker = [&] {
+    for (int t = next++; t < tasks; t = next++) {
+      const int kind = t / seeds, s = first + t % seeds;
+      const char* label = kind == 0 ? "design" : "oracle";
+      const Scene scene = generate_scene(sc, uint32_t(s));
+      FlightResult r = fly(cfg, sc, scene, kind == 0 ? fp : ofp, uint32_t(s));
+      const std::lock_guard<std::mutex> lock(out);
+      std::fprintf(stderr,
+                   "parallax: %s %s seed %d at %.1f m/s: %s%s%s after %.1f s (min clearance %.2f m, %d frames)\n",
+                   label, sc.name.c_str(), s, speed, to_string(r.outcome), r.hit.empty() ? "" : " with ", r.hit.c_str(),
+                   r.time_s, r.min_clearance_m, r.frames);
+      set.goal_z[std::size_t(s - first)] = scene.goal_z_m;
+      results[kind][std::size_t(s - first)] = std::move(r);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, std::min(jobs, tasks)); ++j) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
+  if (trace != nullptr)
+    for (int kind = 0; kind < kinds; ++kind)
+      for (int s = first; s < first + seeds; ++s)
+        write_trace(trace, kind == 0 ? "design" : "oracle", s, results[kind][std::size_t(s - first)]);
+  set.design = tally_flights(results[0], set.goal_z, first, fp, mavlink);
+  if (oracle) set.oracle = tally_flights(results[1], set.goal_z, first, ofp, nullptr);
+  return set;
 }
 
 void print_tally(const char* label, const FlightTally& g) {
@@ -198,7 +227,7 @@ int run_fly(const FlyOptions& o, const Invocation&) {
     double lo = 0.0, hi = 16.0;
     for (int it = 0; it < 5; ++it) {
       const double mid = (lo + hi) / 2;
-      (fly_seeds(cfg, sc, fp, o.first_seed, o.seeds, mid, jobs, "design", nullptr).collisions == 0 ? lo : hi) = mid;
+      (fly_seeds(cfg, sc, fp, o.first_seed, o.seeds, mid, jobs, false, nullptr).design.collisions == 0 ? lo : hi) = mid;
     }
     const double reaction_s = setup.reaction_s + setup.frame_s;
     const double bound = stopping_distance_speed_bound(fp.vehicle.max_accel_mps2, reaction_s, 12.0);
@@ -212,16 +241,14 @@ int run_fly(const FlyOptions& o, const Invocation&) {
   } else {
     MavlinkOut mav{o.mavlink_out, o.mavlink_frame == "body-frd" ? SetpointFrame::body_frd : SetpointFrame::local_ned,
                    setup.frame_s};
-    FlightTally design = fly_seeds(cfg, sc, fp, o.first_seed, o.seeds, o.speed, jobs, "design", trace.get(),
-                                   o.mavlink_out.empty() ? nullptr : &mav);
+    FlightSet flights = fly_seeds(cfg, sc, fp, o.first_seed, o.seeds, o.speed, jobs, !o.no_oracle, trace.get(),
+                                  o.mavlink_out.empty() ? nullptr : &mav);
+    FlightTally& design = flights.design;
+    FlightTally& oracle = flights.oracle;
     design.goal_z_m = goal_z;
     j["speed_mps"] = o.speed;
     j["design"] = design;
-    FlightTally oracle;
     if (!o.no_oracle) {
-      FlightParams ofp = fp;
-      ofp.oracle = true;
-      oracle = fly_seeds(cfg, sc, ofp, o.first_seed, o.seeds, o.speed, jobs, "oracle", trace.get());
       oracle.goal_z_m = goal_z;
       j["oracle"] = oracle;
     }
