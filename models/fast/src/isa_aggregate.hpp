@@ -227,7 +227,7 @@ void aggregate_sgm16(const AggregateRow& r) {
       if (adapt && i > 0) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.intensity[x - dir]);
       const U16V vm = splat16(m0), mp2 = splat16(static_cast<uint16_t>(m0 + p2));
       U16V mn = splat16(0xFFFF);
-      U16V before = vguard;  // the previous register's old value (its last lane is d - 1 of lane 0)
+      U16V before = vguard;           // the previous register's old value (its last lane is d - 1 of lane 0)
       for (int v = 0; v < NV; ++v) {  // in place: l0[v] is replaced once its neighbours are read
         const U16V old = l0[v];
         const U16V lo = lanes_up(before, old);

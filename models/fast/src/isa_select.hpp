@@ -75,6 +75,33 @@ inline int first_equal16(const U16V* v, U16V b) {
 #endif
 }
 
+// The sub-pixel offset of docs §5 from the neighbours' excess over the minimum,
+// a = S(d - 1) - S(d) and b = S(d + 1) - S(d), in 1 / 2^f pixel.
+inline int subpixel_offset(uint64_t a, uint64_t b, int f) {
+  if (a + b == 0) return 0;
+  const uint64_t diff = a > b ? a - b : b - a;
+  const uint64_t t = (diff << f) / (a + b);
+  const int mag = static_cast<int>((t + 1) >> 1);
+  return a > b ? mag : -mag;
+}
+
+// The row's codes from left_code / offset and, with the LR check, the right image's winners
+// right_code[W - 1 - xr].
+inline void write_codes(const SelectRow& r) {
+  const int W = r.width_px, m = r.min_disparity, f = r.subpixel_bits;
+  const uint16_t invalid = static_cast<uint16_t>(r.disparities << f);
+  for (int x = 0; x < W; ++x) {
+    const int dl = r.left_code[x];
+    bool valid = dl >= 0;
+    if (valid && r.lr_check) {
+      const int xr = x - m - dl;
+      const int dr = r.right_code[W - 1 - xr];
+      valid = absi(dl - dr) <= r.lr_tolerance;
+    }
+    r.out[x] = valid ? static_cast<uint16_t>((dl << f) + r.offset[x]) : invalid;
+  }
+}
+
 // keep_or_take(nb, ob, code, lane): code where nb == ob (the old best stays), else lane.
 inline U16V keep_or_take(U16V nb, U16V ob, U16V code, U16V lane) {
 #if defined(__AVX512BW__)
@@ -140,35 +167,15 @@ void select_row16(const SelectRow& r) {
       if (dl - 1 > 0 || dl + 2 < D)
         valid = !(static_cast<uint64_t>(hmin16(second)) * 100u < static_cast<uint64_t>(100 + r.uniqueness_pct) * sl);
     }
-    int off = 0;
-    if (valid && f > 0 && dl > 0 && dl < D - 1) {
-      const uint64_t a = s[dl - 1] - sl, b = s[dl + 1] - sl;
-      if (a + b > 0) {
-        const uint64_t diff = a > b ? a - b : b - a;
-        const uint64_t t = (diff << f) / (a + b);
-        const int mag = static_cast<int>((t + 1) >> 1);
-        off = a > b ? mag : -mag;
-      }
-    }
     r.left_code[x] = valid ? dl : -1;
-    r.offset[x] = off;
+    r.offset[x] = valid && f > 0 && dl > 0 && dl < D - 1 ? subpixel_offset(s[dl - 1] - sl, s[dl + 1] - sl, f) : 0;
   }
   if (r.lr_check) {  // after x = W - 1 the shifted window's lane d holds t = m + d - 1; lane 0 is fresh
     uint16_t rest[NC];
     for (int v = 0; v < NV; ++v) store16(rest + v * kLanes16, code[v]);
     for (int d = 1; d < NC; ++d) r.right_code[m - 1 + d] = rest[d];
   }
-  const uint16_t invalid = static_cast<uint16_t>(D << f);
-  for (int x = 0; x < W; ++x) {
-    const int dl = r.left_code[x];
-    bool valid = dl >= 0;
-    if (valid && r.lr_check) {
-      const int xr = x - m - dl;
-      const int dr = r.right_code[W - 1 - xr];
-      valid = absi(dl - dr) <= r.lr_tolerance;
-    }
-    r.out[x] = valid ? static_cast<uint16_t>((dl << f) + r.offset[x]) : invalid;
-  }
+  write_codes(r);
 }
 
 template <class T>
@@ -220,30 +227,10 @@ void select_row(const SelectRow& r) {
       if (dl - 1 > 0 || dl + 2 < D)
         valid = !(static_cast<uint64_t>(second) * 100u < static_cast<uint64_t>(100 + r.uniqueness_pct) * sl);
     }
-    int off = 0;
-    if (valid && f > 0 && dl > 0 && dl < D - 1) {
-      const uint64_t a = s[dl - 1] - sl, b = s[dl + 1] - sl;
-      if (a + b > 0) {
-        const uint64_t diff = a > b ? a - b : b - a;
-        const uint64_t t = (diff << f) / (a + b);
-        const int mag = static_cast<int>((t + 1) >> 1);
-        off = a > b ? mag : -mag;
-      }
-    }
     r.left_code[x] = valid ? dl : -1;
-    r.offset[x] = off;
+    r.offset[x] = valid && f > 0 && dl > 0 && dl < D - 1 ? subpixel_offset(s[dl - 1] - sl, s[dl + 1] - sl, f) : 0;
   }
-  const uint16_t invalid = static_cast<uint16_t>(D << f);
-  for (int x = 0; x < W; ++x) {
-    const int dl = r.left_code[x];
-    bool valid = dl >= 0;
-    if (valid && r.lr_check) {
-      const int xr = x - m - dl;
-      const int dr = r.right_code[W - 1 - xr];
-      valid = absi(dl - dr) <= r.lr_tolerance;
-    }
-    r.out[x] = valid ? static_cast<uint16_t>((dl << f) + r.offset[x]) : invalid;
-  }
+  write_codes(r);
 }
 
 // ---- median -------------------------------------------------------------------------------
