@@ -191,32 +191,13 @@ PassPlan plan_pass(unsigned stream_mask, bool mgm) {
   return pl;
 }
 
-// Batcher's odd-even merge sort over n = 2^k >= taps inputs, pruned to the comparators that
-// decide the output of rank `rank`; comparators touching the padding (inputs >= taps, +inf) are
-// no-ops and left out.
-std::vector<int16_t> median_network(int taps, int rank) {
-  int n = 1;
-  while (n < taps) n *= 2;
-  std::vector<std::pair<int, int>> all;
-  for (int p = 1; p < n; p *= 2)
-    for (int k = p; k >= 1; k /= 2)
-      for (int j = k % p; j <= n - 1 - k; j += 2 * k)
-        for (int i = 0; i <= std::min(k - 1, n - j - k - 1); ++i)
-          if ((i + j) / (2 * p) == (i + j + k) / (2 * p)) all.emplace_back(i + j, i + j + k);
-  std::vector<bool> needed(sz(n), false);
-  needed[sz(rank)] = true;
-  std::vector<std::pair<int, int>> kept;
-  for (auto it = all.rbegin(); it != all.rend(); ++it) {
-    if (it->second >= taps) continue;
-    if (needed[sz(it->first)] || needed[sz(it->second)]) {
-      kept.push_back(*it);
-      needed[sz(it->first)] = needed[sz(it->second)] = true;
-    }
-  }
+// The median's network (detail::make_median_net) as the (i, j) pair list median_row takes.
+std::vector<int16_t> median_network(int taps) {
+  const detail::MedianNet net = detail::make_median_net(taps);
   std::vector<int16_t> pairs;
-  for (auto it = kept.rbegin(); it != kept.rend(); ++it) {
-    pairs.push_back(static_cast<int16_t>(it->first));
-    pairs.push_back(static_cast<int16_t>(it->second));
+  for (int c = 0; c < net.n; ++c) {
+    pairs.push_back(net.lo[c]);
+    pairs.push_back(net.hi[c]);
   }
   return pairs;
 }
@@ -256,7 +237,7 @@ struct Engine::Impl {
   template <class T>
   std::vector<uint16_t> run_rows(CostRows& src, const uint8_t* left, const kern::StereoParams& p);
   // The k x k median in place (k = p.median; 0 and 1 leave the codes), the clamp border, by the
-  // pruned sorting network of median_network(): ref::median_filter's codes.
+  // pruned sorting network of detail::make_median_net(): ref::median_filter's codes.
   void median(std::vector<uint16_t>& codes, const kern::StereoParams& p);
 };
 
@@ -414,7 +395,7 @@ void Engine::Impl::median(std::vector<uint16_t>& codes, const kern::StereoParams
   if (k <= 1) return;
   const int W = p.width_px, H = p.height_px, rk = k / 2, rank = (k * k - 1) / 2;
   std::vector<int16_t>& net = network[k];
-  if (net.empty()) net = median_network(k * k, rank);
+  if (net.empty()) net = median_network(k * k);
   taps.resize(sz(int64_t(k) * k * W));
   std::vector<uint16_t> out(codes.size());
   const uint16_t* rows[7];

@@ -88,6 +88,53 @@ struct CostRow {
   uint16_t* out = nullptr;  // [W][cost_stride(D)], padding lanes kCostPad
 };
 
+// The median's comparator network: Batcher's odd-even merge sort over n = 2^k >= taps inputs,
+// pruned to the comparators (lo[c], hi[c]) (min to lo) that decide the output of rank
+// (taps - 1) / 2; comparators touching the padding (inputs >= taps, +inf) are left out. taps <=
+// 64 (windows up to 7 x 7, 319 comparators). constexpr and without the standard library: the
+// engine builds its run-time list from it and isa.cpp compiles it in for the common windows, so
+// both run the same network.
+struct MedianNet {
+  int16_t lo[512] = {}, hi[512] = {};
+  int n = 0;
+};
+constexpr MedianNet make_median_net(int taps) {
+  const int rank = (taps - 1) / 2;
+  int n = 1;
+  while (n < taps) n *= 2;
+  int16_t all_lo[1024] = {}, all_hi[1024] = {};
+  int count = 0;
+  for (int p = 1; p < n; p *= 2)
+    for (int k = p; k >= 1; k /= 2)
+      for (int j = k % p; j <= n - 1 - k; j += 2 * k)
+        for (int i = 0; i <= (k - 1 < n - j - k - 1 ? k - 1 : n - j - k - 1); ++i)
+          if ((i + j) / (2 * p) == (i + j + k) / (2 * p)) {
+            all_lo[count] = static_cast<int16_t>(i + j);
+            all_hi[count] = static_cast<int16_t>(i + j + k);
+            ++count;
+          }
+  bool needed[64] = {};
+  needed[rank] = true;
+  MedianNet net;
+  for (int c = count - 1; c >= 0; --c) {  // backwards from the output, kept in reverse order
+    if (all_hi[c] >= taps) continue;
+    if (needed[all_lo[c]] || needed[all_hi[c]]) {
+      net.lo[net.n] = all_lo[c];
+      net.hi[net.n] = all_hi[c];
+      ++net.n;
+      needed[all_lo[c]] = needed[all_hi[c]] = true;
+    }
+  }
+  for (int c = 0; c < net.n / 2; ++c) {  // into network order
+    const int16_t l = net.lo[c], h = net.hi[c];
+    net.lo[c] = net.lo[net.n - 1 - c];
+    net.hi[c] = net.hi[net.n - 1 - c];
+    net.lo[net.n - 1 - c] = l;
+    net.hi[net.n - 1 - c] = h;
+  }
+  return net;
+}
+
 struct IsaTable {
   const char* name;
   // Census codes of a whole image (docs §2), kind = kern::CensusKind, as byte planes:

@@ -235,50 +235,8 @@ void select_row(const SelectRow& r) {
 
 // ---- median -------------------------------------------------------------------------------
 
-// The pruned Batcher network of engine.cpp's median_network(), built at compile time for the
-// common windows so that the network runs on registers: for k x k taps, the comparators (i, j)
-// (min to i) that decide the output of rank (k * k - 1) / 2. Any selection network gives the
-// same median; this one is the engine's own, comparator for comparator.
-struct MedianNet {
-  int16_t lo[256] = {}, hi[256] = {};
-  int n = 0;
-};
-constexpr MedianNet make_median_net(int taps) {
-  const int rank = (taps - 1) / 2;
-  int n = 1;
-  while (n < taps) n *= 2;
-  int16_t all_lo[1024] = {}, all_hi[1024] = {};
-  int count = 0;
-  for (int p = 1; p < n; p *= 2)
-    for (int k = p; k >= 1; k /= 2)
-      for (int j = k % p; j <= n - 1 - k; j += 2 * k)
-        for (int i = 0; i <= tmin(k - 1, n - j - k - 1); ++i)
-          if ((i + j) / (2 * p) == (i + j + k) / (2 * p)) {
-            all_lo[count] = static_cast<int16_t>(i + j);
-            all_hi[count] = static_cast<int16_t>(i + j + k);
-            ++count;
-          }
-  bool needed[64] = {};
-  needed[rank] = true;
-  int16_t kept_lo[256] = {}, kept_hi[256] = {};
-  int kept = 0;
-  for (int c = count - 1; c >= 0; --c) {
-    if (all_hi[c] >= taps) continue;
-    if (needed[all_lo[c]] || needed[all_hi[c]]) {
-      kept_lo[kept] = all_lo[c];
-      kept_hi[kept] = all_hi[c];
-      ++kept;
-      needed[all_lo[c]] = needed[all_hi[c]] = true;
-    }
-  }
-  MedianNet net;
-  for (int c = 0; c < kept; ++c) {
-    net.lo[c] = kept_lo[kept - 1 - c];
-    net.hi[c] = kept_hi[kept - 1 - c];
-  }
-  net.n = kept;
-  return net;
-}
+// The median network (isa.hpp: make_median_net) as a constant per window, so that it runs on
+// registers.
 template <int K>
 struct MedianNetOf {
   static constexpr MedianNet net = make_median_net(K * K);
