@@ -427,6 +427,7 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
   }
   sum.evaluated += evaluated;
   sum.design_frames += design_frames;
+  sum.threads = jobs;
   sum.skipped += skipped;
   sum.invalid += invalid;
   sum.failed += failed;

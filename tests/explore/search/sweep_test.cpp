@@ -137,6 +137,7 @@ TEST(SweepRun, InvalidDesignsAreStoredWithTheReasonAndRerunsSkip) {
   EXPECT_EQ(first.total, 2);
   EXPECT_EQ(first.invalid, 1);
   EXPECT_EQ(first.design_frames, 1) << "one valid design x one frame; the invalid one scores none";
+  EXPECT_EQ(first.threads, 2);
   const auto rows = store.designs("t");
   ASSERT_EQ(rows.size(), 2u);
   int ok = 0;

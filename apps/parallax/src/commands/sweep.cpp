@@ -8,14 +8,12 @@
 #include <mpi.h>
 #endif
 
-#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "commands.hpp"
@@ -150,12 +148,11 @@ int run_sweep_command(const SweepOptions& o, const Invocation& inv) {
                          : "",
       sum.total, sum.evaluated + sum.invalid, sum.invalid, sum.failed, sum.skipped, db_path.c_str(), sum.seconds);
   // The throughput figure (docs/benchmarks.md): design-frames scored per hour of this run.
-  if (sum.design_frames > 0 && sum.seconds > 0) {
-    const int threads = ro.jobs > 0 ? ro.jobs : std::max(1, int(std::thread::hardware_concurrency()));
+  if (sum.design_frames > 0 && sum.seconds > 0)
     std::printf("%lld design-frames in %.1f s: %.0f design-frames per hour on %d thread%s; peak memory %.0f MiB\n",
                 static_cast<long long>(sum.design_frames), sum.seconds,
-                double(sum.design_frames) * 3600.0 / sum.seconds, threads, threads == 1 ? "" : "s", peak_rss_mib());
-  }
+                double(sum.design_frames) * 3600.0 / sum.seconds, sum.threads, sum.threads == 1 ? "" : "s",
+                peak_rss_mib());
   for (const auto& p : sum.first_problems) std::fprintf(stderr, "parallax: %s\n", p.c_str());
   const bool all_failed = sum.total > 0 && sum.skipped == 0 && sum.invalid + sum.failed >= sum.evaluated + sum.invalid;
 #ifdef PARALLAX_HAVE_MPI

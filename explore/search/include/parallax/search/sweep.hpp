@@ -192,6 +192,7 @@ struct SweepRunOptions {
 struct SweepSummary {
   std::vector<std::string> notes;  // for the user (e.g. the sweep's measurement changed), also on stderr
   int total = 0, evaluated = 0, skipped = 0, invalid = 0, failed = 0;
+  int threads = 0;            // the threads the designs were evaluated on
   int64_t design_frames = 0;  // frames scored over the designs this run evaluated (one design x one frame each)
   double seconds = 0.0;
   // The first reasons of invalid or failed designs ("design HASH: reason"), at most five.
