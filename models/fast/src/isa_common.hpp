@@ -11,10 +11,14 @@
 #if defined(__AVX2__)
 // GCC 12 warns inside its own AVX-512 headers (a vector left undefined on purpose, GCC bug
 // 105593); the warning is about the header's code, not this file's.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
+#else
+#include <immintrin.h>
+#endif
 #else
 #include <emmintrin.h>
 #endif
