@@ -71,6 +71,20 @@ std::string probe_key(const kern::StereoParams& p) {
   return k;
 }
 
+// The probe's parameters: the design's, with the penalties replaced by canonical ones of the
+// same register widths (P2 all ones in its width, P1 a quarter of it). P1 and P2 are values the
+// aggregation adds, never an index or a trip count: every RAM's banks and accesses per firing are
+// the same whatever they are, and a sweep over penalties probes each structure once, whatever
+// order its designs arrive in. Register files' counts may follow the data (tests/sim/accesses_test.cpp,
+// CountedII.TheProbeFrameCountsAsALargerFrame); they force no II.
+kern::StereoParams probe_params(const kern::StereoParams& p) {
+  kern::StereoParams q = p;
+  q.p2 = int(kern::p2_register_max(p));
+  q.p1 = q.p2 / 4;
+  if (kern::aggregate_bits(q) != kern::aggregate_bits(p) || !func_param_errors(q).empty()) return p;
+  return q;
+}
+
 std::vector<kern::MemoryAccesses> count_probe(const kern::StereoParams& p) {
   kern::StereoParams q = p;
   const int rows = std::max({p.window_h, p.median, 3});
@@ -103,13 +117,14 @@ std::vector<kern::MemoryAccesses> probe_memory_accesses(const kern::StereoParams
   if (!errors.empty()) detail::internal_error("probe_memory_accesses: " + errors.front());
   static std::mutex mutex;
   static std::map<std::string, std::vector<kern::MemoryAccesses>> memo;
-  const std::string key = probe_key(p);
+  const kern::StereoParams q = probe_params(p);
+  const std::string key = probe_key(q);
   {
     const std::lock_guard<std::mutex> lock(mutex);
     const auto it = memo.find(key);
     if (it != memo.end()) return it->second;
   }
-  std::vector<kern::MemoryAccesses> counted = count_probe(p);
+  std::vector<kern::MemoryAccesses> counted = count_probe(q);
   const std::lock_guard<std::mutex> lock(mutex);
   return memo.emplace(key, std::move(counted)).first->second;
 }

@@ -127,5 +127,35 @@ TEST(CountedII, TheProbeFrameCountsAsALargerFrame) {
   }
 }
 
+TEST(CountedII, PenaltiesChangeNoMemorysCounts) {
+  // The probe is shared by designs that differ only in P1/P2 of the same widths (accesses.cpp,
+  // probe_params): on a counted frame, two such designs count every RAM alike, and every memory
+  // forces the same II.
+  for (const Design& d : {designs()[0], designs()[4]}) {
+    kern::StereoParams a = params(d, 160, 48), b = a;
+    a.p1 = 5;
+    a.p2 = 40;
+    b.p1 = 17;
+    b.p2 = 63;
+    ASSERT_EQ(kern::aggregate_bits(a), kern::aggregate_bits(b));
+    const nlohmann::json ja = count(a, 3), jb = count(b, 3);
+    ASSERT_EQ(ja.at("stages").size(), jb.at("stages").size());
+    int compared = 0;
+    for (std::size_t i = 0; i < ja.at("stages").size(); ++i) {
+      const auto &sa = ja.at("stages")[i], &sb = jb.at("stages")[i];
+      EXPECT_EQ(sa.at("ii_declared"), sb.at("ii_declared")) << d.name << " " << sa.at("name");
+      ASSERT_EQ(sa.at("memories").size(), sb.at("memories").size()) << d.name << " " << sa.at("name");
+      for (std::size_t k = 0; k < sa.at("memories").size(); ++k) {
+        const auto &ma = sa.at("memories")[k], &mb = sb.at("memories")[k];
+        EXPECT_EQ(ma.at("ii_forced"), mb.at("ii_forced")) << d.name << " " << ma.at("name");
+        if (ma.at("kind") == "registers") continue;
+        EXPECT_EQ(ma, mb) << d.name;
+        ++compared;
+      }
+    }
+    EXPECT_GE(compared, 4) << d.name;
+  }
+}
+
 }  // namespace
 }  // namespace parallax::sim

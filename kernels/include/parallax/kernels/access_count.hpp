@@ -235,7 +235,9 @@ class AccessTally {
     }
     const int site = b.sites[std::size_t(copy)];
     Site& st = sites_[std::size_t(site)];
-    const int bank = bank_of(flat);
+    int bank = 0;
+    long word = 0;
+    locate(flat, bank, word);
     if (bank != st.last_bank) {
       st.banks.insert(bank);
       st.last_bank = bank;
@@ -244,7 +246,6 @@ class AccessTally {
     // access of the word (the lanes of an ARRAY_RESHAPE): a copy that, in some firing, is the
     // first of its place to address its word is an access; one that only ever follows another
     // copy to the same word is part of that access.
-    const long word = word_of(flat);
     if (std::find(b.words.begin(), b.words.end(), word) == b.words.end()) {
       b.words.push_back(word);
       st.leads = true;
@@ -329,8 +330,7 @@ class AccessTally {
   // the compiler's literals, compared by address), starting with the last one found.
   int base_site(const char* file, int line, bool write) {
     const int n = int(bases_.size());
-    for (int k = 0; k < n; ++k) {
-      const int i = (last_base_ + k) % n;
+    for (int k = 0, i = last_base_; k < n; ++k, i = i + 1 == n ? 0 : i + 1) {
       const BaseSite& b = bases_[std::size_t(i)];
       if (b.line == line && b.write == write && b.file == file) return last_base_ = i;
     }
@@ -340,45 +340,44 @@ class AccessTally {
 
   // The coordinates of element `flat` (row-major).
   void coordinates(long flat, long* idx) const {
+    if (rank_ == 1) {
+      idx[0] = flat;
+      return;
+    }
     for (int k = rank_ - 1; k >= 0; --k) {
       idx[k] = flat % dims_[k];
       flat /= dims_[k];
     }
   }
 
-  // The word of element `flat` (row-major) after the reshapes: its index with each reshaped
-  // dimension's coordinate divided by the factor.
-  long word_of(long flat) const {
+  // Where element `flat` (row-major) lives: its word after the reshapes (its index with each
+  // reshaped dimension's coordinate divided by the factor) and its bank (per dimension, the
+  // partition's bank coordinate of that word: the partition splits words).
+  void locate(long flat, int& bank_out, long& word_out) const {
     long idx[kMaxRank];
     coordinates(flat, idx);
-    long word = 0;
-    for (int k = 0; k < rank_; ++k) word = word * ((dims_[k] + reshape_[k] - 1) / reshape_[k]) + idx[k] / reshape_[k];
-    return word;
-  }
-
-  // The bank of element `flat` (row-major): per dimension, the partition's bank coordinate.
-  int bank_of(long flat) const {
-    long idx[kMaxRank];
-    coordinates(flat, idx);
-    long bank = 0;
+    long word = 0, bank = 0;
     for (int k = 0; k < rank_; ++k) {
-      const long word = idx[k] / reshape_[k];  // the partition splits words
-      const int words = (dims_[k] + reshape_[k] - 1) / reshape_[k];
+      const int r = reshape_[k];
+      const long w = r == 1 ? idx[k] : idx[k] / r;
+      const int words = r == 1 ? dims_[k] : (dims_[k] + r - 1) / r;
+      word = word * words + w;
       int n = 1, c = 0;
       if (part_[k] == kPartitionComplete) {
         n = words;
-        c = int(word);
+        c = int(w);
       } else if (part_[k] == kPartitionCyclic) {
         n = factor_[k];
-        c = int(word % factor_[k]);
+        c = int(w % factor_[k]);
       } else if (part_[k] == kPartitionBlock) {
         n = factor_[k];
         const int size = (words + factor_[k] - 1) / factor_[k];
-        c = int(word / size);
+        c = int(w / size);
       }
       bank = bank * n + c;
     }
-    return int(bank);
+    bank_out = int(bank);
+    word_out = word;
   }
 
   void reset_counts() {
