@@ -3,8 +3,10 @@
 #include "parallax/sim/cycle.hpp"
 
 #include <algorithm>
+#include <future>
 #include <map>
 #include <memory>
+#include <thread>
 
 #include "design_dispatch.hpp"
 #include "engine.hpp"
@@ -74,25 +76,32 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
     run_coupled(left, right, p, setup, rep);
     return rep;
   }
-  run_control(left, right, p, setup, rep);
-  rep.codes.width_px = p.width_px;
-  rep.codes.height_px = p.height_px;
-  rep.codes.disparities = p.disparities;
-  rep.codes.min_disparity = p.min_disparity;
-  rep.codes.subpixel_bits = p.subpixel_bits;
-  if (rep.deadlock) {  // no frame leaves a deadlocked pipeline
-    rep.codes.code.assign(std::size_t(p.width_px) * std::size_t(p.height_px), 0);
-    return rep;
-  }
+  // The codes: the func run of the same kernels (on the rectified frames when the design
+  // rectifies); independent of the schedule, so it may run beside it.
   const bool rectify =
       opt.rectify.mode != kern::kRectifyNone && opt.rectify_map_left != nullptr && opt.rectify_map_right != nullptr;
-  if (rectify) {
+  auto codes_of_frame = [&]() -> DisparityCodes {
+    if (!rectify) return run_func(left, right, p);
     const RectifyOutput rl = run_rectify_func(left, *opt.rectify_map_left, opt.rectify);
     const RectifyOutput rr = run_rectify_func(right, *opt.rectify_map_right, opt.rectify);
-    rep.codes = run_func(rl.image, rr.image, p);
+    return run_func(rl.image, rr.image, p);
+  };
+  const int threads = opt.threads > 0 ? opt.threads : (std::thread::hardware_concurrency() >= 2 ? 2 : 1);
+  DisparityCodes codes;
+  if (threads >= 2) {
+    require_valid(p);  // before the second thread starts: an invalid design aborts on this one
+    std::future<DisparityCodes> func = std::async(std::launch::async, codes_of_frame);
+    run_control(left, right, p, setup, rep);
+    codes = func.get();
   } else {
-    rep.codes = run_func(left, right, p);
+    run_control(left, right, p, setup, rep);
+    if (!rep.deadlock) codes = codes_of_frame();
   }
+  if (rep.deadlock) {  // no frame leaves a deadlocked pipeline
+    codes = DisparityCodes{p.width_px, p.height_px, p.disparities, p.min_disparity, p.subpixel_bits, {}};
+    codes.code.assign(std::size_t(p.width_px) * std::size_t(p.height_px), 0);
+  }
+  rep.codes = std::move(codes);
   return rep;
 }
 

@@ -641,6 +641,29 @@ TEST(Deadlock, FastForwardKeepsTheDiagnosis) {
   expect_same_report(fast, slow, "truncated input");
 }
 
+// The control-path schedule and the func run of the codes side by side (CycleOptions::threads
+// 2) give the report and the codes of one thread, for a one-pass, a two-pass and a deadlocked
+// design.
+TEST(CycleEquiv, TwoThreadsGiveTheOneThreadRun) {
+  for (int variant = 0; variant < 3; ++variant) {
+    StereoParams p = params(33, 24, 32, 8, variant == 1 ? kern::kAllPaths : kern::kForwardPaths);
+    const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, 4100u + unsigned(variant), 5);
+    sim::CycleOptions one = one_pair_per_cycle();
+    if (variant == 2) one.truncate_input_px = 33 * 10 + 3;
+    one.threads = 1;
+    sim::CycleOptions two = one;
+    two.threads = 2;
+    const sim::CycleReport a = sim::run_cycle(sp.left, sp.right, p, one);
+    const sim::CycleReport b = sim::run_cycle(sp.left, sp.right, p, two);
+    const std::string what = describe(p) + " variant " + std::to_string(variant);
+    EXPECT_EQ(a.deadlock, variant == 2) << what;
+    expect_same_report(a, b, what + " (1 vs 2 threads)");
+    EXPECT_EQ(a.codes.code, b.codes.code) << what;
+    EXPECT_EQ(a.codes.width_px, b.codes.width_px) << what;
+    EXPECT_EQ(a.codes.code.size(), std::size_t(p.width_px) * std::size_t(p.height_px)) << what;
+  }
+}
+
 // run_timing is the report of run_cycle without the codes, in both modes; and on designs of
 // every shape (two passes, SAD, camera input, shallow FIFOs, port conflicts) the control-path
 // schedule and the coupled run agree on every figure.

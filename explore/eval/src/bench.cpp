@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 #include <functional>
 #include <stdexcept>
 
@@ -110,8 +111,14 @@ std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Ma
   const kern::StereoParams params = cfg.stereo_params(left.cols, left.rows);
   const sim::GreyImage grey_l{left.cols, left.rows, std::vector<uint8_t>(left.datastart, left.dataend)};
   const sim::GreyImage grey_r{right.cols, right.rows, std::vector<uint8_t>(right.datastart, right.dataend)};
-  add("parallax cycle " + cfg.name,
-      [&] { (void)sim::run_cycle(grey_l, grey_r, params, cycle_options(cfg, cfg.clock_mhz)); });
+  auto cycle_run = [&](int threads) {
+    sim::CycleOptions opt = cycle_options(cfg, cfg.clock_mhz);
+    opt.threads = threads;
+    (void)sim::run_cycle(grey_l, grey_r, params, opt);
+  };
+  add("parallax cycle " + cfg.name, [&] { cycle_run(1); });
+  if (std::thread::hardware_concurrency() >= 2)  // what `parallax sim` does by default
+    add("  schedule beside func (2 threads)", [&] { cycle_run(2); });
   add("  its timing run alone",
       [&] { (void)sim::run_timing(grey_l, grey_r, params, cycle_options(cfg, cfg.clock_mhz)); });
   add("parallax cycle, coupled", [&] {

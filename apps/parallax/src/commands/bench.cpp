@@ -35,7 +35,7 @@ struct BenchOptions {
 // ratios: median to median against MODE_HH4 (the accuracy peer) and MODE_SGBM (the speed peer),
 // and min to min against MODE_SGBM (less sensitive to other load on the machine).
 void print_bench_text(const std::vector<BenchRow>& rows, const cv::Mat& l, int iterations) {
-  std::printf("%dx%d pair, %d runs per method, one thread each\n", l.cols, l.rows, iterations);
+  std::printf("%dx%d pair, %d runs per method, one thread each unless the row says\n", l.cols, l.rows, iterations);
   std::printf("%-44s %10s %8s %9s %10s %7s %8s %9s\n", "method", "median_ms", "min_ms", "peak_MiB", "extra_MiB",
               "vs_HH4", "vs_SGBM", "min_vs_SGBM");
   for (const auto& row : rows)

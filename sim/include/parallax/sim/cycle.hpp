@@ -73,6 +73,11 @@ struct CycleOptions {
   // Let the control-path schedule advance whole rows at once once they repeat exactly (see
   // docs/simulator.md); false simulates every firing. Same report either way (tested).
   bool fast_forward = true;
+  // Threads of the control-path run (coupled false): 2 runs the schedule and the func run of the
+  // codes side by side (they share no state: the schedule never reads a pixel), 1 one after the
+  // other; 0 (default) 2 where the machine has two hardware threads. Same report either way
+  // (tested).
+  int threads = 0;
   // Test hook: the source stops after this many pixels (a frame that never completes).
   int64_t truncate_input_px = -1;
   // VCD trace of FIFO occupancies and stage valid/stall signals for cycles [vcd_from, vcd_to).

@@ -24,9 +24,11 @@ struct BenchRow {
 };
 
 // Runs each method `iterations` times in its own forked process (so that peak memory is its
-// own), one thread each. Rows: the design's func run, the func run at the design's PU (the
-// cycle model's granularity), its cycle run (at the config's clock), OpenCV MODE_HH4, OpenCV
-// MODE_SGBM. Ratios are to MODE_HH4 (the accuracy peer) and to MODE_SGBM (the speed peer).
+// own), one thread each but one row. Rows: the design's func run, the func run at the design's
+// PU (the cycle model's granularity), its cycle run (at the config's clock), on machines of two
+// hardware threads the cycle run as `parallax sim` runs it (schedule and func run side by side,
+// CycleOptions::threads), OpenCV MODE_HH4, OpenCV MODE_SGBM. Ratios are to MODE_HH4 (the accuracy peer) and to
+// MODE_SGBM (the speed peer).
 std::vector<BenchRow> bench_pair(const config::PipelineConfig& cfg, const cv::Mat& left_grey, const cv::Mat& right_grey,
                                  int iterations);
 
