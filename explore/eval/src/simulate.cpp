@@ -71,6 +71,7 @@ SimulationResult simulate(const config::PipelineConfig& cfg, const cv::Mat& left
   sim::CycleOptions opt = cycle_options(cfg, clock_mhz);
   opt.coupled = so.coupled;
   opt.fast_forward = so.fast_forward;
+  opt.threads = so.threads;
   opt.vcd_path = so.vcd_path;
   opt.vcd_from = so.vcd_from;
   opt.vcd_to = so.vcd_to;

@@ -39,7 +39,7 @@ using namespace parallax::reports;
 struct SimOptions {
   ConfigArgs cfg;
   std::string left, right, out, vcd, vcd_cycles, write_config, html, accesses, device = "XCZU3EG";
-  int clock_mhz = 0;
+  int clock_mhz = 0, threads = 0;
   bool json = false, no_sizing = false, coupled = false, every_firing = false;
   double cal_latency = 0, cal_fps = 0;
 };
@@ -306,6 +306,7 @@ int run_sim(const SimOptions& o, const Invocation& inv) {
   so.size_fifos = !o.no_sizing;
   so.coupled = o.coupled;
   so.fast_forward = !o.every_firing;
+  so.threads = o.threads;
   so.vcd_path = o.vcd;
   SimulationResult result = simulate(cfg, l, r, so);
   if (!o.accesses.empty()) write_accesses(o.accesses, cfg, clock, l, r);
@@ -344,6 +345,10 @@ Command add_sim(CLI::App& app) {
       ->check(OutputFile());
   simc->add_option("--device", o->device, "Device for utilisation and fit (" + res::device_names() + ")")
       ->capture_default_str();
+  simc->add_option("--threads", o->threads,
+                   "2: the schedule and the func run of the codes side by side, 1: one after the other (same "
+                   "report; default 2 where the machine has two hardware threads)")
+      ->check(InRange(1, 2));
   simc->add_flag("--every-firing", o->every_firing,
                  "Simulate every firing instead of applying rows that repeat exactly at once (same report, slower)");
   simc->add_option("--vcd", o->vcd, "Write FIFO occupancies and stage valid/stall signals as VCD (GTKWave)")

@@ -35,6 +35,7 @@ struct SimulateOptions {
   bool size_fifos = false;   // also run with unbounded FIFOs to find the smallest stall-free depths
   bool coupled = false;      // fire the kernels' datapath inside the schedule (sim::CycleOptions::coupled)
   bool fast_forward = true;  // apply rows that repeat exactly at once (sim::CycleOptions::fast_forward)
+  int threads = 0;           // sim::CycleOptions::threads (0: 2 where there are two hardware threads)
   std::string vcd_path;      // VCD of cycles [vcd_from, vcd_to) when not empty
   int64_t vcd_from = 0, vcd_to = 0;
 };
