@@ -64,6 +64,12 @@ inline U16V load16(const uint16_t* p) {
 inline void store16(uint16_t* p, U16V v) {
   *reinterpret_cast<U16VUnaligned*>(p) = v;
 }
+// dst[0, n) = src[0, n) (no overlap), whole registers then the rest.
+inline void copy_u16(uint16_t* __restrict dst, const uint16_t* __restrict src, int n) {
+  int i = 0;
+  for (; i + kLanes16 <= n; i += kLanes16) store16(dst + i, load16(src + i));
+  for (; i < n; ++i) dst[i] = src[i];
+}
 inline U16V splat16(int v) {
   return U16V{} + static_cast<uint16_t>(v);
 }

@@ -266,8 +266,13 @@ template <int K>
 void median_row_k(const uint16_t* const* rows, int W, uint16_t* out) {
   constexpr int rk = K / 2;
   uint16_t pad[K][4096 + 8];
-  for (int j = 0; j < K; ++j)
-    for (int x = -rk; x < W + rk; ++x) pad[j][x + rk] = rows[j][clampi(x, 0, W - 1)];
+  for (int j = 0; j < K; ++j) {  // pad[j][x + rk] = rows[j][clamp(x)]: the row copied, its ends repeated
+    copy_u16(pad[j] + rk, rows[j], W);
+    for (int e = 0; e < rk; ++e) {
+      pad[j][e] = rows[j][0];
+      pad[j][W + rk + e] = rows[j][W - 1];
+    }
+  }
   for (int x0 = 0; x0 < W; x0 += kLanes16) {
     const int x = x0 + kLanes16 <= W ? x0 : W - kLanes16;
     U16V t[K * K];
