@@ -3,6 +3,7 @@
 // in spec.cpp, designs picked in strategies.cpp, fronts found in pareto.cpp, results kept in store.cpp.
 #include "parallax/search/sweep.hpp"
 
+#include "frame_cache.hpp"
 #include "internal.hpp"
 #include "parallax/eval/text_util.hpp"
 
@@ -45,25 +46,21 @@ using design::PointRequest;
 using eval::Baseline;
 using eval::BaselineParams;
 using eval::count_frame;
-using eval::crop_to_roi;
 using eval::Dataset;
 using eval::DisparityMap;
 using eval::EvalOptions;
 using eval::EvalResult;
 using eval::evaluate;
-using eval::Frame;
 using eval::FrameRef;
 using eval::GtKind;
 using eval::InputError;
 using eval::list_frames;
-using eval::load_frame;
 using eval::make_frame_row;
 using eval::Matcher;
 using eval::named_metrics;
 using eval::open_dataset;
 using eval::parse_baseline;
 using eval::pool_rows;
-using eval::resolve_roi;
 using eval::Roi;
 using eval::roi_for;
 using eval::RoiSize;
@@ -167,10 +164,15 @@ ResultStore::Row evaluate_one(const SweepSpec& spec, const MaterialisedDesign& m
   return row;
 }
 
-// Designs sharing the cost stage, evaluated together: each frame decoded and cropped once, its
-// costs recorded once and replayed into every design.
+// The decoded, cropped frames a sweep keeps for its cost groups (frame_cache.hpp): 200 KITTI
+// frames at 640x360 take 320 MiB; beyond the budget frames are decoded per group as before.
+constexpr std::size_t kFrameCacheBytes = std::size_t(512) << 20;
+
+// Designs sharing the cost stage, evaluated together: each frame's costs recorded once and
+// replayed into every design; the frames come from the sweep's cache (decoded and cropped once
+// for every group, frame_cache.hpp).
 std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::vector<const MaterialisedDesign*>& group,
-                                             const Dataset& dataset) {
+                                             const Dataset& dataset, detail::FrameCache& frames) {
   const GtKind gt = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
   const std::vector<FrameRef> refs = list_frames(dataset, gt, spec.frames);
   if (refs.empty())
@@ -198,17 +200,16 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
     return agg_key[a] != agg_key[b] ? agg_key[a] < agg_key[b] : wta_key[a] < wta_key[b];
   });
   for (const auto& ref : refs) {
-    const Frame f = load_frame(ref);
-    const Roi r = resolve_roi(roi, f.left.cols, f.left.rows);
-    const cv::Mat l = crop_to_roi(f.left, r), rr = crop_to_roi(f.right, r);
-    const cv::Mat gtd = crop_to_roi(f.gt_disparity_px, r), gtm = crop_to_roi(f.gt_mask, r);
+    const std::shared_ptr<const detail::CroppedFrame> f = frames.get(ref, roi);
+    const Roi& r = f->roi;
+    const cv::Mat &l = f->left, &rr = f->right, &gtd = f->gt_disparity_px, &gtm = f->gt_mask;
     pipe.record_costs(to_grey_image(l), to_grey_image(rr), group.front()->config.stereo_params(l.cols, l.rows), rec);
     for (std::size_t i = 0; i < group.size(); ++i) {
       const std::size_t k = order[i];
       const kern::StereoParams p = group[k]->config.stereo_params(l.cols, l.rows);
       const bool next_shares = i + 1 < group.size() && !agg_key[k].empty() && agg_key[order[i + 1]] == agg_key[k];
       const DisparityMap d = to_disparity_map(pipe.run_from_costs(rec, p, next_shares));
-      accuracy[k].frames.push_back(make_frame_row(f.id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm)));
+      accuracy[k].frames.push_back(make_frame_row(f->id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm)));
       if (spec.avoidance)
         avoidance[k].add(d.disparity_px, d.valid_mask, gtd, gtm, p.min_disparity + p.disparities,
                          kitti_default_rig(r.x0, r.y0));
@@ -293,7 +294,7 @@ void for_each_on_threads(std::size_t count, int jobs, const std::function<void(s
 // it and waited for at the end (and evaluated here if it dies or fails them).
 void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>& designs, ResultStore& store,
                     const Dataset& dataset, const SweepRunOptions& opt, SweepSummary& sum, int total_for_progress,
-                    int done_before, const std::string& measurement) {
+                    int done_before, const std::string& measurement, detail::FrameCache& frames) {
   std::atomic<int> done{0}, skipped{0}, evaluated{0}, invalid{0}, failed{0};
   std::atomic<int64_t> design_frames{0};
   std::mutex mu;  // progress, the waiting list, the first failure
@@ -361,8 +362,8 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
         ++failed;
         note_problem(r);
       }
-      const auto frames = r.metrics.find("frames");
-      if (frames != r.metrics.end()) design_frames += int64_t(frames->second);
+      const auto scored = r.metrics.find("frames");
+      if (scored != r.metrics.end()) design_frames += int64_t(scored->second);
       ++evaluated;
     } else {
       ++skipped;  // another process stored it meanwhile (it took over a claim it thought stale)
@@ -399,7 +400,7 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
       if (mine.size() == 1)
         rows.push_back(evaluate_one(spec, *mine.front(), dataset));
       else
-        rows = evaluate_group(spec, mine, dataset);
+        rows = evaluate_group(spec, mine, dataset, frames);
     } catch (const std::exception& e) {
       rows.clear();
       for (const auto* m : mine) rows.push_back(error_row(*m, e.what()));
@@ -437,10 +438,11 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
 // and crops (the base design's ROI) and stored beside its designs, once per measurement; the
 // peers with `parallax baseline`'s defaults (BaselineParams), as status peer.
 void evaluate_peers(const SweepSpec& spec, const config::PipelineConfig& base, const Dataset& dataset,
-                    const std::string& measurement, ResultStore& store, const SweepRunOptions& opt, SweepSummary& sum) {
+                    const std::string& measurement, ResultStore& store, const SweepRunOptions& opt, SweepSummary& sum,
+                    detail::FrameCache& frames) {
   if (spec.baselines.empty()) return;
   const std::vector<MaterialisedDesign> seed = {materialise(base, DesignPoint{})};
-  evaluate_batch(spec, seed, store, dataset, opt, sum, sum.total + 1, sum.total, measurement);
+  evaluate_batch(spec, seed, store, dataset, opt, sum, sum.total + 1, sum.total, measurement, frames);
   const BaselineParams bp;
   for (const std::string& name : spec.baselines) {
     ResultStore::Row row;
@@ -510,6 +512,7 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
   const std::string dataset_dir = absolute_path(dataset.root.string());
   const std::string measurement = measurement_of(spec, dataset_dir, frame_ids);
   SweepSummary sum;
+  detail::FrameCache frames(kFrameCacheBytes);
   if (store.put_sweep(spec, dataset_dir, measurement)) {
     sum.notes.push_back("sweep '" + spec.name + "' in " + store.path() +
                         " was measured on other data (dataset, frames, ground truth or models) before: it now lists "
@@ -537,7 +540,7 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
         visited.insert(batch.back().hash);
       }
       const int total = pop_n * (spec.generations + 1);
-      evaluate_batch(spec, batch, store, dataset, opt, sum, total, generation * pop_n, measurement);
+      evaluate_batch(spec, batch, store, dataset, opt, sum, total, generation * pop_n, measurement, frames);
     };
     auto rows_by_hash = [&] {
       std::map<std::string, ResultStore::Row> m;
@@ -611,9 +614,9 @@ SweepSummary run_sweep(const SweepSpec& spec, ResultStore& store, const SweepRun
     sum.total = int(points.size());
     std::vector<MaterialisedDesign> designs;
     for (const auto& p : points) designs.push_back(materialise(base, p));
-    evaluate_batch(spec, designs, store, dataset, opt, sum, sum.total, 0, measurement);
+    evaluate_batch(spec, designs, store, dataset, opt, sum, sum.total, 0, measurement, frames);
   }
-  if (opt.shard_index == 1) evaluate_peers(spec, base, dataset, measurement, store, opt, sum);
+  if (opt.shard_index == 1) evaluate_peers(spec, base, dataset, measurement, store, opt, sum, frames);
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }

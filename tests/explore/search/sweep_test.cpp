@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "parallax/eval/dataset.hpp"
+#include "frame_cache.hpp"  // explore/search/src: internal
 #include "parallax/search/sweep.hpp"
 
 namespace parallax::test {
@@ -321,6 +322,39 @@ TEST(SweepSharing, SharedCostsGiveTheSameResults) {
   std::set<double> correct;
   for (const auto& kv : variants) correct.insert(kv.second.at("correct_3px_pct"));
   EXPECT_EQ(correct.size(), 3u) << "census variants scored alike";
+}
+
+// The sweep's frame cache (explore/search/src/frame_cache.hpp): a frame is decoded once and
+// kept while the budget lasts, the same object for every group; past the budget it is decoded
+// per use and not kept; either way the crops equal the decoded frame's.
+TEST(SweepSharing, FrameCacheKeepsEachFrameOnceWithinItsBudget) {
+  const eval::Dataset ds = eval::open_dataset(kData);
+  const std::vector<eval::FrameRef> refs = eval::list_frames(ds, eval::GtKind::noc, "");
+  ASSERT_GE(refs.size(), 2u);
+  eval::RoiSize roi;
+  roi.full = false;
+  roi.width_px = 320;
+  roi.height_px = 200;
+  search::detail::FrameCache kept(std::size_t(64) << 20), none(0);
+  const auto a = kept.get(refs[0], roi), b = kept.get(refs[0], roi), c = kept.get(refs[1], roi);
+  EXPECT_EQ(a.get(), b.get());
+  EXPECT_NE(a.get(), c.get());
+  EXPECT_EQ(kept.kept_frames(), 2u);
+  const auto d = none.get(refs[0], roi), e = none.get(refs[0], roi);
+  EXPECT_NE(d.get(), e.get());
+  EXPECT_EQ(none.kept_frames(), 0u);
+  const eval::Frame f = eval::load_frame(refs[0]);
+  const eval::Roi r = eval::resolve_roi(roi, f.left.cols, f.left.rows);
+  EXPECT_EQ(a->id, f.id);
+  EXPECT_EQ(a->left.cols, 320);
+  EXPECT_EQ(a->left.rows, 200);
+  for (const auto* x : {a.get(), d.get()}) {
+    EXPECT_EQ(cv::norm(x->left, eval::crop_to_roi(f.left, r), cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(x->right, eval::crop_to_roi(f.right, r), cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(x->gt_disparity_px, eval::crop_to_roi(f.gt_disparity_px, r), cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(x->gt_mask, eval::crop_to_roi(f.gt_mask, r), cv::NORM_INF), 0.0);
+    EXPECT_TRUE(x->left.isContinuous());  // a compact copy, not a view of the whole frame
+  }
 }
 
 // With avoidance on, every design carries the avoidance stage's scores, shared or not.
