@@ -150,8 +150,11 @@ struct DirectCosts final : CostRows {
     }
     sad_row = y;
   }
-  const uint16_t* row(int y) override {
+  const uint16_t* row(int y) override { return row_into(y, out.data()); }
+  // Row y's costs written straight into dst (W x cost_stride lanes, every one of them written).
+  const uint16_t* row_into(int y, uint16_t* dst) {
     const int W = p.width_px;
+    cr_args.out = dst;
     if (p.cost == kern::kCostCensus) {
       const std::size_t o = sz(int64_t(y) * W * planes);
       isa().cost_census(cr_args, cl.data() + o, cr.data() + o, planes, scratch.data());
@@ -159,7 +162,8 @@ struct DirectCosts final : CostRows {
       sad_window(y);
       isa().sad_box(cr_args, p.window_w, sad_cols.data());
     }
-    return out.data();
+    cr_args.out = out.data();
+    return dst;
   }
 };
 
@@ -497,7 +501,7 @@ void Engine::record_costs(const uint8_t* left, const uint8_t* right, const kern:
   out.height_px = p.height_px;
   out.disparities = p.disparities;
   out.cost.resize(row_len * sz(p.height_px));
-  for (int y = 0; y < p.height_px; ++y) std::memcpy(out.cost.data() + row_len * sz(y), src.row(y), row_len * 2);
+  for (int y = 0; y < p.height_px; ++y) (void)src.row_into(y, out.cost.data() + row_len * sz(y));
   out.left.assign(left, left + sz(int64_t(p.width_px) * p.height_px));
 }
 
