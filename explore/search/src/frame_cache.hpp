@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstddef>
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -36,44 +37,64 @@ class FrameCache {
  public:
   explicit FrameCache(std::size_t budget_bytes) : budget_bytes_(budget_bytes) {}
 
-  // The frame `ref` cropped to `roi_size`, decoded now unless an earlier call kept it. Throws
-  // what eval::load_frame throws (the file named).
+  // The frame `ref` cropped to `roi_size`, decoded now unless an earlier call kept it; a thread
+  // asking for a frame another thread is decoding waits for that one. Throws what
+  // eval::load_frame throws (the file named).
   std::shared_ptr<const CroppedFrame> get(const eval::FrameRef& ref, const eval::RoiSize& roi_size) {
     const std::string key = ref.left_path.string() + "|" + ref.right_path.string() + "|" + ref.gt_path.string() + "|" +
                             eval::to_string(roi_size);
-    {
-      const std::lock_guard<std::mutex> lock(mu_);
-      const auto it = kept_.find(key);
-      if (it != kept_.end()) return it->second;
+    std::unique_lock<std::mutex> lock(mu_);
+    const auto it = entries_.find(key);
+    if (it != entries_.end()) {
+      const std::shared_future<Entry> pending = it->second;
+      lock.unlock();
+      return pending.get();  // kept, or being decoded by another thread
     }
-    auto made = std::make_shared<CroppedFrame>();
-    {
-      const eval::Frame f = eval::load_frame(ref);
-      made->id = f.id;
-      made->roi = eval::resolve_roi(roi_size, f.left.cols, f.left.rows);
-      made->left = eval::crop_to_roi(f.left, made->roi).clone();
-      made->right = eval::crop_to_roi(f.right, made->roi).clone();
-      made->gt_disparity_px = eval::crop_to_roi(f.gt_disparity_px, made->roi).clone();
-      made->gt_mask = eval::crop_to_roi(f.gt_mask, made->roi).clone();
+    std::promise<Entry> promise;
+    entries_.emplace(key, promise.get_future().share());
+    lock.unlock();
+    Entry made;
+    try {
+      made = decode(ref, roi_size);
+    } catch (...) {
+      promise.set_exception(std::current_exception());
+      lock.lock();
+      entries_.erase(key);  // a later call tries again
+      throw;
     }
-    const std::lock_guard<std::mutex> lock(mu_);
-    const auto it = kept_.find(key);  // another thread decoded it meanwhile: one copy kept
-    if (it != kept_.end()) return it->second;
-    if (used_bytes_ + made->bytes() > budget_bytes_) return made;
-    used_bytes_ += made->bytes();
-    kept_.emplace(key, made);
+    promise.set_value(made);
+    lock.lock();
+    if (used_bytes_ + made->bytes() <= budget_bytes_)
+      used_bytes_ += made->bytes();
+    else
+      entries_.erase(key);  // over the budget: decoded for this use (and its waiters) only
     return made;
   }
 
   std::size_t kept_frames() const {
     const std::lock_guard<std::mutex> lock(mu_);
-    return kept_.size();
+    return entries_.size();
   }
 
  private:
+  using Entry = std::shared_ptr<const CroppedFrame>;
+
+  static Entry decode(const eval::FrameRef& ref, const eval::RoiSize& roi_size) {
+    auto made = std::make_shared<CroppedFrame>();
+    const eval::Frame f = eval::load_frame(ref);
+    made->id = f.id;
+    made->roi = eval::resolve_roi(roi_size, f.left.cols, f.left.rows);
+    made->left = eval::crop_to_roi(f.left, made->roi).clone();
+    made->right = eval::crop_to_roi(f.right, made->roi).clone();
+    made->gt_disparity_px = eval::crop_to_roi(f.gt_disparity_px, made->roi).clone();
+    made->gt_mask = eval::crop_to_roi(f.gt_mask, made->roi).clone();
+    return made;
+  }
+
   const std::size_t budget_bytes_;
   mutable std::mutex mu_;
-  std::map<std::string, std::shared_ptr<const CroppedFrame>> kept_;
+  // Kept frames and frames being decoded (their waiters share the future).
+  std::map<std::string, std::shared_future<Entry>> entries_;
   std::size_t used_bytes_ = 0;
 };
 

@@ -343,6 +343,19 @@ TEST(SweepSharing, FrameCacheKeepsEachFrameOnceWithinItsBudget) {
   const auto d = none.get(refs[0], roi), e = none.get(refs[0], roi);
   EXPECT_NE(d.get(), e.get());
   EXPECT_EQ(none.kept_frames(), 0u);
+  // A budget of one frame keeps the first and not the second; two threads asking for one frame
+  // at once get one decoded copy.
+  search::detail::FrameCache one(a->bytes());
+  EXPECT_EQ(one.get(refs[0], roi).get(), one.get(refs[0], roi).get());
+  EXPECT_NE(one.get(refs[1], roi).get(), one.get(refs[1], roi).get());
+  EXPECT_EQ(one.kept_frames(), 1u);
+  search::detail::FrameCache shared(std::size_t(64) << 20);
+  std::shared_ptr<const search::detail::CroppedFrame> t1, t2;
+  std::thread first([&] { t1 = shared.get(refs[1], roi); });
+  std::thread second([&] { t2 = shared.get(refs[1], roi); });
+  first.join();
+  second.join();
+  EXPECT_EQ(t1.get(), t2.get());
   const eval::Frame f = eval::load_frame(refs[0]);
   const eval::Roi r = eval::resolve_roi(roi, f.left.cols, f.left.rows);
   EXPECT_EQ(a->id, f.id);
