@@ -298,11 +298,11 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
   std::atomic<int> done{0}, skipped{0}, evaluated{0}, invalid{0}, failed{0};
   std::atomic<int64_t> design_frames{0};
   std::mutex mu;  // progress, the waiting list, the first failure
-  const int skipped_before = sum.skipped;
-  auto report = [&] {
+  const int settled_before = sum.skipped + sum.invalid;
+  auto report = [&] {  // settled: done without an evaluation (stored, duplicate or invalid)
     if (!opt.progress) return;
     std::lock_guard<std::mutex> lock(mu);
-    opt.progress(done_before + done.load(), total_for_progress, skipped_before + skipped.load());
+    opt.progress(done_before + done.load(), total_for_progress, settled_before + skipped.load() + invalid.load());
   };
   std::mutex problems_mu;
   auto note_problem = [&](const ResultStore::Row& r) {  // the first reasons, for the summary

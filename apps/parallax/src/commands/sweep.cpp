@@ -94,18 +94,18 @@ void parse_shard(const std::string& shard, SweepRunOptions& ro) {
 std::function<void(int, int, int)> sweep_progress() {
   const bool tty = isatty(fileno(stderr)) != 0;
   const auto t0 = std::chrono::steady_clock::now();
-  return [tty, t0](int done, int total, int skipped) {
+  return [tty, t0](int done, int total, int settled) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const int worked = done - skipped;
+    const int worked = done - settled;
     const double eta = worked > 0 ? s / worked * double(total - done) : 0.0;
     if (tty) {
       const int width = 30, filled = total > 0 ? done * width / total : width;
-      std::fprintf(stderr, "\r[%s%s] %d/%d designs (%d already stored), ETA %.0f s   ",
+      std::fprintf(stderr, "\r[%s%s] %d/%d designs (%d stored or invalid), ETA %.0f s   ",
                    std::string(std::size_t(filled), '#').c_str(), std::string(std::size_t(width - filled), '.').c_str(),
-                   done, total, skipped, eta);
+                   done, total, settled, eta);
       if (done == total) std::fprintf(stderr, "\n");
     } else {
-      std::fprintf(stderr, "parallax: sweep %d/%d designs (%d already stored), ETA %.0f s\n", done, total, skipped,
+      std::fprintf(stderr, "parallax: sweep %d/%d designs (%d stored or invalid), ETA %.0f s\n", done, total, settled,
                    eta);
     }
   };

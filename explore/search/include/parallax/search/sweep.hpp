@@ -175,7 +175,7 @@ class ResultStore {
 };
 
 // Runs a sweep into the store. jobs: designs evaluated in parallel (0: all cores). progress:
-// called after each design with (done, total, skipped).
+// called after each design with (done, total, settled).
 struct SweepRunOptions {
   std::string dataset;
   int jobs = 0;
@@ -187,7 +187,9 @@ struct SweepRunOptions {
   bool share_costs = true;
   // More than kLargeSweepDesigns designs are run only when this is set (the CLI's --yes).
   bool allow_large = false;
-  std::function<void(int done, int total, int skipped)> progress;
+  // settled: the designs among `done` that needed no evaluation (already stored, duplicates,
+  // invalid), so that a rate or ETA counts the evaluated ones alone.
+  std::function<void(int done, int total, int settled)> progress;
 };
 struct SweepSummary {
   std::vector<std::string> notes;  // for the user (e.g. the sweep's measurement changed), also on stderr
