@@ -75,8 +75,9 @@ std::string probe_key(const kern::StereoParams& p) {
 // same register widths (P2 all ones in its width, P1 a quarter of it). P1 and P2 are values the
 // aggregation adds, never an index or a trip count: every RAM's banks and accesses per firing are
 // the same whatever they are, and a sweep over penalties probes each structure once, whatever
-// order its designs arrive in. Register files' counts may follow the data (tests/sim/accesses_test.cpp,
-// CountedII.TheProbeFrameCountsAsALargerFrame); they force no II.
+// order its designs arrive in. Register files off the recurrences may count differently with the
+// data (the LR check's right disparities); they force no II, and those on a recurrence bank alike
+// (tests/sim/accesses_test.cpp, CountedII.PenaltiesChangeNoMemorysCounts).
 kern::StereoParams probe_params(const kern::StereoParams& p) {
   kern::StereoParams q = p;
   q.p2 = int(kern::p2_register_max(p));
