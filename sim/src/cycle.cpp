@@ -6,6 +6,7 @@
 #include <future>
 #include <map>
 #include <memory>
+#include <system_error>
 #include <thread>
 
 #include "design_dispatch.hpp"
@@ -88,9 +89,15 @@ CycleReport run_cycle(const GreyImage& left, const GreyImage& right, const kern:
   };
   const int threads = opt.threads > 0 ? opt.threads : (std::thread::hardware_concurrency() >= 2 ? 2 : 1);
   DisparityCodes codes;
+  std::future<DisparityCodes> func;
   if (threads >= 2) {
     require_valid(p);  // before the second thread starts: an invalid design aborts on this one
-    std::future<DisparityCodes> func = std::async(std::launch::async, codes_of_frame);
+    try {
+      func = std::async(std::launch::async, codes_of_frame);
+    } catch (const std::system_error&) {  // no thread to be had: one after the other
+    }
+  }
+  if (func.valid()) {
     run_control(left, right, p, setup, rep);
     codes = func.get();
   } else {
