@@ -69,9 +69,11 @@ inline void census_chunk32(const __m256i* l, const uint8_t* const* r, int d0, ui
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + d0 + 16),
                       _mm256_cvtepu8_epi16(_mm256_extracti128_si256(acc, 1)));
 }
+#if !defined(__AVX512BW__)  // AVX-512 broadcasts 64 lanes and narrows them (cost_census_planes)
 inline __m256i broadcast_byte32(uint8_t v) {
   return _mm256_set1_epi8(static_cast<char>(v));
 }
+#endif
 #else
 using ByteVec32 = __m128i;  // the byte in 16 lanes serves both halves of 32
 inline __m128i popcount_bytes(__m128i v) {
