@@ -260,19 +260,22 @@ inline void median_comparators(U16V* t) {
     median_comparators<K, C + 1>(t);
   }
 }
+// dst[x + r] = src[clamp(x, 0, W - 1)] for x in [-r, W + r): the row copied, its ends repeated
+// (the median's clamp border). W >= 1.
+inline void pad_clamped(uint16_t* __restrict dst, const uint16_t* __restrict src, int W, int r) {
+  copy_u16(dst + r, src, W);
+  for (int e = 0; e < r; ++e) {
+    dst[e] = src[0];
+    dst[W + r + e] = src[W - 1];
+  }
+}
 // k x k median of one row with the network unrolled over whole registers of pixels (the last
 // register overlaps the one before when W is not a multiple of it; W >= kLanes16).
 template <int K>
 void median_row_k(const uint16_t* const* rows, int W, uint16_t* out) {
   constexpr int rk = K / 2;
   uint16_t pad[K][4096 + 8];
-  for (int j = 0; j < K; ++j) {  // pad[j][x + rk] = rows[j][clamp(x)]: the row copied, its ends repeated
-    copy_u16(pad[j] + rk, rows[j], W);
-    for (int e = 0; e < rk; ++e) {
-      pad[j][e] = rows[j][0];
-      pad[j][W + rk + e] = rows[j][W - 1];
-    }
-  }
+  for (int j = 0; j < K; ++j) pad_clamped(pad[j], rows[j], W, rk);
   for (int x0 = 0; x0 < W; x0 += kLanes16) {
     const int x = x0 + kLanes16 <= W ? x0 : W - kLanes16;
     U16V t[K * K];
@@ -298,12 +301,9 @@ void median_row(const uint16_t* const* rows, int W, int k, const int16_t* pairs,
   const int rk = k / 2;
   uint16_t pad[4096 + 8];
   for (int j = 0; j < k; ++j) {
-    for (int x = -rk; x < W + rk; ++x) pad[x + rk] = rows[j][clampi(x, 0, W - 1)];
-    for (int i = 0; i < k; ++i) {
-      uint16_t* t = taps + static_cast<int64_t>(j * k + i) * W;
-      const uint16_t* src = pad + i;  // pad[x + i] = code(clampx(x + i - rk))
-      for (int x = 0; x < W; ++x) t[x] = src[x];
-    }
+    pad_clamped(pad, rows[j], W, rk);
+    for (int i = 0; i < k; ++i)  // pad[x + i] = code(clampx(x + i - rk))
+      copy_u16(taps + static_cast<int64_t>(j * k + i) * W, pad + i, W);
   }
   for (int p = 0; p < pair_count; ++p) {
     uint16_t* a = taps + static_cast<int64_t>(pairs[2 * p]) * W;
