@@ -98,17 +98,27 @@ struct StoredCosts final : CostRows {
 
 // Computes a cost row from the images: census codes of both images once (byte planes,
 // isa.hpp), then per row.
+// The buffers of DirectCosts, kept by the engine from one frame to the next: every element is
+// written before it is read (census planes, reversed rows, cost rows; the SAD column sums are
+// cleared when a window is summed afresh), so a frame's buffers are only resized, never cleared,
+// and a frame of the same size allocates nothing (fresh zeroed pages cost more than the census).
+struct CostBuffers {
+  std::vector<uint8_t> cl, cr, scratch;
+  std::vector<uint16_t> out, sad_cols;
+};
+
 struct DirectCosts final : CostRows {
   const kern::StereoParams& p;
   const uint8_t* left;
   const uint8_t* right;
   int planes = 0;
-  std::vector<uint8_t> cl, cr, scratch;
-  std::vector<uint16_t> out, sad_cols;
+  std::vector<uint8_t>&cl, &cr, &scratch;
+  std::vector<uint16_t>&out, &sad_cols;
   int sad_row = -1;  // the row whose window sad_cols holds (-1: none)
   detail::CostRow cr_args;
 
-  DirectCosts(const kern::StereoParams& params, const uint8_t* l, const uint8_t* r) : p(params), left(l), right(r) {
+  DirectCosts(const kern::StereoParams& params, const uint8_t* l, const uint8_t* r, CostBuffers& b)
+      : p(params), left(l), right(r), cl(b.cl), cr(b.cr), scratch(b.scratch), out(b.out), sad_cols(b.sad_cols) {
     const int W = p.width_px, H = p.height_px;
     out.resize(sz(int64_t(W) * detail::cost_stride(p.disparities)));
     cr_args.width_px = W;
@@ -224,7 +234,8 @@ struct Work {
 struct Engine::Impl {
   Work<uint16_t> w16;
   Work<uint32_t> w32;
-  std::vector<uint16_t> taps;
+  CostBuffers costs;
+  std::vector<uint16_t> taps, median_out;
   std::vector<int16_t> network[8];  // by k
 
   template <class T>
@@ -401,7 +412,8 @@ void Engine::Impl::median(std::vector<uint16_t>& codes, const kern::StereoParams
   std::vector<int16_t>& net = network[k];
   if (net.empty()) net = median_network(k * k);
   taps.resize(sz(int64_t(k) * k * W));
-  std::vector<uint16_t> out(codes.size());
+  std::vector<uint16_t>& out = median_out;  // every element written below
+  out.resize(codes.size());
   const uint16_t* rows[7];
   for (int y = 0; y < H; ++y) {
     for (int j = 0; j < k; ++j) rows[j] = codes.data() + sz(int64_t(std::clamp(y + j - rk, 0, H - 1)) * W);
@@ -488,13 +500,13 @@ Engine::~Engine() = default;
 
 std::vector<uint16_t> Engine::run(const uint8_t* left, const uint8_t* right, const kern::StereoParams& p) {
   check(p);
-  DirectCosts src(p, left, right);
+  DirectCosts src(p, left, right, impl_->costs);
   return needs_wide_sums(p) ? impl_->run_rows<uint32_t>(src, left, p) : impl_->run_rows<uint16_t>(src, left, p);
 }
 
 void Engine::record_costs(const uint8_t* left, const uint8_t* right, const kern::StereoParams& p, CostVolume& out) {
   check(p);
-  DirectCosts src(p, left, right);
+  DirectCosts src(p, left, right, impl_->costs);
   const std::size_t row_len = sz(int64_t(p.width_px) * detail::cost_stride(p.disparities));
   out.key = cost_key(p);
   out.width_px = p.width_px;
