@@ -216,14 +216,16 @@ std::vector<int16_t> median_network(int taps) {
   return pairs;
 }
 
-// One engine's row buffers for one sum type: per recursion the previous and the current stream
-// row of path costs ([W][lanes + 2], guards at both ends) and their per-pixel minima; the sums of
+// One engine's row buffers for one sum type: the previous and the current stream row of path
+// costs of a pass's (up to) four recursions, interleaved per pixel ([W][4][lanes + 2], guards at
+// both ends of each, isa.hpp Recursion), and their per-pixel minima ([W][4]); the same of the
+// one-pass 180-degree path ([W][lanes + 2], [W]); the sums of
 // a row (or, for two passes, of the whole frame, since pass 2 adds to pass 1's); the WTA's
 // right-image candidates and codes.
 template <class T>
 struct Work {
-  std::vector<T> rows[5][2];  // per recursion (the fifth: the one-pass 180-degree path), two rows
-  std::vector<T> mins[5][2];
+  std::vector<T> rows[2], mins[2];  // by row parity
+  std::vector<T> rows180[2], mins180[2];
   std::vector<T> sum_row, sum_frame, right_best;
   std::vector<uint16_t> right_code;
   std::vector<int32_t> left_code, offset;
@@ -270,14 +272,28 @@ namespace {
 // rows is this row's, the other holds the previous stream row.
 template <class T>
 void fill_recursions(AggregateRow& a, const PassPlan& pl, Work<T>& w, int parity) {
+  const int P = a.lanes + 2;
   a.recursions = pl.n;
   for (int k = 0; k < pl.n; ++k) {
     a.rec[k].kind = pl.kind[k];
     a.rec[k].weight = pl.weight[k];
-    a.rec[k].cur = w.rows[k][parity].data();
-    a.rec[k].prev = w.rows[k][1 - parity].data();
-    a.rec[k].cur_min = w.mins[k][parity].data();
-    a.rec[k].prev_min = w.mins[k][1 - parity].data();
+    a.rec[k].cur = w.rows[parity].data() + k * P;
+    a.rec[k].prev = w.rows[1 - parity].data() + k * P;
+    a.rec[k].stride = 4 * P;
+    a.rec[k].cur_min = w.mins[parity].data() + k;
+    a.rec[k].prev_min = w.mins[1 - parity].data() + k;
+    a.rec[k].min_stride = 4;
+  }
+}
+// Every path-cost slot's two guards (the type's maximum minus P1, isa.hpp): written once a frame,
+// the recursions write only the lanes between them.
+template <class T>
+void write_guards(std::vector<T>& row, int lanes, int p1) {
+  const T guard = static_cast<T>(static_cast<T>(~T(0)) - static_cast<T>(p1));
+  const std::size_t P = sz(lanes + 2);
+  for (std::size_t o = 0; o < row.size(); o += P) {
+    row[o] = guard;
+    row[o + P - 1] = guard;
   }
 }
 template <class T>
@@ -297,6 +313,10 @@ namespace {
 template <class T>
 void clear_padding(T* sum, int width_px, int disparities, int lanes) {
   if (lanes == disparities) return;
+  if constexpr (sizeof(T) == 2) {
+    isa().pad_sums16(sum, width_px, disparities, lanes);
+    return;
+  }
   for (int x = 0; x < width_px; ++x) {
     T* s = sum + sz(int64_t(x) * lanes);
     for (int d = disparities; d < lanes; ++d) s[d] = static_cast<T>(~T(0));
@@ -309,10 +329,14 @@ void Engine::Impl::aggregate(CostRows& src, const uint8_t* left, const kern::Ste
   const int W = p.width_px, H = p.height_px, N = lanes_for(p);
   const std::size_t row_len = sz(int64_t(W) * N);
   Work<T>& w = work<T>();
-  for (auto& pair : w.rows)
-    for (auto& r : pair) r.resize(sz(int64_t(W) * (N + 2)));
-  for (auto& pair : w.mins)
-    for (auto& r : pair) r.resize(sz(W));
+  for (int parity = 0; parity < 2; ++parity) {
+    w.rows[parity].resize(sz(int64_t(W) * 4 * (N + 2)));
+    w.rows180[parity].resize(sz(int64_t(W) * (N + 2)));
+    w.mins[parity].resize(sz(int64_t(W) * 4));
+    w.mins180[parity].resize(sz(W));
+    write_guards(w.rows[parity], N, p.p1);
+    write_guards(w.rows180[parity], N, p.p1);
+  }
   const bool mgm = p.aggregation == kern::kAggregationMgm;
   const bool two_pass = kern::two_pass_paths(p.path_mask), reverse_row = kern::row_reverse_paths(p.path_mask);
   const PassPlan fwd = plan_pass(p.path_mask & kern::kForwardPaths, mgm);
@@ -346,10 +370,12 @@ void Engine::Impl::aggregate(CostRows& src, const uint8_t* left, const kern::Ste
       h.recursions = 1;
       h.rec[0].kind = detail::kSgm0;
       h.rec[0].weight = 1;
-      h.rec[0].cur = w.rows[4][0].data();
-      h.rec[0].prev = w.rows[4][1].data();
-      h.rec[0].cur_min = w.mins[4][0].data();
-      h.rec[0].prev_min = w.mins[4][1].data();
+      h.rec[0].cur = w.rows180[0].data();
+      h.rec[0].prev = w.rows180[1].data();
+      h.rec[0].stride = N + 2;
+      h.rec[0].cur_min = w.mins180[0].data();
+      h.rec[0].prev_min = w.mins180[1].data();
+      h.rec[0].min_stride = 1;
       call_aggregate<T>(h);
     }
     if (!two_pass) {

@@ -255,9 +255,17 @@ void sad_box(const CostRow& r, int ww, const uint16_t* col) {
 namespace parallax::fast::detail {
 namespace {
 
-const IsaTable kTable = {
-    PARALLAX_FAST_ISA_NAME,  census_image,         cost_census,          sad_columns, sad_box, aggregate_row<uint16_t>,
-    aggregate_row<uint32_t>, select_row<uint16_t>, select_row<uint32_t>, median_row};
+const IsaTable kTable = {PARALLAX_FAST_ISA_NAME,
+                         census_image,
+                         cost_census,
+                         sad_columns,
+                         sad_box,
+                         aggregate_row<uint16_t>,
+                         aggregate_row<uint32_t>,
+                         pad_sums16,
+                         select_row<uint16_t>,
+                         select_row<uint32_t>,
+                         median_row};
 
 }  // namespace
 

@@ -42,13 +42,21 @@ constexpr int census_scratch_len(int width_px, int min_disparity, int disparitie
 // 0/90 and 45/135 pairs are one recursion each.
 enum RecursionKind : int { kSgm0 = 0, kSgm45 = 1, kSgm90 = 2, kSgm135 = 3, kMgmPixel = 4, kMgmRow = 5 };
 
+// Row buffers: pixel x's path costs start at prev + x * stride (lanes + 2 of them: a guard, the
+// lanes, a guard; the guards hold the type's maximum minus P1 for the whole frame, written by the
+// engine, never by the recursions), its minimum at prev_min[x * min_stride]. The engine keeps the
+// four recursions of a pass interleaved per pixel (recursion k at offset k * (lanes + 2), stride
+// 4 * (lanes + 2), minima at k with min_stride 4), which lets the four-path loop address all of
+// them from one pointer per row.
 struct Recursion {
   int kind = 0;              // RecursionKind
   int weight = 1;            // paths that add this recursion (MGM pairs: 1 or 2)
-  void* prev = nullptr;      // previous stream row's path costs, [W][D + 2] of the pass's type
+  void* prev = nullptr;      // previous stream row's path costs, [W] x stride of the pass's type
   void* cur = nullptr;       // this row's
-  void* prev_min = nullptr;  // per pixel minimum over d of prev, [W]
+  void* prev_min = nullptr;  // per pixel minimum over d of prev, [W] x min_stride
   void* cur_min = nullptr;
+  int stride = 0;  // elements from one pixel's path costs to the next's (>= lanes + 2)
+  int min_stride = 1;
 };
 
 // One stream row of one pass. Pixels are addressed by their image column x; the stream runs
@@ -153,6 +161,8 @@ struct IsaTable {
   void (*sad_box)(const CostRow& r, int window_w, const uint16_t* col);
   void (*aggregate16)(const AggregateRow& r);
   void (*aggregate32)(const AggregateRow& r);
+  // A row of finished 16-bit sums [W][lanes]: the padding lanes d >= D set to 0xFFFF.
+  void (*pad_sums16)(uint16_t* sum, int width_px, int disparities, int lanes);
   void (*select16)(const SelectRow& r);
   void (*select32)(const SelectRow& r);
   // k x k median of one output row by a comparator network over the window (a list of

@@ -75,8 +75,9 @@ inline int adaptive(int p1, int p2, int a, int ip, int iq) {
 // One recursion over one stream row.
 template <class T, bool Acc, bool Twice, int NC>
 void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
-  const int W = r.width_px, N = NC > 0 ? NC : r.lanes, dir = r.dir, P = N + 2, cs = r.cost_stride;
-  const T p1 = static_cast<T>(r.p1), guard = static_cast<T>(type_max<T>() - r.p1);
+  const int W = r.width_px, N = NC > 0 ? NC : r.lanes, dir = r.dir, S = rc.stride, MS = rc.min_stride;
+  const int cs = r.cost_stride;
+  const T p1 = static_cast<T>(r.p1);
   const bool adapt = r.p2_adaptive > 0;
   T* sum_base = static_cast<T*>(r.sum);
   T* cur = static_cast<T*>(rc.cur);
@@ -87,7 +88,7 @@ void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
   for (int i = 0; i < W; ++i) {
     const int x = dir > 0 ? i : W - 1 - i;
     const uint16_t* c = r.cost + static_cast<int64_t>(x) * cs;
-    T* out = cur + static_cast<int64_t>(x) * P;
+    T* out = cur + static_cast<int64_t>(x) * S;
     T* sum = sum_base + static_cast<int64_t>(x) * N;
     // Predecessors in stream terms: x - dir comes before x in the stream, x + dir after it.
     const bool has_before = i > 0, has_after = i < W - 1;
@@ -134,32 +135,30 @@ void aggregate_recursion(const AggregateRow& r, const Recursion& rc) {
       if (!qok) {
         mn = start_step<T, Acc, Twice, NC>(c, out, sum, N);
       } else {
-        const T* lq = (up ? prev : cur) + static_cast<int64_t>(qx) * P;
-        const T mq = (up ? prev_min : cur_min)[qx];
+        const T* lq = (up ? prev : cur) + static_cast<int64_t>(qx) * S;
+        const T mq = (up ? prev_min : cur_min)[qx * MS];
         int p2 = r.p2;
         if (adapt) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], (up ? r.prev_intensity : r.intensity)[qx]);
         mn = sgm_step<T, Acc, Twice, NC>(c, lq, mq, p1, static_cast<T>(p2), out, sum, N);
       }
     } else if (!qok) {  // MGM, the second predecessor alone
-      const T* lq = prev + static_cast<int64_t>(q2x) * P;
+      const T* lq = prev + static_cast<int64_t>(q2x) * S;
       int p2 = r.p2;
       if (adapt) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[q2x]);
-      mn = sgm_step<T, Acc, Twice, NC>(c, lq, prev_min[q2x], p1, static_cast<T>(p2), out, sum, N);
+      mn = sgm_step<T, Acc, Twice, NC>(c, lq, prev_min[q2x * MS], p1, static_cast<T>(p2), out, sum, N);
     } else {
-      const T* la = (up ? prev : cur) + static_cast<int64_t>(qx) * P;
-      const T ma = (up ? prev_min : cur_min)[qx];
-      const T* lb = prev + static_cast<int64_t>(q2x) * P;
+      const T* la = (up ? prev : cur) + static_cast<int64_t>(qx) * S;
+      const T ma = (up ? prev_min : cur_min)[qx * MS];
+      const T* lb = prev + static_cast<int64_t>(q2x) * S;
       int pa2 = r.p2, pb2 = r.p2;
       if (adapt) {
         pa2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], (up ? r.prev_intensity : r.intensity)[qx]);
         pb2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[q2x]);
       }
-      mn = mgm_step<T, Acc, Twice, NC>(c, la, ma, static_cast<T>(pa2), lb, prev_min[q2x], static_cast<T>(pb2), p1, out,
-                                       sum, N);
+      mn = mgm_step<T, Acc, Twice, NC>(c, la, ma, static_cast<T>(pa2), lb, prev_min[q2x * MS], static_cast<T>(pb2), p1,
+                                       out, sum, N);
     }
-    cur_min[x] = mn;
-    out[0] = guard;
-    out[N + 1] = guard;
+    cur_min[x * MS] = mn;
   }
 }
 
@@ -169,20 +168,68 @@ struct ZeroRow {
 };
 constexpr ZeroRow kZeroRow{};
 
+// The 0-degree path of aggregate_sgm16 at one pixel: its previous pixel's costs l0 (and their
+// minimum m0) live in registers, the d -+ 1 neighbours by lane shifts; l0 and m0 become this
+// pixel's and l0 is added into s. Same arithmetic as sgm_step, lane for lane.
+template <int NV>
+inline void path0_step(const uint16_t* __restrict c, U16V* l0, uint16_t& m0, int p2, U16V vp1, U16V vguard, U16V* s) {
+  const U16V vm = splat16(m0), mp2 = splat16(static_cast<uint16_t>(m0 + p2));
+  U16V mn = splat16(0xFFFF);
+  U16V before = vguard;           // the previous register's old value (its last lane is d - 1 of lane 0)
+  for (int v = 0; v < NV; ++v) {  // in place: l0[v] is replaced once its neighbours are read
+    const U16V old = l0[v];
+    const U16V lo = lanes_up(before, old);
+    const U16V hi = lanes_down(old, v == NV - 1 ? vguard : l0[v + 1]);
+    const U16V t = vmin16(vmin16(old, vmin16(lo, hi) + vp1), mp2);
+    l0[v] = load16(c + v * kLanes16) + (t - vm);
+    mn = vmin16(mn, l0[v]);
+    s[v] += l0[v];
+    before = old;
+  }
+  m0 = hmin16(mn);
+}
+
+// One previous-row path of aggregate_sgm16 at one pixel: from the predecessor's padded costs lq
+// (guards at lq[0] and lq[NV * kLanes16 + 1]) and their minimum mq, writes out[1..] and *out_min,
+// adds into s. Same arithmetic as sgm_step.
+template <int NV>
+inline void row_path_step(const uint16_t* __restrict c, const uint16_t* __restrict lq, uint16_t mq, int p2, U16V vp1,
+                          uint16_t* __restrict out, uint16_t* __restrict out_min, U16V* s) {
+  const U16V vm = splat16(mq), mp2 = splat16(static_cast<uint16_t>(mq + p2));
+  U16V mn = splat16(0xFFFF);
+  for (int v = 0; v < NV; ++v) {
+    const uint16_t* lv = lq + v * kLanes16;
+    const U16V t = vmin16(vmin16(load16(lv + 1), vmin16(load16(lv), load16(lv + 2)) + vp1), mp2);
+    const U16V l = load16(c + v * kLanes16) + (t - vm);
+    store16(out + 1 + v * kLanes16, l);
+    mn = vmin16(mn, l);
+    s[v] += l;
+  }
+  *out_min = hmin16(mn);
+}
+
+// The stream's direction as a type (a generic lambda's compile-time parameter).
+template <int D>
+struct DirTag {
+  static constexpr int value = D;
+};
+
 // A row of SGM recursions (each of weight 1) in 16 bits over NC lanes, a whole number of
 // registers: one sweep over the pixels for all recursions, each pixel's costs loaded once and its
 // sum kept in registers until stored once. The 0-degree path lives in registers from one pixel to
-// the next (its d -+ 1 neighbours by lane shifts; its row buffer is not written, nothing reads it:
-// only the next pixel of the same row uses it). The other paths read the previous stream row; a
-// missing predecessor reads kZeroRow with Mq = 0. Same arithmetic as sgm_step, lane for lane.
-// Fixed: the number of previous-row recursions when known at compile time (3: the 45, 90 and
-// 135 degree paths of a four-path pass, the common case, unrolled), else -1.
+// the next (path0_step; its row buffer is not written, nothing reads it: only the next pixel of
+// the same row uses it). The other paths read the previous stream row; a missing predecessor
+// reads kZeroRow with Mq = 0. Fixed: the number of previous-row recursions when known at compile
+// time (3: the 45, 90 and 135 degree paths of a four-path pass, the common case, unrolled), else
+// -1. A four-path pass in the engine's interleaved row buffers (isa.hpp, Recursion) runs its
+// inner pixels (all predecessors present) from one pointer per buffer, the direction and every
+// offset constants; the two end pixels and every other case take the general form.
 template <int NC, bool Acc, int Fixed>
 void aggregate_sgm16(const AggregateRow& r) {
   constexpr int NV = NC / kLanes16;
-  const int W = r.width_px, dir = r.dir, P = NC + 2, cs = r.cost_stride;
-  const uint16_t guard = static_cast<uint16_t>(0xFFFF - r.p1);
-  const U16V vp1 = splat16(r.p1), vguard = splat16(guard);
+  constexpr int P = NC + 2;
+  const int W = r.width_px, dir = r.dir, cs = r.cost_stride;
+  const U16V vp1 = splat16(r.p1), vguard = splat16(static_cast<uint16_t>(0xFFFF - r.p1));
   const bool adapt = r.p2_adaptive > 0, has_up = !r.first_row;
   // The recursions on the previous stream row, resolved once per row: predecessor column
   // x + qoff, present for the stream positions i in [ilo, ihi] (none on the first row).
@@ -191,7 +238,7 @@ void aggregate_sgm16(const AggregateRow& r) {
     const uint16_t* prev_min;
     uint16_t* cur;
     uint16_t* cur_min;
-    int qoff, ilo, ihi;
+    int kind, qoff, ilo, ihi, stride, min_stride;
   };
   bool has0 = false;
   RowRec mem[4];
@@ -207,16 +254,22 @@ void aggregate_sgm16(const AggregateRow& r) {
     q.prev_min = static_cast<const uint16_t*>(rc.prev_min);
     q.cur = static_cast<uint16_t*>(rc.cur);
     q.cur_min = static_cast<uint16_t*>(rc.cur_min);
+    q.kind = rc.kind;
     q.qoff = rc.kind == kSgm45 ? -dir : (rc.kind == kSgm90 ? 0 : dir);
     q.ilo = rc.kind == kSgm45 ? 1 : 0;
     q.ihi = rc.kind == kSgm135 ? W - 2 : W - 1;
+    q.stride = rc.stride;
+    q.min_stride = rc.min_stride;
     if (!has_up) q.ilo = W;
   }
   uint16_t* const sum_base = static_cast<uint16_t*>(r.sum);
   U16V l0[NV];
   for (int v = 0; v < NV; ++v) l0[v] = U16V{};
   uint16_t m0 = 0;
-  for (int i = 0; i < W; ++i) {
+  const int count = Fixed >= 0 ? Fixed : nmem;
+
+  // Any pixel, any recursions.
+  auto general = [&](int i) {
     const int x = dir > 0 ? i : W - 1 - i;
     const uint16_t* __restrict c = r.cost + static_cast<int64_t>(x) * cs;
     uint16_t* __restrict sum = sum_base + static_cast<int64_t>(x) * NC;
@@ -225,49 +278,72 @@ void aggregate_sgm16(const AggregateRow& r) {
     if (has0) {
       int p2 = r.p2;
       if (adapt && i > 0) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.intensity[x - dir]);
-      const U16V vm = splat16(m0), mp2 = splat16(static_cast<uint16_t>(m0 + p2));
-      U16V mn = splat16(0xFFFF);
-      U16V before = vguard;           // the previous register's old value (its last lane is d - 1 of lane 0)
-      for (int v = 0; v < NV; ++v) {  // in place: l0[v] is replaced once its neighbours are read
-        const U16V old = l0[v];
-        const U16V lo = lanes_up(before, old);
-        const U16V hi = lanes_down(old, v == NV - 1 ? vguard : l0[v + 1]);
-        const U16V t = vmin16(vmin16(old, vmin16(lo, hi) + vp1), mp2);
-        l0[v] = load16(c + v * kLanes16) + (t - vm);
-        mn = vmin16(mn, l0[v]);
-        s[v] += l0[v];
-        before = old;
-      }
-      m0 = hmin16(mn);
+      path0_step<NV>(c, l0, m0, p2, vp1, vguard, s);
     }
-    const int count = Fixed >= 0 ? Fixed : nmem;
     for (int j = 0; j < count; ++j) {
       const RowRec& q = mem[j];
       const bool ok = i >= q.ilo && i <= q.ihi;
       const int qx = x + q.qoff;
-      const uint16_t* __restrict lq = ok ? q.prev + static_cast<int64_t>(qx) * P : kZeroRow.v;
-      const uint16_t mq = ok ? q.prev_min[qx] : 0;
+      const uint16_t* lq = ok ? q.prev + static_cast<int64_t>(qx) * q.stride : kZeroRow.v;
+      const uint16_t mq = ok ? q.prev_min[qx * q.min_stride] : 0;
       int p2 = r.p2;
       if (adapt && ok) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[qx]);
-      const U16V vm = splat16(mq), mp2 = splat16(static_cast<uint16_t>(mq + p2));
-      uint16_t* __restrict out = q.cur + static_cast<int64_t>(x) * P;
-      U16V mn = splat16(0xFFFF);
-      for (int v = 0; v < NV; ++v) {
-        const uint16_t* lv = lq + v * kLanes16;
-        const U16V t = vmin16(vmin16(load16(lv + 1), vmin16(load16(lv), load16(lv + 2)) + vp1), mp2);
-        const U16V l = load16(c + v * kLanes16) + (t - vm);
-        store16(out + 1 + v * kLanes16, l);
-        mn = vmin16(mn, l);
-        s[v] += l;
-      }
-      q.cur_min[x] = hmin16(mn);
-      out[0] = guard;
-      out[NC + 1] = guard;
+      row_path_step<NV>(c, lq, mq, p2, vp1, q.cur + static_cast<int64_t>(x) * q.stride,
+                        q.cur_min + static_cast<int64_t>(x) * q.min_stride, s);
     }
     for (int v = 0; v < NV; ++v) store16(sum + v * kLanes16, s[v]);
-  }
-}
+  };
 
+  bool interleaved = Fixed == 3 && has0 && has_up && nmem == 3 && W >= 3;
+  for (int j = 0; interleaved && j < 3; ++j) {
+    const RowRec& q = mem[j];
+    interleaved = q.kind == kSgm45 + j && q.stride == 4 * P && q.min_stride == 4 && q.prev == mem[0].prev + j * P &&
+                  q.cur == mem[0].cur + j * P && q.prev_min == mem[0].prev_min + j && q.cur_min == mem[0].cur_min + j;
+  }
+  if (!interleaved) {
+    for (int i = 0; i < W; ++i) general(i);
+    return;
+  }
+  // Pixel x's block of four recursions (slot k = kind k; slot 0 unused: the 0-degree path is in
+  // registers) starts at base + x * 4P in both rows, its minima at base_min + 4x.
+  const uint16_t* const prev4 = mem[0].prev - P;
+  uint16_t* const cur4 = mem[0].cur - P;
+  const uint16_t* const prev_min4 = mem[0].prev_min - 1;
+  uint16_t* const cur_min4 = mem[0].cur_min - 1;
+  auto inner = [&](auto tag) {
+    constexpr int D = decltype(tag)::value;
+    for (int i = 1; i < W - 1; ++i) {
+      const int x = D > 0 ? i : W - 1 - i;
+      const uint16_t* __restrict c = r.cost + static_cast<int64_t>(x) * cs;
+      uint16_t* __restrict sum = sum_base + static_cast<int64_t>(x) * NC;
+      const uint16_t* pv = prev4 + static_cast<int64_t>(x) * (4 * P);
+      uint16_t* cv = cur4 + static_cast<int64_t>(x) * (4 * P);
+      const uint16_t* pm = prev_min4 + static_cast<int64_t>(x) * 4;
+      uint16_t* cm = cur_min4 + static_cast<int64_t>(x) * 4;
+      int p20 = r.p2, p245 = r.p2, p290 = r.p2, p2135 = r.p2;
+      if (adapt) {
+        const int ix = r.intensity[x];
+        p20 = adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.intensity[x - D]);
+        p245 = adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x - D]);
+        p290 = adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x]);
+        p2135 = adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x + D]);
+      }
+      U16V s[NV];
+      for (int v = 0; v < NV; ++v) s[v] = Acc ? load16(sum + v * kLanes16) : U16V{};
+      path0_step<NV>(c, l0, m0, p20, vp1, vguard, s);
+      row_path_step<NV>(c, pv - D * 4 * P + P, pm[-D * 4 + 1], p245, vp1, cv + P, cm + 1, s);
+      row_path_step<NV>(c, pv + 2 * P, pm[2], p290, vp1, cv + 2 * P, cm + 2, s);
+      row_path_step<NV>(c, pv + D * 4 * P + 3 * P, pm[D * 4 + 3], p2135, vp1, cv + 3 * P, cm + 3, s);
+      for (int v = 0; v < NV; ++v) store16(sum + v * kLanes16, s[v]);
+    }
+  };
+  general(0);
+  if (dir > 0)
+    inner(DirTag<1>{});
+  else
+    inner(DirTag<-1>{});
+  general(W - 1);
+}
 template <class T, int NC>
 void aggregate_row_n(const AggregateRow& r) {
   if constexpr (sizeof(T) == 2 && NC > 0 && NC <= 128 && NC % kLanes16 == 0) {

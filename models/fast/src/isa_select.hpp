@@ -26,6 +26,24 @@ struct LaneNumbers {
 };
 constexpr LaneNumbers kLanes{};
 
+// Lanes [D, lanes) of every pixel's 16-bit sums set to 0xFFFF (what the WTA expects of the
+// padding), by OR-ing a mask into the registers that hold padding. Padded rows have lanes =
+// cost_stride(D), a multiple of 32 and less than D + 32, so those are the last ones.
+void pad_sums16(uint16_t* sum, int width_px, int disparities, int lanes) {
+  if (lanes == disparities) return;
+  const int first = disparities / kLanes16 * kLanes16;  // the first register holding padding
+  const int count = (lanes - first) / kLanes16;         // at most 32 / kLanes16
+  U16V mask[32 / kLanes16];
+  for (int j = 0; j < count; ++j) {
+    const I16V li = __builtin_bit_cast(I16V, load16(kLanes.v + first + j * kLanes16));
+    mask[j] = __builtin_bit_cast(U16V, li >= static_cast<int16_t>(disparities));
+  }
+  for (int x = 0; x < width_px; ++x) {
+    uint16_t* s = sum + static_cast<int64_t>(x) * lanes + first;
+    for (int j = 0; j < count; ++j) store16(s + j * kLanes16, load16(s + j * kLanes16) | mask[j]);
+  }
+}
+
 template <class T>
 inline int first_lane_of(const T* __restrict s, int n, T value) {
   const uint16_t* __restrict lane = kLanes.v;
