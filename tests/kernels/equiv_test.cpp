@@ -213,6 +213,8 @@ TEST(Equiv, AdaptiveP2AcrossPathSetsAndSizes) {
                                kern::kPath45,
                                kern::kPath90,
                                kern::kPath135,
+                               kern::kPath0 | kern::kPath90,
+                               kern::kPath0 | kern::kPath45 | kern::kPath90,
                                kern::kForwardPaths,
                                kern::kForwardPaths | kern::kPath180,
                                kern::kPath0 | kern::kPath180,

@@ -208,23 +208,30 @@ inline void row_path_step(const uint16_t* __restrict c, const uint16_t* __restri
   *out_min = hmin16(mn);
 }
 
-// The stream's direction as a type (a generic lambda's compile-time parameter).
+// An int as a type (a generic lambda's compile-time parameter: the stream's direction, a
+// recursion kind, a slot).
 template <int D>
 struct DirTag {
   static constexpr int value = D;
 };
+
+// The path sets aggregate_sgm16 unrolls (the pass plans of 2, 3 and 4 paths): layout 1 is
+// {0, 90}, 2 is {0, 45, 90}, 3 is {0, 45, 90, 135} degrees; the kind of recursion k.
+constexpr int layout_kind(int layout, int k) {
+  return k == 0 ? kSgm0 : (layout == 1 ? kSgm90 : kSgm0 + k);
+}
 
 // A row of SGM recursions (each of weight 1) in 16 bits over NC lanes, a whole number of
 // registers: one sweep over the pixels for all recursions, each pixel's costs loaded once and its
 // sum kept in registers until stored once. The 0-degree path lives in registers from one pixel to
 // the next (path0_step; its row buffer is not written, nothing reads it: only the next pixel of
 // the same row uses it). The other paths read the previous stream row; a missing predecessor
-// reads kZeroRow with Mq = 0. Fixed: the number of previous-row recursions when known at compile
-// time (3: the 45, 90 and 135 degree paths of a four-path pass, the common case, unrolled), else
-// -1. A four-path pass in the engine's interleaved row buffers (isa.hpp, Recursion) runs its
-// inner pixels (all predecessors present) from one pointer per buffer, the direction and every
-// offset constants; the two end pixels and every other case take the general form.
-template <int NC, bool Acc, int Fixed>
+// reads kZeroRow with Mq = 0. Layout (layout_kind): the pass's path set when it is one of the
+// 2-, 3- or 4-path sets, else 0. Such a pass in the engine's interleaved row buffers (isa.hpp,
+// Recursion) runs its inner pixels (all predecessors present) unrolled from one pointer per
+// buffer, the direction and every offset constants; the first row, the two end pixels of every
+// row and every other pass take the general form.
+template <int NC, bool Acc, int Layout>
 void aggregate_sgm16(const AggregateRow& r) {
   constexpr int NV = NC / kLanes16;
   constexpr int P = NC + 2;
@@ -266,7 +273,7 @@ void aggregate_sgm16(const AggregateRow& r) {
   U16V l0[NV];
   for (int v = 0; v < NV; ++v) l0[v] = U16V{};
   uint16_t m0 = 0;
-  const int count = Fixed >= 0 ? Fixed : nmem;
+  const int count = Layout > 0 ? Layout : nmem;
 
   // Any pixel, any recursions.
   auto general = [&](int i) {
@@ -294,22 +301,26 @@ void aggregate_sgm16(const AggregateRow& r) {
     for (int v = 0; v < NV; ++v) store16(sum + v * kLanes16, s[v]);
   };
 
-  bool interleaved = Fixed == 3 && has0 && has_up && nmem == 3 && W >= 3;
-  for (int j = 0; interleaved && j < 3; ++j) {
-    const RowRec& q = mem[j];
-    interleaved = q.kind == kSgm45 + j && q.stride == 4 * P && q.min_stride == 4 && q.prev == mem[0].prev + j * P &&
-                  q.cur == mem[0].cur + j * P && q.prev_min == mem[0].prev_min + j && q.cur_min == mem[0].cur_min + j;
+  // The interleaved fast form: recursion k of the pass in slot k of every pixel's block of four
+  // (slot 0 the 0-degree path's, unused: it is in registers).
+  bool interleaved = Layout > 0 && has_up && W >= 3 && r.recursions == Layout + 1 && r.rec[0].kind == kSgm0;
+  for (int k = 0; interleaved && k < r.recursions; ++k) {
+    const Recursion& rc = r.rec[k];
+    interleaved = rc.kind == layout_kind(Layout, k) && rc.stride == 4 * P && rc.min_stride == 4 &&
+                  rc.prev == static_cast<const uint16_t*>(r.rec[0].prev) + k * P &&
+                  rc.cur == static_cast<uint16_t*>(r.rec[0].cur) + k * P &&
+                  rc.prev_min == static_cast<const uint16_t*>(r.rec[0].prev_min) + k &&
+                  rc.cur_min == static_cast<uint16_t*>(r.rec[0].cur_min) + k;
   }
   if (!interleaved) {
     for (int i = 0; i < W; ++i) general(i);
     return;
   }
-  // Pixel x's block of four recursions (slot k = kind k; slot 0 unused: the 0-degree path is in
-  // registers) starts at base + x * 4P in both rows, its minima at base_min + 4x.
-  const uint16_t* const prev4 = mem[0].prev - P;
-  uint16_t* const cur4 = mem[0].cur - P;
-  const uint16_t* const prev_min4 = mem[0].prev_min - 1;
-  uint16_t* const cur_min4 = mem[0].cur_min - 1;
+  // Pixel x's block starts at base + x * 4P in both rows, its minima at base_min + 4x.
+  const uint16_t* const prev4 = static_cast<const uint16_t*>(r.rec[0].prev);
+  uint16_t* const cur4 = static_cast<uint16_t*>(r.rec[0].cur);
+  const uint16_t* const prev_min4 = static_cast<const uint16_t*>(r.rec[0].prev_min);
+  uint16_t* const cur_min4 = static_cast<uint16_t*>(r.rec[0].cur_min);
   auto inner = [&](auto tag) {
     constexpr int D = decltype(tag)::value;
     for (int i = 1; i < W - 1; ++i) {
@@ -320,20 +331,24 @@ void aggregate_sgm16(const AggregateRow& r) {
       uint16_t* cv = cur4 + static_cast<int64_t>(x) * (4 * P);
       const uint16_t* pm = prev_min4 + static_cast<int64_t>(x) * 4;
       uint16_t* cm = cur_min4 + static_cast<int64_t>(x) * 4;
-      int p20 = r.p2, p245 = r.p2, p290 = r.p2, p2135 = r.p2;
-      if (adapt) {
-        const int ix = r.intensity[x];
-        p20 = adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.intensity[x - D]);
-        p245 = adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x - D]);
-        p290 = adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x]);
-        p2135 = adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x + D]);
-      }
+      const int ix = adapt ? r.intensity[x] : 0;
       U16V s[NV];
       for (int v = 0; v < NV; ++v) s[v] = Acc ? load16(sum + v * kLanes16) : U16V{};
-      path0_step<NV>(c, l0, m0, p20, vp1, vguard, s);
-      row_path_step<NV>(c, pv - D * 4 * P + P, pm[-D * 4 + 1], p245, vp1, cv + P, cm + 1, s);
-      row_path_step<NV>(c, pv + 2 * P, pm[2], p290, vp1, cv + 2 * P, cm + 2, s);
-      row_path_step<NV>(c, pv + D * 4 * P + 3 * P, pm[D * 4 + 3], p2135, vp1, cv + 3 * P, cm + 3, s);
+      path0_step<NV>(c, l0, m0, adapt ? adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.intensity[x - D]) : r.p2, vp1, vguard,
+                     s);
+      auto slot = [&](auto kind_tag, auto slot_tag) {
+        constexpr int kKind = decltype(kind_tag)::value, kSlot = decltype(slot_tag)::value;
+        constexpr int q = kKind == kSgm45 ? -D : (kKind == kSgm90 ? 0 : D);  // predecessor column x + q
+        const int p2 = adapt ? adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x + q]) : r.p2;
+        row_path_step<NV>(c, pv + q * 4 * P + kSlot * P, pm[q * 4 + kSlot], p2, vp1, cv + kSlot * P, cm + kSlot, s);
+      };
+      if constexpr (Layout == 1) {
+        slot(DirTag<kSgm90>{}, DirTag<1>{});
+      } else {
+        slot(DirTag<kSgm45>{}, DirTag<1>{});
+        slot(DirTag<kSgm90>{}, DirTag<2>{});
+        if constexpr (Layout == 3) slot(DirTag<kSgm135>{}, DirTag<3>{});
+      }
       for (int v = 0; v < NV; ++v) store16(sum + v * kLanes16, s[v]);
     }
   };
@@ -344,17 +359,41 @@ void aggregate_sgm16(const AggregateRow& r) {
     inner(DirTag<-1>{});
   general(W - 1);
 }
+
+template <int NC, bool Acc>
+void aggregate_sgm16_layout(const AggregateRow& r, int layout) {
+  switch (layout) {
+    case 1:
+      aggregate_sgm16<NC, Acc, 1>(r);
+      break;
+    case 2:
+      aggregate_sgm16<NC, Acc, 2>(r);
+      break;
+    case 3:
+      aggregate_sgm16<NC, Acc, 3>(r);
+      break;
+    default:
+      aggregate_sgm16<NC, Acc, 0>(r);
+      break;
+  }
+}
+
 template <class T, int NC>
 void aggregate_row_n(const AggregateRow& r) {
   if constexpr (sizeof(T) == 2 && NC > 0 && NC <= 128 && NC % kLanes16 == 0) {
     bool sgm = r.recursions > 0;
     for (int k = 0; k < r.recursions; ++k) sgm = sgm && r.rec[k].kind < kMgmPixel && r.rec[k].weight == 1;
     if (sgm) {
-      const bool four = r.recursions == 4;  // kinds 0, 45, 90, 135: one in registers, three on the row
+      int layout = 0;  // the path sets of 2, 3 and 4 paths (kinds in plan order, 0 degrees first)
+      for (int l = 1; l <= 3 && layout == 0; ++l) {
+        bool match = r.recursions == l + 1;
+        for (int k = 0; match && k < r.recursions; ++k) match = r.rec[k].kind == layout_kind(l, k);
+        if (match) layout = l;
+      }
       if (r.accumulate)
-        four ? aggregate_sgm16<NC, true, 3>(r) : aggregate_sgm16<NC, true, -1>(r);
+        aggregate_sgm16_layout<NC, true>(r, layout);
       else
-        four ? aggregate_sgm16<NC, false, 3>(r) : aggregate_sgm16<NC, false, -1>(r);
+        aggregate_sgm16_layout<NC, false>(r, layout);
       return;
     }
   }
