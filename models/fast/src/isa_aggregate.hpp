@@ -172,8 +172,8 @@ constexpr ZeroRow kZeroRow{};
 // minimum m0) live in registers, the d -+ 1 neighbours by lane shifts; l0 and m0 become this
 // pixel's and l0 is added into s. Same arithmetic as sgm_step, lane for lane.
 template <int NV>
-inline void path0_step(const uint16_t* __restrict c, U16V* l0, uint16_t& m0, int p2, U16V vp1, U16V vguard, U16V* s) {
-  const U16V vm = splat16(m0), mp2 = splat16(static_cast<uint16_t>(m0 + p2));
+inline void path0_step(const uint16_t* __restrict c, U16V* l0, U16V& vm0, U16V vp2, U16V vp1, U16V vguard, U16V* s) {
+  const U16V vm = vm0, mp2 = vm0 + vp2;
   U16V mn = splat16(0xFFFF);
   U16V before = vguard;           // the previous register's old value (its last lane is d - 1 of lane 0)
   for (int v = 0; v < NV; ++v) {  // in place: l0[v] is replaced once its neighbours are read
@@ -186,16 +186,16 @@ inline void path0_step(const uint16_t* __restrict c, U16V* l0, uint16_t& m0, int
     s[v] += l0[v];
     before = old;
   }
-  m0 = hmin16(mn);
+  vm0 = hmin16_splat(mn);
 }
 
 // One previous-row path of aggregate_sgm16 at one pixel: from the predecessor's padded costs lq
 // (guards at lq[0] and lq[NV * kLanes16 + 1]) and their minimum mq, writes out[1..] and *out_min,
 // adds into s. Same arithmetic as sgm_step.
 template <int NV>
-inline void row_path_step(const uint16_t* __restrict c, const uint16_t* __restrict lq, uint16_t mq, int p2, U16V vp1,
+inline void row_path_step(const uint16_t* __restrict c, const uint16_t* __restrict lq, uint16_t mq, U16V vp2, U16V vp1,
                           uint16_t* __restrict out, uint16_t* __restrict out_min, U16V* s) {
-  const U16V vm = splat16(mq), mp2 = splat16(static_cast<uint16_t>(mq + p2));
+  const U16V vm = splat16(mq), mp2 = vm + vp2;  // lane for lane the 16-bit sum mq + P2
   U16V mn = splat16(0xFFFF);
   for (int v = 0; v < NV; ++v) {
     const uint16_t* lv = lq + v * kLanes16;
@@ -272,7 +272,8 @@ void aggregate_sgm16(const AggregateRow& r) {
   uint16_t* const sum_base = static_cast<uint16_t*>(r.sum);
   U16V l0[NV];
   for (int v = 0; v < NV; ++v) l0[v] = U16V{};
-  uint16_t m0 = 0;
+  U16V vm0 = U16V{};  // the 0-degree path's previous minimum in every lane
+  const U16V vp2 = splat16(r.p2);
   const int count = Layout > 0 ? Layout : nmem;
 
   // Any pixel, any recursions.
@@ -283,9 +284,9 @@ void aggregate_sgm16(const AggregateRow& r) {
     U16V s[NV];
     for (int v = 0; v < NV; ++v) s[v] = Acc ? load16(sum + v * kLanes16) : U16V{};
     if (has0) {
-      int p2 = r.p2;
-      if (adapt && i > 0) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.intensity[x - dir]);
-      path0_step<NV>(c, l0, m0, p2, vp1, vguard, s);
+      const U16V p2 =
+          adapt && i > 0 ? splat16(adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.intensity[x - dir])) : vp2;
+      path0_step<NV>(c, l0, vm0, p2, vp1, vguard, s);
     }
     for (int j = 0; j < count; ++j) {
       const RowRec& q = mem[j];
@@ -293,8 +294,8 @@ void aggregate_sgm16(const AggregateRow& r) {
       const int qx = x + q.qoff;
       const uint16_t* lq = ok ? q.prev + static_cast<int64_t>(qx) * q.stride : kZeroRow.v;
       const uint16_t mq = ok ? q.prev_min[qx * q.min_stride] : 0;
-      int p2 = r.p2;
-      if (adapt && ok) p2 = adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[qx]);
+      const U16V p2 =
+          adapt && ok ? splat16(adaptive(r.p1, r.p2, r.p2_adaptive, r.intensity[x], r.prev_intensity[qx])) : vp2;
       row_path_step<NV>(c, lq, mq, p2, vp1, q.cur + static_cast<int64_t>(x) * q.stride,
                         q.cur_min + static_cast<int64_t>(x) * q.min_stride, s);
     }
@@ -334,12 +335,12 @@ void aggregate_sgm16(const AggregateRow& r) {
       const int ix = adapt ? r.intensity[x] : 0;
       U16V s[NV];
       for (int v = 0; v < NV; ++v) s[v] = Acc ? load16(sum + v * kLanes16) : U16V{};
-      path0_step<NV>(c, l0, m0, adapt ? adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.intensity[x - D]) : r.p2, vp1, vguard,
-                     s);
+      path0_step<NV>(c, l0, vm0, adapt ? splat16(adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.intensity[x - D])) : vp2,
+                     vp1, vguard, s);
       auto slot = [&](auto kind_tag, auto slot_tag) {
         constexpr int kKind = decltype(kind_tag)::value, kSlot = decltype(slot_tag)::value;
         constexpr int q = kKind == kSgm45 ? -D : (kKind == kSgm90 ? 0 : D);  // predecessor column x + q
-        const int p2 = adapt ? adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x + q]) : r.p2;
+        const U16V p2 = adapt ? splat16(adaptive(r.p1, r.p2, r.p2_adaptive, ix, r.prev_intensity[x + q])) : vp2;
         row_path_step<NV>(c, pv + q * 4 * P + kSlot * P, pm[q * 4 + kSlot], p2, vp1, cv + kSlot * P, cm + kSlot, s);
       };
       if constexpr (Layout == 1) {

@@ -114,6 +114,22 @@ inline uint16_t hmin16(U16V v) {
   return static_cast<uint16_t>(_mm_cvtsi128_si32(q));
 #endif
 }
+// hmin16(v) in every lane, without a trip through a general register where the level has a
+// word broadcast from a vector.
+inline U16V hmin16_splat(U16V v) {
+#if defined(__AVX512BW__)
+  const IntV z = as_int(v);
+  const __m256i h = _mm256_min_epu16(_mm512_castsi512_si256(z), _mm512_extracti64x4_epi64(z, 1));
+  const __m128i q = _mm_min_epu16(_mm256_castsi256_si128(h), _mm256_extracti128_si256(h, 1));
+  return as_u16(_mm512_broadcastw_epi16(_mm_minpos_epu16(q)));
+#elif defined(__AVX2__)
+  const IntV z = as_int(v);
+  const __m128i q = _mm_min_epu16(_mm256_castsi256_si128(z), _mm256_extracti128_si256(z, 1));
+  return as_u16(_mm256_broadcastw_epi16(_mm_minpos_epu16(q)));
+#else
+  return splat16(hmin16(v));
+#endif
+}
 // Lane shifts across two registers: lanes_up(a, b)[i] = (a:b)[kLanes16 - 1 + i] (the d - 1
 // neighbour of b's lanes, a's last lane first), lanes_down(a, b)[i] = (a:b)[i + 1] (the d + 1
 // neighbour of a's lanes).
