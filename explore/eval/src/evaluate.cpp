@@ -32,9 +32,9 @@ DisparityMap to_disparity_map(const sim::DisparityCodes& codes) {
   const uint16_t invalid = uint16_t(codes.disparities << codes.subpixel_bits);  // docs/algorithm.md §5
   const float step_px = 1.0f / float(1 << codes.subpixel_bits);
   for (int y = 0; y < codes.height_px; ++y) {
-    float* d = out.disparity_px.ptr<float>(y);
-    uint8_t* v = out.valid_mask.ptr<uint8_t>(y);
-    const uint16_t* c = codes.code.data() + std::size_t(y) * std::size_t(codes.width_px);
+    float* __restrict d = out.disparity_px.ptr<float>(y);
+    uint8_t* __restrict v = out.valid_mask.ptr<uint8_t>(y);
+    const uint16_t* __restrict c = codes.code.data() + std::size_t(y) * std::size_t(codes.width_px);
     for (int x = 0; x < codes.width_px; ++x) {
       const bool ok = c[x] != invalid;
       d[x] = ok ? float(codes.min_disparity) + float(c[x]) * step_px : 0.0f;

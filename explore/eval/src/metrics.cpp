@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 namespace parallax::eval {
 namespace {
@@ -36,7 +37,7 @@ double percent(std::int64_t numerator, std::int64_t denominator) {
 // |error| > 3 px and |error| > 5 % of the GT. The relative test is written error * 20 > gt,
 // which is exact in double for float inputs (0.05 is not representable, 20 is).
 bool is_d1_outlier(double error_px, double gt_px) {
-  return error_px > kD1AbsThresholdPx && error_px * 20.0 > gt_px;
+  return (error_px > kD1AbsThresholdPx) & (error_px * 20.0 > gt_px);  // both tested: no branch
 }
 
 }  // namespace
@@ -77,9 +78,9 @@ DisparityMap interpolate_background(const cv::Mat& disparity_px, const cv::Mat& 
   cv::Mat d = disparity_px.clone();
   cv::Mat valid(valid_mask.size(), CV_8UC1);
   for (int y = 0; y < height_px; ++y) {
-    for (int x = 0; x < width_px; ++x) {
-      valid.at<std::uint8_t>(y, x) = valid_mask.at<std::uint8_t>(y, x) != 0 ? 255 : 0;
-    }
+    const std::uint8_t* in = valid_mask.ptr<std::uint8_t>(y);
+    std::uint8_t* out = valid.ptr<std::uint8_t>(y);
+    for (int x = 0; x < width_px; ++x) out[x] = in[x] != 0 ? 255 : 0;
   }
 
   for (int y = 0; y < height_px; ++y) {
@@ -126,25 +127,26 @@ DisparityMap interpolate_background(const cv::Mat& disparity_px, const cv::Mat& 
     }
   }
 
-  // Step 3: top and bottom extrapolation per column.
-  for (int x = 0; x < width_px; ++x) {
-    for (int y = 0; y < height_px; ++y) {
-      if (valid.at<std::uint8_t>(y, x) != 0) {
-        for (int v = 0; v < y; ++v) {
-          d.at<float>(v, x) = d.at<float>(y, x);
-          valid.at<std::uint8_t>(v, x) = 255;
-        }
-        break;
-      }
+  // Step 3: top and bottom extrapolation per column, row by row: each column's first and last
+  // valid rows after steps 1-2, then the rows above the first take its value and those below the
+  // last take the last's (the two fills are disjoint and neither changes its source).
+  std::vector<int> first_row(static_cast<std::size_t>(width_px), -1), last_row(first_row);
+  for (int y = 0; y < height_px; ++y) {
+    const std::uint8_t* ok = valid.ptr<std::uint8_t>(y);
+    for (int x = 0; x < width_px; ++x) {
+      if (ok[x] == 0) continue;
+      if (first_row[std::size_t(x)] < 0) first_row[std::size_t(x)] = y;
+      last_row[std::size_t(x)] = y;
     }
-    for (int y = height_px - 1; y >= 0; --y) {
-      if (valid.at<std::uint8_t>(y, x) != 0) {
-        for (int v = y + 1; v < height_px; ++v) {
-          d.at<float>(v, x) = d.at<float>(y, x);
-          valid.at<std::uint8_t>(v, x) = 255;
-        }
-        break;
-      }
+  }
+  for (int y = 0; y < height_px; ++y) {
+    float* row = d.ptr<float>(y);
+    std::uint8_t* ok = valid.ptr<std::uint8_t>(y);
+    for (int x = 0; x < width_px; ++x) {
+      const int top = first_row[std::size_t(x)], bottom = last_row[std::size_t(x)];
+      if (top < 0 || (y >= top && y <= bottom)) continue;
+      row[x] = d.ptr<float>(y < top ? top : bottom)[x];
+      ok[x] = 255;
     }
   }
   return DisparityMap{d, valid};
@@ -171,23 +173,23 @@ FrameCounts count_frame(const cv::Mat& disparity_px, const cv::Mat& valid_mask, 
     const std::uint8_t* has_gt = gt_mask.ptr<std::uint8_t>(y);
     const float* f = filled.disparity_px.ptr<float>(y);
     const std::uint8_t* f_ok = filled.valid_mask.ptr<std::uint8_t>(y);
+    // Counted without branches on the data (validity and outliers are scattered pixel by pixel;
+    // the GT mask comes in long runs): an invalid pixel adds zero to every count and +0.0 to the
+    // error sum, which leaves a sum of non-negative terms exactly as it was.
     for (int x = 0; x < disparity_px.cols; ++x) {
       const bool valid = ok[x] != 0;
-      if (valid) ++c.valid_pixels;
+      c.valid_pixels += valid;
       if (has_gt[x] == 0) continue;
       ++c.gt_pixels;
       const double gt = g[x];
       // Official D1: the filled prediction over all GT pixels; a pixel the fill leaves
       // invalid counts as an outlier.
-      if (f_ok[x] == 0 || is_d1_outlier(std::abs(static_cast<double>(f[x]) - gt), gt)) {
-        ++c.d1_outliers_filled;
-      }
-      if (!valid) continue;
-      ++c.valid_gt_pixels;
+      c.d1_outliers_filled += (f_ok[x] == 0) | is_d1_outlier(std::abs(static_cast<double>(f[x]) - gt), gt);
       const double error_px = std::abs(static_cast<double>(d[x]) - gt);
-      if (error_px < kCorrectThresholdPx) ++c.correct_3px;
-      if (is_d1_outlier(error_px, gt)) ++c.d1_outliers;
-      c.abs_error_sum_px += error_px;
+      c.valid_gt_pixels += valid;
+      c.correct_3px += valid & (error_px < kCorrectThresholdPx);
+      c.d1_outliers += valid & is_d1_outlier(error_px, gt);
+      c.abs_error_sum_px += valid ? error_px : 0.0;
     }
   }
   return c;
