@@ -181,8 +181,12 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
   for (const auto* m : group) rows.push_back(new_row(spec, *m));
   std::vector<AccuracyFigures> accuracy(group.size());
   std::vector<AvoidAccumulator> avoidance(group.size());
-  sim::FuncPipeline pipe;
-  sim::CostRecording rec;
+  // One pipeline and one recording per thread, kept from group to group: their buffers (the cost
+  // volume, the kept aggregate, a two-pass frame's sums, up to about 60 MiB each at D = 128) are
+  // then allocated and zeroed once per thread instead of once per group. record_costs resets the
+  // recording (its kept aggregate too) for every frame.
+  thread_local sim::FuncPipeline pipe;
+  thread_local sim::CostRecording rec;
   const RoiSize roi = roi_for(group.front()->config);
   // Designs of one aggregate (they differ only after the aggregation) next to each other, so that
   // each aggregate is computed once per frame and replayed into the rest (fast engine).
