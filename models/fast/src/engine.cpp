@@ -96,8 +96,6 @@ struct StoredCosts final : CostRows {
   }
 };
 
-// Computes a cost row from the images: census codes of both images once (byte planes,
-// isa.hpp), then per row.
 // The buffers of DirectCosts, kept by the engine from one frame to the next: every element is
 // written before it is read (census planes, reversed rows, cost rows; the SAD column sums are
 // cleared when a window is summed afresh), so a frame's buffers are only resized, never cleared,
@@ -107,6 +105,8 @@ struct CostBuffers {
   std::vector<uint16_t> out, sad_cols;
 };
 
+// Computes a cost row from the images: census codes of both images once (byte planes,
+// isa.hpp), then per row.
 struct DirectCosts final : CostRows {
   const kern::StereoParams& p;
   const uint8_t* left;

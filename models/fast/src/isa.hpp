@@ -10,8 +10,8 @@
 // vectors: a padding lane's path cost stays in [kCostPad, kCostPad + P2], above every real path
 // cost (<= cost_max + P2) and high enough never to win as a neighbour (the 16-bit engine uses
 // padding when cost_max + 2 P2 + P1 < kCostPad, engine.cpp). A path-cost row keeps two guard
-// entries per pixel ([W][lanes + 2], lane d at d + 1) so that the d - 1 and d + 1 neighbours need
-// no test.
+// entries per pixel (lanes + 2 per pixel and recursion, lane d at d + 1; the recursions of a
+// pass interleaved, Recursion below) so that the d - 1 and d + 1 neighbours need no test.
 #pragma once
 
 #include <stdint.h>
@@ -46,8 +46,8 @@ enum RecursionKind : int { kSgm0 = 0, kSgm45 = 1, kSgm90 = 2, kSgm135 = 3, kMgmP
 // lanes, a guard; the guards hold the type's maximum minus P1 for the whole frame, written by the
 // engine, never by the recursions), its minimum at prev_min[x * min_stride]. The engine keeps the
 // four recursions of a pass interleaved per pixel (recursion k at offset k * (lanes + 2), stride
-// 4 * (lanes + 2), minima at k with min_stride 4), which lets the four-path loop address all of
-// them from one pointer per row.
+// 4 * (lanes + 2), minima at k with min_stride 4), which lets the 2-, 3- and 4-path loops address
+// all of them from one pointer per row.
 struct Recursion {
   int kind = 0;              // RecursionKind
   int weight = 1;            // paths that add this recursion (MGM pairs: 1 or 2)

@@ -169,8 +169,8 @@ struct ZeroRow {
 constexpr ZeroRow kZeroRow{};
 
 // The 0-degree path of aggregate_sgm16 at one pixel: its previous pixel's costs l0 (and their
-// minimum m0) live in registers, the d -+ 1 neighbours by lane shifts; l0 and m0 become this
-// pixel's and l0 is added into s. Same arithmetic as sgm_step, lane for lane.
+// minimum vm0, in every lane) live in registers, the d -+ 1 neighbours by lane shifts; l0 and vm0
+// become this pixel's and l0 is added into s. Same arithmetic as sgm_step, lane for lane.
 template <int NV>
 inline void path0_step(const uint16_t* __restrict c, U16V* l0, U16V& vm0, U16V vp2, U16V vp1, U16V vguard, U16V* s) {
   const U16V vm = vm0, mp2 = vm0 + vp2;

@@ -32,7 +32,8 @@ constexpr LaneNumbers kLanes{};
 void pad_sums16(uint16_t* sum, int width_px, int disparities, int lanes) {
   if (lanes == disparities) return;
   const int first = disparities / kLanes16 * kLanes16;  // the first register holding padding
-  const int count = (lanes - first) / kLanes16;         // at most 32 / kLanes16
+  int count = (lanes - first) / kLanes16;               // at most 32 / kLanes16 (lanes < D + 32)
+  if (count > 32 / kLanes16) count = 32 / kLanes16;     // not padded rows (a caller's error): no overflow
   U16V mask[32 / kLanes16];
   for (int j = 0; j < count; ++j) {
     const I16V li = __builtin_bit_cast(I16V, load16(kLanes.v + first + j * kLanes16));

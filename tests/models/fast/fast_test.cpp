@@ -141,5 +141,46 @@ TEST(FastEngine, WideAndUnpaddedSumsAgainstTheGoldenModel) {
   }
 }
 
+// One engine through designs that change every buffer's size and contents (width, height, D,
+// Census and SAD, 16- and 32-bit sums, path sets, penalties, the median), at every level: each
+// frame's codes are the golden model's whatever ran before. The engine keeps its buffers from
+// frame to frame and may rely on nothing it did not write in the frame at hand.
+TEST(FastEngine, OneEngineThroughChangingDesignsAtEveryLevel) {
+  struct Step {
+    int w, h, d, cost, window;
+    unsigned paths;
+    int p1, p2, median;
+  };
+  const Step steps[] = {
+      {70, 15, 60, kern::kCostCensus, 5, kern::kForwardPaths, 8, 32, 5},
+      {40, 12, 32, kern::kCostCensus, 5, kern::kPath0 | kern::kPath90, 4, 24, 3},
+      {70, 15, 60, kern::kCostSad, 9, kern::kAllPaths, 300, 9000, 0},  // 32-bit sums
+      {53, 9, 16, kern::kCostCensus, 3, kern::kPath0 | kern::kPath45 | kern::kPath90, 12, 64, 5},
+      {70, 15, 48, kern::kCostSad, 7, kern::kForwardPaths | kern::kPath180, 100, 2000, 3},
+      {70, 15, 60, kern::kCostCensus, 5, kern::kForwardPaths, 8, 32, 5},  // the first again
+  };
+  const std::string before = fast::simd_level();
+  for (const std::string& level : fast::supported_simd_levels()) {
+    fast::set_simd_level(level);
+    fast::Engine e;
+    int k = 0;
+    for (const Step& st : steps) {
+      ref::Image8 l, r;
+      scene(st.w, st.h, st.d / 2, uint32_t(50 + k), l, r);
+      kern::StereoParams p = seed_like(st.w, st.h, st.d);
+      p.cost = st.cost;
+      p.window_w = p.window_h = st.window;
+      p.path_mask = st.paths;
+      p.p1 = st.p1;
+      p.p2 = st.p2;
+      p.median = st.median;
+      ASSERT_TRUE(fast::param_errors(p).empty()) << "step " << k;
+      EXPECT_EQ(e.run(l.px.data(), r.px.data(), p), ref::compute_disparity(l, r, p)) << level << " step " << k;
+      ++k;
+    }
+  }
+  fast::set_simd_level(before);
+}
+
 }  // namespace
 }  // namespace parallax::test
