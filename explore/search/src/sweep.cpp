@@ -263,24 +263,7 @@ std::vector<Unit> cost_sharing_units(const std::vector<const MaterialisedDesign*
     big->resize(big->size() / 2);
     units.push_back(half);
   }
-  // Longest first: the threads take the units in this order, so the last to start are the
-  // smallest and the threads finish close together (in the order of making, the last units, run
-  // alone, were often the large ones). A unit's weight: per design D x (1 + paths), the
-  // aggregation's work, the largest part of a design's.
-  std::vector<std::pair<int64_t, std::size_t>> weight(units.size());
-  for (std::size_t u = 0; u < units.size(); ++u) {
-    int64_t w = 0;
-    for (const auto* m : units[u]) {
-      const RoiSize roi = roi_for(m->config);
-      const kern::StereoParams p = m->config.stereo_params(roi.width_px, roi.height_px);
-      w += int64_t(p.disparities) * (1 + kern::path_count(p));
-    }
-    weight[u] = {-w, u};
-  }
-  std::stable_sort(weight.begin(), weight.end());
-  std::vector<Unit> sorted;
-  for (const auto& [w, u] : weight) sorted.push_back(std::move(units[u]));
-  return sorted;
+  return units;
 }
 
 // Calls work(0 .. count-1) on up to `jobs` threads. The first exception stops every thread (no
