@@ -135,6 +135,7 @@ void cost_census_planes(const CostRow& r, const uint8_t* left, const uint8_t* ri
     rev[p] = rp;
   }
   const int full_from = m + D - 1;  // x >= full_from: every d < D has a right pixel
+  const PadLanes16 pad(D, stride, kCostPad);
   for (int x = 0; x < W; ++x) {
     uint16_t* __restrict out = r.out + static_cast<int64_t>(x) * stride;
     const uint8_t* rx[P];
@@ -156,7 +157,7 @@ void cost_census_planes(const CostRow& r, const uint8_t* left, const uint8_t* ri
 #endif
     if (x < full_from)
       for (int d = clampi(x - m + 1, 0, D); d < D; ++d) out[d] = r.cost_max;
-    for (int d = D; d < stride; ++d) out[d] = kCostPad;
+    pad.apply(out);
   }
 }
 
@@ -239,10 +240,11 @@ void sad_box(const CostRow& r, int ww, const uint16_t* col) {
     uint16_t* out = r.out + static_cast<int64_t>(x) * S;
     for (int d0 = 0; d0 < S; d0 += kLanes16) store16(out + d0, load16(prev + d0) + load16(add + d0) - load16(sub + d0));
   }
+  const PadLanes16 pad(D, S, kCostPad);
   for (int x = 0; x < W; ++x) {
     uint16_t* out = r.out + static_cast<int64_t>(x) * S;
     for (int d = clampi(x - m + 1, 0, D); d < D; ++d) out[d] = r.cost_max;
-    for (int d = D; d < S; ++d) out[d] = kCostPad;
+    pad.apply(out);
   }
 }
 

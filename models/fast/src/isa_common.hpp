@@ -59,6 +59,7 @@ constexpr int kVecBytes = 16;
 constexpr int kLanes16 = kVecBytes / 2;
 typedef uint16_t U16V __attribute__((vector_size(kVecBytes)));
 typedef uint16_t U16VUnaligned __attribute__((vector_size(kVecBytes), aligned(2), may_alias));
+typedef int16_t I16V __attribute__((vector_size(kVecBytes)));
 
 inline U16V load16(const uint16_t* p) {
   return *reinterpret_cast<const U16VUnaligned*>(p);
@@ -130,10 +131,47 @@ inline U16V hmin16_splat(U16V v) {
   return splat16(hmin16(v));
 #endif
 }
+// 0, 1, 2, ...: the lane numbers as data, so that lane tests and searches are vector compares.
+// Constant initialised (constexpr): a dynamic initialiser here would run this file's
+// instructions at program start, on every CPU.
+struct LaneNumbers {
+  uint16_t v[288] = {};
+  constexpr LaneNumbers() {
+    for (int i = 0; i < 288; ++i) v[i] = static_cast<uint16_t>(i);
+  }
+};
+constexpr LaneNumbers kLanes{};
+
+// Lanes [D, lanes) of a pixel's row of 16-bit lanes set to one value, the lanes below kept: the
+// masks are built once per row of pixels and applied per pixel as a load, and/or and a store
+// over the registers that hold padding. lanes is cost_stride(D) (a multiple of 32, less than
+// D + 32) or D itself (no padding), so those are the last one or two registers (32 / kLanes16
+// at most; a larger count, a caller's error, is cut there rather than overrun the masks).
+struct PadLanes16 {
+  int first = 0, count = 0;  // the first register holding padding (lane index), and how many
+  U16V keep[32 / kLanes16] = {}, fill[32 / kLanes16] = {};
+  PadLanes16(int disparities, int lanes, uint16_t value) {
+    if (lanes <= disparities) return;
+    first = disparities / kLanes16 * kLanes16;
+    count = (lanes - first) / kLanes16;
+    if (count > 32 / kLanes16) count = 32 / kLanes16;
+    for (int j = 0; j < count; ++j) {
+      const I16V li = __builtin_bit_cast(I16V, load16(kLanes.v + first + j * kLanes16));
+      keep[j] = __builtin_bit_cast(U16V, li < static_cast<int16_t>(disparities));
+      fill[j] = splat16(value) & ~keep[j];
+    }
+  }
+  void apply(uint16_t* row) const {
+    for (int j = 0; j < count; ++j) {
+      uint16_t* p = row + first + j * kLanes16;
+      store16(p, (load16(p) & keep[j]) | fill[j]);
+    }
+  }
+};
+
 // Lane shifts across two registers: lanes_up(a, b)[i] = (a:b)[kLanes16 - 1 + i] (the d - 1
 // neighbour of b's lanes, a's last lane first), lanes_down(a, b)[i] = (a:b)[i + 1] (the d + 1
 // neighbour of a's lanes).
-typedef int16_t I16V __attribute__((vector_size(kVecBytes)));
 #if defined(__AVX512BW__)
 struct ShiftIndex {
   int16_t up[32] = {}, down[32] = {};

@@ -15,34 +15,12 @@ inline T lane_min(const T* __restrict s, int n) {
   for (int d = 0; d < n; ++d) v = tmin<T>(v, s[d]);
   return v;
 }
-// 0, 1, 2, ...: the lane numbers as data, so that the search below is a vector min. Constant
-// initialised (constexpr): a dynamic initialiser here would run this file's instructions at
-// program start, on every CPU.
-struct LaneNumbers {
-  uint16_t v[288] = {};
-  constexpr LaneNumbers() {
-    for (int i = 0; i < 288; ++i) v[i] = static_cast<uint16_t>(i);
-  }
-};
-constexpr LaneNumbers kLanes{};
-
 // Lanes [D, lanes) of every pixel's 16-bit sums set to 0xFFFF (what the WTA expects of the
-// padding), by OR-ing a mask into the registers that hold padding. Padded rows have lanes =
-// cost_stride(D), a multiple of 32 and less than D + 32, so those are the last ones.
+// padding).
 void pad_sums16(uint16_t* sum, int width_px, int disparities, int lanes) {
-  if (lanes == disparities) return;
-  const int first = disparities / kLanes16 * kLanes16;  // the first register holding padding
-  int count = (lanes - first) / kLanes16;               // at most 32 / kLanes16 (lanes < D + 32)
-  if (count > 32 / kLanes16) count = 32 / kLanes16;     // not padded rows (a caller's error): no overflow
-  U16V mask[32 / kLanes16];
-  for (int j = 0; j < count; ++j) {
-    const I16V li = __builtin_bit_cast(I16V, load16(kLanes.v + first + j * kLanes16));
-    mask[j] = __builtin_bit_cast(U16V, li >= static_cast<int16_t>(disparities));
-  }
-  for (int x = 0; x < width_px; ++x) {
-    uint16_t* s = sum + static_cast<int64_t>(x) * lanes + first;
-    for (int j = 0; j < count; ++j) store16(s + j * kLanes16, load16(s + j * kLanes16) | mask[j]);
-  }
+  const PadLanes16 pad(disparities, lanes, 0xFFFF);
+  if (pad.count == 0) return;
+  for (int x = 0; x < width_px; ++x) pad.apply(sum + static_cast<int64_t>(x) * lanes);
 }
 
 template <class T>
