@@ -170,62 +170,91 @@ constexpr std::size_t kFrameCacheBytes = std::size_t(512) << 20;
 
 // Designs sharing the cost stage, evaluated together: each frame's costs recorded once and
 // replayed into every design; the frames come from the sweep's cache (decoded and cropped once
-// for every group, frame_cache.hpp).
-std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::vector<const MaterialisedDesign*>& group,
-                                             const Dataset& dataset, detail::FrameCache& frames) {
-  const GtKind gt = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
-  const std::vector<FrameRef> refs = list_frames(dataset, gt, spec.frames);
-  if (refs.empty())
-    throw InputError(dataset.root.string() + ": no frame with ground truth matches '" + spec.frames + "'");
-  std::vector<ResultStore::Row> rows;
-  for (const auto* m : group) rows.push_back(new_row(spec, *m));
-  std::vector<AccuracyFigures> accuracy(group.size());
-  std::vector<AvoidAccumulator> avoidance(group.size());
+// for every group, frame_cache.hpp). The frames may be split into chunks that threads evaluate
+// side by side (GroupJob): each frame's figures land at the frame's index, so the pooled figures
+// are those of one thread, in frame order.
+struct GroupFrames {
+  std::vector<const MaterialisedDesign*> designs;
+  std::vector<FrameRef> refs;
+  RoiSize roi;
+  // The evaluation order: designs of one aggregate (they differ only after the aggregation) next
+  // to each other, so that each aggregate is computed once per frame and replayed into the rest
+  // (fast engine); within an aggregate, designs with the same WTA knobs next to each other (a
+  // median-only difference then reruns the median alone).
+  std::vector<std::size_t> order;
+  std::vector<std::string> agg_key;
+  std::vector<std::vector<eval::FrameRow>> rows;  // [design][frame]
+  std::vector<AvoidAccumulator> avoidance;        // only with one chunk (its sums run in frame order)
+  std::string started_at;
+};
+
+// The group's evaluation order and storage, over the sweep's frames (refs, at least one).
+void prepare_group(const SweepSpec& spec, const std::vector<const MaterialisedDesign*>& group,
+                   std::vector<FrameRef> refs, GroupFrames& g) {
+  g.designs = group;
+  g.refs = std::move(refs);
+  g.started_at = utc_now();
+  g.roi = roi_for(group.front()->config);
+  g.order.resize(group.size());
+  g.agg_key.assign(group.size(), "");
+  std::vector<std::string> wta_key(group.size());
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    g.order[k] = k;
+    const kern::StereoParams p = group[k]->config.stereo_params(g.roi.width_px, g.roi.height_px);
+    g.agg_key[k] = sim::aggregate_sharing_key(p);
+    wta_key[k] = sim::selection_sharing_key(p);
+  }
+  std::stable_sort(g.order.begin(), g.order.end(), [&](std::size_t a, std::size_t b) {
+    return g.agg_key[a] != g.agg_key[b] ? g.agg_key[a] < g.agg_key[b] : wta_key[a] < wta_key[b];
+  });
+  g.rows.assign(group.size(), std::vector<eval::FrameRow>(g.refs.size()));
+  g.avoidance.assign(spec.avoidance ? group.size() : 0, AvoidAccumulator{});
+}
+
+// Frames [lo, hi) of every design of the group.
+void evaluate_group_frames(const SweepSpec& spec, GroupFrames& g, std::size_t lo, std::size_t hi,
+                           detail::FrameCache& frames) {
   // One pipeline and one recording per thread, kept from group to group: their buffers (the cost
   // volume, the kept aggregate, a two-pass frame's sums, up to about 60 MiB each at D = 128) are
   // then allocated and zeroed once per thread instead of once per group. record_costs resets the
   // recording (its kept aggregate too) for every frame.
   thread_local sim::FuncPipeline pipe;
   thread_local sim::CostRecording rec;
-  const RoiSize roi = roi_for(group.front()->config);
-  // Designs of one aggregate (they differ only after the aggregation) next to each other, so that
-  // each aggregate is computed once per frame and replayed into the rest (fast engine).
-  // Within an aggregate, designs with the same WTA knobs next to each other (a median-only
-  // difference then reruns the median alone).
-  std::vector<std::size_t> order(group.size());
-  std::vector<std::string> agg_key(group.size()), wta_key(group.size());
-  for (std::size_t k = 0; k < group.size(); ++k) {
-    order[k] = k;
-    const kern::StereoParams p = group[k]->config.stereo_params(roi.width_px, roi.height_px);
-    agg_key[k] = sim::aggregate_sharing_key(p);
-    wta_key[k] = sim::selection_sharing_key(p);
-  }
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return agg_key[a] != agg_key[b] ? agg_key[a] < agg_key[b] : wta_key[a] < wta_key[b];
-  });
-  for (const auto& ref : refs) {
-    const std::shared_ptr<const detail::CroppedFrame> f = frames.get(ref, roi);
+  const auto& group = g.designs;
+  for (std::size_t fi = lo; fi < hi; ++fi) {
+    const std::shared_ptr<const detail::CroppedFrame> f = frames.get(g.refs[fi], g.roi);
     const Roi& r = f->roi;
     const cv::Mat &l = f->left, &rr = f->right, &gtd = f->gt_disparity_px, &gtm = f->gt_mask;
     pipe.record_costs(to_grey_image(l), to_grey_image(rr), group.front()->config.stereo_params(l.cols, l.rows), rec);
     for (std::size_t i = 0; i < group.size(); ++i) {
-      const std::size_t k = order[i];
+      const std::size_t k = g.order[i];
       const kern::StereoParams p = group[k]->config.stereo_params(l.cols, l.rows);
-      const bool next_shares = i + 1 < group.size() && !agg_key[k].empty() && agg_key[order[i + 1]] == agg_key[k];
+      const bool next_shares =
+          i + 1 < group.size() && !g.agg_key[k].empty() && g.agg_key[g.order[i + 1]] == g.agg_key[k];
       const DisparityMap d = to_disparity_map(pipe.run_from_costs(rec, p, next_shares));
-      accuracy[k].frames.push_back(make_frame_row(f->id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm)));
+      g.rows[k][fi] = make_frame_row(f->id, count_frame(d.disparity_px, d.valid_mask, gtd, gtm));
       if (spec.avoidance)
-        avoidance[k].add(d.disparity_px, d.valid_mask, gtd, gtm, p.min_disparity + p.disparities,
-                         kitti_default_rig(r.x0, r.y0));
+        g.avoidance[k].add(d.disparity_px, d.valid_mask, gtd, gtm, p.min_disparity + p.disparities,
+                           kitti_default_rig(r.x0, r.y0));
     }
   }
-  for (std::size_t k = 0; k < group.size(); ++k) {
+}
+
+// The group's rows once every frame is in: pooled figures, then what the shared evaluation has
+// not measured (the design's schedule, resources, flights).
+std::vector<ResultStore::Row> finish_group(const SweepSpec& spec, GroupFrames& g, const Dataset& dataset) {
+  std::vector<ResultStore::Row> rows;
+  for (std::size_t k = 0; k < g.designs.size(); ++k) {
+    rows.push_back(new_row(spec, *g.designs[k]));
+    rows.back().started_at = g.started_at;
     DesignResult result;
-    result.config = group[k]->config;
-    accuracy[k].pooled = pool_rows(accuracy[k].frames);
-    result.accuracy = std::move(accuracy[k]);
-    if (spec.avoidance) result.avoidance = AvoidanceFigures{avoidance[k].metrics()};
-    finish_row(spec, result, &dataset, rows[k]);
+    result.config = g.designs[k]->config;
+    AccuracyFigures accuracy;
+    accuracy.frames = std::move(g.rows[k]);
+    accuracy.pooled = pool_rows(accuracy.frames);
+    result.accuracy = std::move(accuracy);
+    if (spec.avoidance) result.avoidance = AvoidanceFigures{g.avoidance[k].metrics()};
+    finish_row(spec, result, &dataset, rows.back());
   }
   return rows;
 }
@@ -234,12 +263,10 @@ std::vector<ResultStore::Row> evaluate_group(const SweepSpec& spec, const std::v
 
 namespace {
 
-// Designs evaluated together by one thread: those sharing the cost stage
-// (sim::cost_sharing_key) when share_costs, else one each; with fewer units than threads the
-// largest are halved so that every thread works.
+// Designs evaluated together: those sharing the cost stage (sim::cost_sharing_key) when
+// share_costs, else one each. Threads share a unit's work by its frames (frame_chunks).
 using Unit = std::vector<const MaterialisedDesign*>;
-std::vector<Unit> cost_sharing_units(const std::vector<const MaterialisedDesign*>& designs, bool share_costs,
-                                     int jobs) {
+std::vector<Unit> cost_sharing_units(const std::vector<const MaterialisedDesign*>& designs, bool share_costs) {
   std::vector<Unit> units;
   std::map<std::string, std::size_t> unit_of_key;
   for (const auto* m : designs) {
@@ -255,15 +282,18 @@ std::vector<Unit> cost_sharing_units(const std::vector<const MaterialisedDesign*
     if (!key.empty()) unit_of_key[key] = units.size();
     units.push_back({m});
   }
-  while (int(units.size()) < jobs) {
-    auto big =
-        std::max_element(units.begin(), units.end(), [](const Unit& a, const Unit& b) { return a.size() < b.size(); });
-    if (big == units.end() || big->size() < 2) break;
-    Unit half(big->begin() + std::ptrdiff_t(big->size() / 2), big->end());
-    big->resize(big->size() / 2);
-    units.push_back(half);
-  }
   return units;
+}
+
+// How many chunks of frames a unit's work is cut into: on one thread (or for one design, or with
+// avoidance, whose sums run in frame order) one; else about 8 pieces of work per thread over the
+// whole batch, in proportion to the unit's designs, so that the threads finish close together
+// (a chunk costs its frames' cost recording, which the unit's designs share; nothing is
+// computed twice).
+int frame_chunks(std::size_t unit_designs, std::size_t batch_designs, std::size_t frames, int jobs, bool avoidance) {
+  if (jobs <= 1 || unit_designs < 2 || avoidance || frames < 2) return 1;
+  const std::size_t want = (8 * std::size_t(jobs) * unit_designs + batch_designs - 1) / batch_designs;
+  return int(std::clamp<std::size_t>(want, 1, frames));
 }
 
 // Calls work(0 .. count-1) on up to `jobs` threads. The first exception stops every thread (no
@@ -355,9 +385,6 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     todo.push_back(&m);
   }
   const int jobs = opt.jobs > 0 ? opt.jobs : std::max(1, int(std::thread::hardware_concurrency()));
-  auto make_units = [&](const std::vector<const MaterialisedDesign*>& ds) {
-    return cost_sharing_units(ds, opt.share_costs, jobs);
-  };
   auto store_row = [&](ResultStore::Row& r) {
     r.measurement = measurement;
     r.key = result_key(r.hash, measurement);
@@ -383,7 +410,9 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     return r;
   };
   std::vector<const MaterialisedDesign*> waiting;  // claimed by another live process
-  auto evaluate_unit = [&](const Unit& unit) {
+  // Claims the unit's designs in the store: the reusable are settled, those another live process
+  // holds wait, the rest are this process's.
+  auto claim_unit = [&](const Unit& unit) {
     std::vector<std::string> keys;
     for (const auto* m : unit) keys.push_back(key_of(*m));
     const std::vector<ResultStore::Claim> claims = store.claim(keys);
@@ -398,30 +427,93 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
         mine.push_back(unit[k]);
       }
     }
-    if (mine.empty()) return;
+    return mine;
+  };
+  // One unit's work in `chunks` pieces (frame ranges) that any thread takes: the first piece to
+  // start claims the designs, the last to end pools, finishes and stores them. A failure in any
+  // piece makes every design of the unit an error row carrying the first message.
+  struct Job {
+    Unit unit;
+    int chunks = 1;
+    std::once_flag claimed;
+    Unit mine;
+    GroupFrames g;
+    std::atomic<int> left{0};
+    std::mutex mu;
+    std::string error;  // the first failure
+  };
+  const GtKind gt_kind = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
+  auto fail = [](Job& job, const std::string& what) {
+    std::lock_guard<std::mutex> lock(job.mu);
+    if (job.error.empty()) job.error = what.empty() ? "evaluation failed" : what;
+  };
+  auto run_chunk = [&](Job& job, int c) {
+    std::call_once(job.claimed, [&] {
+      job.mine = claim_unit(job.unit);
+      if (job.mine.size() < 2) return;
+      try {
+        std::vector<FrameRef> refs = list_frames(dataset, gt_kind, spec.frames);
+        if (refs.empty())
+          throw InputError(dataset.root.string() + ": no frame with ground truth matches '" + spec.frames + "'");
+        prepare_group(spec, job.mine, std::move(refs), job.g);
+      } catch (const std::exception& e) {
+        fail(job, e.what());
+      }
+    });
+    bool ok = true;
+    {
+      std::lock_guard<std::mutex> lock(job.mu);
+      ok = job.error.empty();
+    }
+    if (ok && job.mine.size() >= 2) {
+      const std::size_t n = job.g.refs.size(), chunks = std::size_t(job.chunks);
+      const std::size_t lo = n * std::size_t(c) / chunks, hi = n * std::size_t(c + 1) / chunks;
+      try {
+        evaluate_group_frames(spec, job.g, lo, hi, frames);
+      } catch (const std::exception& e) {
+        fail(job, e.what());
+      }
+    }
+    if (job.left.fetch_sub(1) != 1) return;  // not the last piece of the unit
+    if (job.mine.empty()) return;
     std::vector<ResultStore::Row> rows;
     try {
-      if (mine.size() == 1)
-        rows.push_back(evaluate_one(spec, *mine.front(), dataset));
+      if (!job.error.empty()) throw std::runtime_error(job.error);
+      if (job.mine.size() == 1)
+        rows.push_back(evaluate_one(spec, *job.mine.front(), dataset));
       else
-        rows = evaluate_group(spec, mine, dataset, frames);
+        rows = finish_group(spec, job.g, dataset);
     } catch (const std::exception& e) {
       rows.clear();
-      for (const auto* m : mine) rows.push_back(error_row(*m, e.what()));
+      for (const auto* m : job.mine) rows.push_back(error_row(*m, e.what()));
     }
     for (auto& r : rows) store_row(r);
   };
+  const std::size_t frame_count = list_frames(dataset, gt_kind, spec.frames).size();
   auto run_units = [&](const std::vector<Unit>& units) {
-    for_each_on_threads(units.size(), jobs, [&](std::size_t i) { evaluate_unit(units[i]); });
+    std::size_t designs_in_batch = 0;
+    for (const Unit& u : units) designs_in_batch += u.size();
+    std::vector<std::unique_ptr<Job>> jobs_of;
+    std::vector<std::pair<std::size_t, int>> pieces;  // (job, chunk), each unit's chunks in order
+    for (const Unit& u : units) {
+      auto job = std::make_unique<Job>();
+      job->unit = u;
+      job->chunks = frame_chunks(u.size(), designs_in_batch, frame_count, jobs, spec.avoidance);
+      job->left = job->chunks;
+      for (int c = 0; c < job->chunks; ++c) pieces.emplace_back(jobs_of.size(), c);
+      jobs_of.push_back(std::move(job));
+    }
+    for_each_on_threads(pieces.size(), jobs,
+                        [&](std::size_t i) { run_chunk(*jobs_of[pieces[i].first], pieces[i].second); });
   };
-  run_units(make_units(todo));
+  run_units(cost_sharing_units(todo, opt.share_costs));
   // Designs other processes are evaluating: wait for their results; take over a design whose
   // process died or failed it.
   auto last_note = std::chrono::steady_clock::now() - std::chrono::hours(1);
   while (!waiting.empty()) {
     std::vector<const MaterialisedDesign*> again;
     again.swap(waiting);
-    run_units(make_units(again));
+    run_units(cost_sharing_units(again, opt.share_costs));
     if (waiting.empty()) break;
     if (std::chrono::steady_clock::now() - last_note > std::chrono::seconds(60)) {
       std::fprintf(stderr, "parallax: note: waiting for %zu designs that another sweep on %s is evaluating\n",
