@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -31,11 +32,28 @@ struct BenchOptions {
   bool json = false;
 };
 
-// The rows as a table on stdout under a line naming the pair size and the runs per method. The
+// The processor's name as the kernel reports it ("model name" of /proc/cpuinfo), or "unknown":
+// speed ratios hold per machine (AMD and Intel rank the peers differently).
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) != 0) continue;
+    const std::size_t colon = line.find(':');
+    if (colon == std::string::npos) break;
+    const std::size_t from = line.find_first_not_of(" \t", colon + 1);
+    return from == std::string::npos ? "unknown" : line.substr(from);
+  }
+  return "unknown";
+}
+
+// The rows as a table on stdout under a line naming the pair size, the runs per method and the
+// processor. The
 // ratios: median to median against MODE_HH4 (the accuracy peer) and MODE_SGBM (the speed peer),
 // and min to min against MODE_SGBM (less sensitive to other load on the machine).
 void print_bench_text(const std::vector<BenchRow>& rows, const cv::Mat& l, int iterations) {
-  std::printf("%dx%d pair, %d runs per method, one thread each unless the row says\n", l.cols, l.rows, iterations);
+  std::printf("%dx%d pair, %d runs per method, one thread each unless the row says; cpu: %s\n", l.cols, l.rows,
+              iterations, cpu_model().c_str());
   std::printf("%-44s %10s %8s %9s %10s %7s %8s %9s\n", "method", "median_ms", "min_ms", "peak_MiB", "extra_MiB",
               "vs_HH4", "vs_SGBM", "min_vs_SGBM");
   for (const auto& row : rows)
