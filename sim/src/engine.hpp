@@ -618,12 +618,21 @@ class Engine : private PipelineRun<kTimed> {
     NodeT& n_agg = node("aggregate");
     NodeT& n_wr = node("ddr_write");
     const int64_t write_firings = fl.seg_tokens + fl.words;
-    int64_t wr_step = 0, stored = 0;
+    int64_t wr_step = 0, stored = 0, wr_last = 0;
+    start_fast_forward_pass1(fe->next_src, int64_t(left.px.size()), wr_step, stored, wr_last, ddr);
+    const int64_t words_per_row = int64_t(p_.width_px) * fl.chunks * fl.beats;
+    std::function<void()> wr_row_done;
+    if (ff_.enabled())
+      wr_row_done = [this, &n_wr, &stored, &wr_last, words_per_row] {
+        if (stored % words_per_row != 0) return;
+        wr_last = n_wr.report().last_fire_cycle;
+        ff_.row_done(*this);
+      };
     std::vector<std::function<bool()>> pass1 = fe->pumps;
     pass1.push_back(cost_pump(n_cost, cost, in_l, in_r, *costs));
     pass1.push_back(
         agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_agg, *costs, nullptr, *fwd, tee.get()));
-    pass1.push_back(fb_.write_pump(n_wr, *tee, *fwd, ddr, wr_step, stored));
+    pass1.push_back(fb_.write_pump(n_wr, *tee, *fwd, ddr, wr_step, stored, wr_row_done));
     if (!schedule(pass1, [&] { return wr_step >= write_firings; })) {
       collect_front_end(*fe);
       collect(std::move(fe->out_l), std::move(fe->out_r), std::move(costs), std::move(tee), std::move(fwd));
@@ -635,6 +644,7 @@ class Engine : private PipelineRun<kTimed> {
     if constexpr (Caps::count_accesses) agg_.count_row_layout();
     configure_wta();
     median_.configure(p_);
+    const std::size_t pass2_fifos = graph_->fifo_list().size();
     auto back_c = make_fifo<CostTok>("cost_from_ddr", kTokenDepth);
     auto back_f = make_fifo<SumTok>("fwd_from_ddr", kTokenDepth);
     auto sums = make_fifo<SumTok>("sum", kTokenDepth);
@@ -647,13 +657,19 @@ class Engine : private PipelineRun<kTimed> {
     NodeT& n_sink = node("sink");
     Rate rd = ddr;
     rd.start = pass2_start;
-    int64_t read_word = 0, got = 0;
+    int64_t read_word = 0, got = 0, map_step = 0;
     const int64_t total = fl.pixels;
+    start_fast_forward_pass2(read_word, rd, got, map_step, pass2_fifos);
+    std::function<void()> map_row_done;
+    if (ff_.enabled())
+      map_row_done = [this, &got] {
+        if (got % p_.width_px == 0) ff_.row_done(*this);
+      };
     schedule({fb_.read_pump(n_rd, *back_c, *back_f, rd, read_word),
               agg_pump<Fifo<CostTok>, Fifo<SumTok>, Fifo<SumTok>, Fifo<CostTok>>(n_back, *back_c, back_f.get(), *sums,
                                                                                  nullptr),
               wta_pump(n_wta, *sums, *disp, got), median_pump(n_med, *disp, *filtered),
-              fb_.map_writer_pump(n_sink, *filtered, out, got)},
+              fb_.map_writer_pump(n_sink, *filtered, out, got, map_step, map_row_done)},
              [&] { return got >= total; });
     if (rep_) {
       rep_->ddr_bytes_read = read_word * fl.word_bytes;
@@ -666,26 +682,87 @@ class Engine : private PipelineRun<kTimed> {
 
   // --- periodic fast-forward hooks (fast_forward.hpp) ------------------------------------------
 
-  // Arms the fast-forward where it is exact: the timing run of a one-pass design, without
-  // rectification or VCD trace (the coupled run never skips).
-  void start_fast_forward(int64_t& next_src, int64_t& got, int64_t source_pixels) {
+  // Whether the fast-forward may run: the timing run, without rectification or VCD trace (the
+  // coupled run never skips).
+  bool fast_forward_allowed() const {
     const bool tracing = trace_ && trace_->active();
-    const bool enabled =
-        kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
+    return kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
+  }
+  // The input as a rate the source waits for, in pixels (one pass, pass 1).
+  RateBound input_bound(int64_t& next_src, int64_t source_pixels) const {
+    RateBound b;
+    b.node = "source";
+    b.next = &next_src;
+    b.per_row = p_.width_px;
+    b.total = source_pixels;
+    if (setup_.opt->truncate_input_px >= 0) b.total = std::min(b.total, setup_.opt->truncate_input_px);
+    const double stride = setup_.opt->input == InputKind::camera ? double(p_.width_px + setup_.opt->camera_h_blank_px)
+                                                                 : double(p_.width_px);
+    b.row_cycles = stride * input_rate_.cycles_per_token;
+    b.at = [this](int64_t i) { return input_arrival(i); };
+    return b;
+  }
+  // Arms the fast-forward for a one-pass design where it is allowed.
+  void start_fast_forward(int64_t& next_src, int64_t& got, int64_t source_pixels) {
+    const bool enabled = fast_forward_allowed();
     FastForwardRun run;
     if (enabled) {
-      run.next_src = &next_src;
       run.got = &got;
-      run.last_pixel_cycle = &rep_->last_pixel_cycle;
+      run.sink_per_row = p_.width_px;
+      run.last_cycle = &rep_->last_pixel_cycle;
       run.rows_fast_forwarded = &rep_->rows_fast_forwarded;
-      run.source_total = source_pixels;
-      if (setup_.opt->truncate_input_px >= 0)
-        run.source_total = std::min(run.source_total, setup_.opt->truncate_input_px);
-      run.width = p_.width_px;
       run.settle_rows = p_.window_h / 2 + p_.median / 2 + 2 + (kern::row_reverse_paths(p_.path_mask) ? 2 : 0);
-      const double stride = setup_.opt->input == InputKind::camera ? double(p_.width_px + setup_.opt->camera_h_blank_px)
-                                                                   : double(p_.width_px);
-      run.row_input_cycles = stride * input_rate_.cycles_per_token;
+      run.source = input_bound(next_src, source_pixels);
+    }
+    ff_.start(enabled, *graph_, run);
+  }
+  // Pass 1 of the two-pass design: from the input to the frame-buffer writer, whose rows are
+  // words (stored, a row's words per row) and which waits for the memory's write rate.
+  void start_fast_forward_pass1(int64_t& next_src, int64_t source_pixels, int64_t& wr_step, int64_t& stored,
+                                int64_t& wr_last, const Rate& ddr) {
+    const bool enabled = fast_forward_allowed();
+    FastForwardRun run;
+    if (enabled) {
+      const FrameLayout& fl = fb_.layout();
+      const int64_t words_per_row = int64_t(p_.width_px) * fl.chunks * fl.beats;
+      run.got = &stored;
+      run.sink_per_row = words_per_row;
+      run.last_cycle = &wr_last;
+      run.rows_fast_forwarded = &rep_->first_pass_rows_fast_forwarded;
+      run.counters = {&wr_step};
+      run.settle_rows = p_.window_h / 2 + 3;
+      run.source = input_bound(next_src, source_pixels);
+      run.sink_rate.node = "ddr_write";
+      run.sink_rate.next = &stored;
+      run.sink_rate.per_row = words_per_row;
+      run.sink_rate.total = fl.words;
+      run.sink_rate.row_cycles = double(words_per_row) * ddr.cycles_per_token;
+      run.sink_rate.at = [ddr](int64_t w) { return ddr.at(w); };
+    }
+    ff_.start(enabled, *graph_, run);
+  }
+  // Pass 2: from the frame-buffer reader (rows of words, read at the memory's rate) to the map
+  // writer (rows of codes); the FIFOs from first_fifo on are the pass's.
+  void start_fast_forward_pass2(int64_t& read_word, const Rate& rd, int64_t& got, int64_t& map_step,
+                                std::size_t first_fifo) {
+    const bool enabled = fast_forward_allowed();
+    FastForwardRun run;
+    if (enabled) {
+      const FrameLayout& fl = fb_.layout();
+      const int64_t words_per_row = int64_t(p_.width_px) * fl.chunks * fl.beats;
+      run.got = &got;
+      run.sink_per_row = p_.width_px;
+      run.last_cycle = &rep_->last_pixel_cycle;
+      run.rows_fast_forwarded = &rep_->rows_fast_forwarded;
+      run.counters = {&map_step};
+      run.settle_rows = p_.median / 2 + 3;
+      run.first_fifo = first_fifo;
+      run.source.node = "ddr_read";
+      run.source.next = &read_word;
+      run.source.per_row = words_per_row;
+      run.source.total = fl.words;
+      run.source.row_cycles = double(words_per_row) * rd.cycles_per_token;
+      run.source.at = [rd](int64_t i) { return rd.at(i); };
     }
     ff_.start(enabled, *graph_, run);
   }

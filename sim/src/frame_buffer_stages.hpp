@@ -74,10 +74,10 @@ class FrameBufferStages {
   // ddr_write: seg_tokens firings that only fill the first segment, then one firing per word
   // written (word w no earlier than ddr.at(w)), which also takes in the next segment's tokens
   // (one pair per `beats` words) while there are any. step counts its firings, stored the words
-  // written.
+  // written; word_done (if set) is called after each word written (the fast-forward's hook).
   std::function<bool()> write_pump(NodeT& n, Fifo<CostTok>& tee, Fifo<SumTok>& fwd, Rate ddr, int64_t& step,
-                                   int64_t& stored) {
-    return [this, &n, &tee, &fwd, ddr, &step, &stored] {
+                                   int64_t& stored, std::function<void()> word_done = {}) {
+    return [this, &n, &tee, &fwd, ddr, &step, &stored, word_done] {
       const FrameLayout& fl = fl_;
       bool fired = false;
       if (n.still_blocked()) return false;
@@ -119,9 +119,12 @@ class FrameBufferStages {
                 },
                 writes ? ddr.at(w) : 0))
           break;
-        if (writes) ++stored;
         ++step;
         fired = true;
+        if (writes) {
+          ++stored;
+          if (word_done) word_done();
+        }
       }
       return fired;
     };
@@ -170,16 +173,17 @@ class FrameBufferStages {
   // buffers segments of them (ping-pong) and writes each segment reversed at ascending
   // addresses, so that the map lands in raster order. Its loop: seg firings that only fill the
   // first segment, then one firing per code written, which also takes in the next code while
-  // there are any. A code leaves when it is written to memory; got counts them.
-  std::function<bool()> map_writer_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got) {
+  // there are any. A code leaves when it is written to memory; got counts them, step the
+  // firings; code_done (if set) is called after each code written (the fast-forward's hook).
+  std::function<bool()> map_writer_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got,
+                                        int64_t& step, std::function<void()> code_done = {}) {
     const int64_t total = fl_.pixels;
     const int64_t seg = kern::map_segment_pixels(p_);
-    auto step = std::make_shared<int64_t>(0);
-    return [this, &n, &in, &out, &got, total, seg, step] {
+    return [this, &n, &in, &out, &got, total, seg, &step, code_done] {
       bool fired = false;
       if (n.still_blocked()) return false;
-      while (*step < seg + total) {
-        const int64_t t = *step;
+      while (step < seg + total) {
+        const int64_t t = step;
         const bool writes = t >= seg;
         const int64_t w = t - seg;
         const bool reads = !writes || w < total - seg;
@@ -199,7 +203,7 @@ class FrameBufferStages {
               }
             }))
           break;
-        ++*step;
+        ++step;
         fired = true;
         if (!writes) continue;
         if (rep_) {
@@ -207,6 +211,7 @@ class FrameBufferStages {
           rep_->last_pixel_cycle = n.report().last_fire_cycle;
         }
         ++got;
+        if (code_done) code_done();
       }
       return fired;
     };

@@ -541,6 +541,53 @@ TEST(CycleEquiv, FastForwardEqualsEveryFiring) {
   EXPECT_GE(engaged, cases * 2 / 3) << "the fast-forward engaged in too few designs to test it";
 }
 
+// The two passes of the 8-path design fast-forward each on its own (pass 1 to the frame-buffer
+// writer, rows of words, under the memory's write rate; pass 2 from the reader to the map
+// writer): over designs of every pacing (aggregation-bound, input-bound, camera-bound with and
+// without overruns, depth-1 FIFOs, a frame buffer slow enough to bind both passes (whole cycles
+// per word: the passes still skip), another binding at a fraction of a cycle per word (the rows'
+// words do not repeat with one period: no skip), no median, no LR check), the report equals the
+// one that simulates every firing and the coupled run's.
+TEST(CycleEquiv, TwoPassFastForwardEqualsEveryFiring) {
+  uint32_t seed = 9400;
+  int engaged1 = 0, engaged2 = 0, cases = 0;
+  for (int variant = 0; variant < 12; ++variant) {
+    const int d = variant % 3 == 0 ? 16 : 32;
+    const int pu = variant % 4 == 0 ? 16 : variant % 4 == 1 ? 4 : 8;
+    StereoParams p = params(variant % 2 ? 24 : 41, 44 + variant, d, pu, kern::kAllPaths);
+    p.cost = variant % 5 == 2 ? int(kern::kCostSad) : int(kern::kCostCensus);
+    p.median = variant % 3 == 1 ? 0 : (variant % 2 ? 3 : 5);
+    p.lr_check = variant % 4 != 3;
+    const StereoPair sp = make_pair(Pattern::kShiftedTexture, p.width_px, p.height_px, seed, 4);
+    sim::CycleOptions o = one_pair_per_cycle();
+    o.fifo_depth = std::size_t(1 + variant % 3);
+    if (variant % 4 == 2) {  // a camera: slower than the pipeline (variant 2), or faster (6, 10: overruns)
+      o.input = sim::InputKind::camera;
+      o.camera_pixel_hz = variant == 2 ? 5e6 : 150e6;
+      o.camera_h_blank_px = 7;
+      o.camera_v_blank_rows = 2;
+    }
+    if (variant == 9) o.input_bytes_per_s = 0.05e9;                // memory input slower than the pipeline
+    if (variant == 5 || variant == 7) o.ddr_bytes_per_s = 0.02e9;  // the frame buffer binds both passes
+    if (variant == 11) o.ddr_bytes_per_s = 0.9e9;                  // binding at a fraction of a cycle per word: no skip
+    const std::string what = describe(p) + " two-pass variant " + std::to_string(variant);
+    sim::CycleOptions every = o;
+    every.fast_forward = false;
+    const sim::CycleReport fast = sim::run_timing(sp.left, sp.right, p, o);
+    const sim::CycleReport slow = sim::run_timing(sp.left, sp.right, p, every);
+    expect_same_report(fast, slow, what + " (fast-forward vs every firing)");
+    EXPECT_EQ(slow.rows_fast_forwarded + slow.first_pass_rows_fast_forwarded, 0);
+    const sim::CycleReport coupled = run_both_modes(sp.left, sp.right, p, o, what);
+    expect_same_report(fast, coupled, what + " (fast-forward vs coupled)");
+    engaged1 += fast.first_pass_rows_fast_forwarded > 0 ? 1 : 0;
+    engaged2 += fast.rows_fast_forwarded > 0 ? 1 : 0;
+    ++cases;
+    ++seed;
+  }
+  EXPECT_GE(engaged1, cases * 2 / 3) << "pass 1's fast-forward engaged in too few designs to test it";
+  EXPECT_GE(engaged2, cases * 2 / 3) << "pass 2's fast-forward engaged in too few designs to test it";
+}
+
 // An input-bound design whose rows arrive 72 cycles apart except one row in a hundred (73: the
 // memory delivers a pixel every 3 + 0.01/24 cycles). The schedule repeats for long runs of rows;
 // the fast-forward checks the arrivals of the rows it skips, stops before the longer row,

@@ -56,6 +56,7 @@ void to_json(nlohmann::json& j, const SimulationResult& t) {
   j["interval_limit"] = t.interval_limit;
   j["bottleneck"] = c.bottleneck;
   j["rows_fast_forwarded"] = c.rows_fast_forwarded;
+  if (c.ddr_word_bits > 0) j["first_pass_rows_fast_forwarded"] = c.first_pass_rows_fast_forwarded;
   j["input_period_cycles"] = c.input_period_cycles;
   if (c.ddr_word_bits > 0)  // two passes: the frame buffer's and the map's traffic per frame
     j["ddr"] = {

@@ -156,6 +156,9 @@ void print_sim_text(const config::PipelineConfig& cfg, int clock, const cv::Mat&
   if (c.rows_fast_forwarded > 0)
     std::printf("\n%lld of %d output rows repeated the previous rows' schedule exactly and were applied at once\n",
                 (long long)c.rows_fast_forwarded, l.rows);
+  if (c.first_pass_rows_fast_forwarded > 0)
+    std::printf("%lld of %d rows of the first pass (to the frame buffer) likewise\n",
+                (long long)c.first_pass_rows_fast_forwarded, l.rows);
   if (result.unbounded_last_pixel_cycle >= 0)
     std::printf(
         "\nwith unbounded FIFOs the last pixel leaves at cycle %lld (%+lld cycles); stall_free = depth at which\n"
