@@ -97,16 +97,21 @@ std::function<void(int, int, int)> sweep_progress() {
   return [tty, t0](int done, int total, int settled) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const int worked = done - settled;
-    const double eta = worked > 0 ? s / worked * double(total - done) : 0.0;
+    // Before the first design is evaluated (invalid and stored ones settle at once) there is no
+    // rate to extrapolate from.
+    char eta[48];
+    if (worked > 0)
+      std::snprintf(eta, sizeof eta, "ETA %.0f s", s / worked * double(total - done));
+    else
+      std::snprintf(eta, sizeof eta, "ETA unknown");
     if (tty) {
       const int width = 30, filled = total > 0 ? done * width / total : width;
-      std::fprintf(stderr, "\r[%s%s] %d/%d designs (%d stored or invalid), ETA %.0f s   ",
+      std::fprintf(stderr, "\r[%s%s] %d/%d designs (%d stored or invalid), %s   ",
                    std::string(std::size_t(filled), '#').c_str(), std::string(std::size_t(width - filled), '.').c_str(),
                    done, total, settled, eta);
       if (done == total) std::fprintf(stderr, "\n");
     } else {
-      std::fprintf(stderr, "parallax: sweep %d/%d designs (%d stored or invalid), ETA %.0f s\n", done, total, settled,
-                   eta);
+      std::fprintf(stderr, "parallax: sweep %d/%d designs (%d stored or invalid), %s\n", done, total, settled, eta);
     }
   };
 }
