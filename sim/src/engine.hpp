@@ -620,7 +620,7 @@ class Engine : private PipelineRun<kTimed> {
     const int64_t write_firings = fl.seg_tokens + fl.words;
     int64_t wr_step = 0, stored = 0, wr_last = 0;
     start_fast_forward_pass1(fe->next_src, int64_t(left.px.size()), wr_step, stored, wr_last, ddr);
-    const int64_t words_per_row = int64_t(p_.width_px) * fl.chunks * fl.beats;
+    const int64_t words_per_row = frame_words_per_row();
     std::function<void()> wr_row_done;
     if (ff_.enabled())
       wr_row_done = [this, &n_wr, &stored, &wr_last, words_per_row] {
@@ -682,25 +682,31 @@ class Engine : private PipelineRun<kTimed> {
 
   // --- periodic fast-forward hooks (fast_forward.hpp) ------------------------------------------
 
-  // Whether the fast-forward may run: the timing run, without rectification or VCD trace (the
-  // coupled run never skips).
+  // Whether the fast-forward may run: the timing run without rectification or VCD trace.
   bool fast_forward_allowed() const {
-    const bool tracing = trace_ && trace_->active();
-    return kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() && !tracing;
+    return kTimed && !kData && rep_ && setup_.opt && setup_.opt->fast_forward && !rectifying() &&
+           !(trace_ && trace_->active());
   }
   // The input as a rate the source waits for, in pixels (one pass, pass 1).
   RateBound input_bound(int64_t& next_src, int64_t source_pixels) const {
-    RateBound b;
-    b.node = "source";
-    b.next = &next_src;
-    b.per_row = p_.width_px;
-    b.total = source_pixels;
-    if (setup_.opt->truncate_input_px >= 0) b.total = std::min(b.total, setup_.opt->truncate_input_px);
-    const double stride = setup_.opt->input == InputKind::camera ? double(p_.width_px + setup_.opt->camera_h_blank_px)
-                                                                 : double(p_.width_px);
-    b.row_cycles = stride * input_rate_.cycles_per_token;
-    b.at = [this](int64_t i) { return input_arrival(i); };
-    return b;
+    const CycleOptions& o = *setup_.opt;
+    const int64_t total = o.truncate_input_px >= 0 ? std::min(source_pixels, o.truncate_input_px) : source_pixels;
+    const double stride = double(p_.width_px) + (o.input == InputKind::camera ? double(o.camera_h_blank_px) : 0.0);
+    return RateBound{"source", &next_src, p_.width_px, total, stride * input_rate_.cycles_per_token, [this](int64_t i) {
+                       return input_arrival(i);
+                     }};
+  }
+  // The frame buffer's words of one row, and the memory's rate as a RateBound of a node counting
+  // words in `next`.
+  int64_t frame_words_per_row() const { return int64_t(p_.width_px) * fb_.layout().chunks * fb_.layout().beats; }
+  RateBound memory_bound(const char* node, int64_t& next, const Rate& r) const {
+    const int64_t per_row = frame_words_per_row();
+    return RateBound{node,
+                     &next,
+                     per_row,
+                     fb_.layout().words,
+                     double(per_row) * r.cycles_per_token,
+                     [r](int64_t i) { return r.at(i); }};
   }
   // Arms the fast-forward for a one-pass design where it is allowed.
   void start_fast_forward(int64_t& next_src, int64_t& got, int64_t source_pixels) {
@@ -723,21 +729,14 @@ class Engine : private PipelineRun<kTimed> {
     const bool enabled = fast_forward_allowed();
     FastForwardRun run;
     if (enabled) {
-      const FrameLayout& fl = fb_.layout();
-      const int64_t words_per_row = int64_t(p_.width_px) * fl.chunks * fl.beats;
       run.got = &stored;
-      run.sink_per_row = words_per_row;
+      run.sink_per_row = frame_words_per_row();
       run.last_cycle = &wr_last;
       run.rows_fast_forwarded = &rep_->first_pass_rows_fast_forwarded;
       run.counters = {&wr_step};
       run.settle_rows = p_.window_h / 2 + 3;
       run.source = input_bound(next_src, source_pixels);
-      run.sink_rate.node = "ddr_write";
-      run.sink_rate.next = &stored;
-      run.sink_rate.per_row = words_per_row;
-      run.sink_rate.total = fl.words;
-      run.sink_rate.row_cycles = double(words_per_row) * ddr.cycles_per_token;
-      run.sink_rate.at = [ddr](int64_t w) { return ddr.at(w); };
+      run.sink_rate = memory_bound("ddr_write", stored, ddr);
     }
     ff_.start(enabled, *graph_, run);
   }
@@ -748,8 +747,6 @@ class Engine : private PipelineRun<kTimed> {
     const bool enabled = fast_forward_allowed();
     FastForwardRun run;
     if (enabled) {
-      const FrameLayout& fl = fb_.layout();
-      const int64_t words_per_row = int64_t(p_.width_px) * fl.chunks * fl.beats;
       run.got = &got;
       run.sink_per_row = p_.width_px;
       run.last_cycle = &rep_->last_pixel_cycle;
@@ -757,12 +754,7 @@ class Engine : private PipelineRun<kTimed> {
       run.counters = {&map_step};
       run.settle_rows = p_.median / 2 + 3;
       run.first_fifo = first_fifo;
-      run.source.node = "ddr_read";
-      run.source.next = &read_word;
-      run.source.per_row = words_per_row;
-      run.source.total = fl.words;
-      run.source.row_cycles = double(words_per_row) * rd.cycles_per_token;
-      run.source.at = [rd](int64_t i) { return rd.at(i); };
+      run.source = memory_bound("ddr_read", read_word, rd);
     }
     ff_.start(enabled, *graph_, run);
   }

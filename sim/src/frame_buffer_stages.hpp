@@ -76,7 +76,7 @@ class FrameBufferStages {
   // (one pair per `beats` words) while there are any. step counts its firings, stored the words
   // written; word_done (if set) is called after each word written (the fast-forward's hook).
   std::function<bool()> write_pump(NodeT& n, Fifo<CostTok>& tee, Fifo<SumTok>& fwd, Rate ddr, int64_t& step,
-                                   int64_t& stored, std::function<void()> word_done = {}) {
+                                   int64_t& stored, const std::function<void()>& word_done = {}) {
     return [this, &n, &tee, &fwd, ddr, &step, &stored, word_done] {
       const FrameLayout& fl = fl_;
       bool fired = false;
@@ -176,7 +176,7 @@ class FrameBufferStages {
   // there are any. A code leaves when it is written to memory; got counts them, step the
   // firings; code_done (if set) is called after each code written (the fast-forward's hook).
   std::function<bool()> map_writer_pump(NodeT& n, Fifo<kern::DispCode>& in, DisparityCodes& out, int64_t& got,
-                                        int64_t& step, std::function<void()> code_done = {}) {
+                                        int64_t& step, const std::function<void()>& code_done = {}) {
     const int64_t total = fl_.pixels;
     const int64_t seg = kern::map_segment_pixels(p_);
     return [this, &n, &in, &out, &got, total, seg, &step, code_done] {

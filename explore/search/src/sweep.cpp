@@ -322,6 +322,96 @@ void for_each_on_threads(std::size_t count, int jobs, const std::function<void(s
   if (failure) std::rethrow_exception(failure);
 }
 
+// One unit's work in `chunks` pieces (frame ranges) that any thread takes: the first piece to
+// start claims the designs, the last to end pools, finishes and stores them. A failure in any
+// piece makes every design of the unit an error row carrying the first message.
+struct UnitJob {
+  Unit unit;
+  int chunks = 1;
+  std::once_flag claimed;
+  Unit mine;
+  GroupFrames g;
+  std::atomic<int> left{0};
+  std::mutex mu;
+  std::string error;  // the first failure
+  void fail(const std::string& what) {
+    const std::lock_guard<std::mutex> lock(mu);
+    if (error.empty()) error = what.empty() ? "evaluation failed" : what;
+  }
+  bool failed() {
+    const std::lock_guard<std::mutex> lock(mu);
+    return !error.empty();
+  }
+};
+
+// What a piece needs of its batch: the claim of a unit's designs in the store (those this
+// process evaluates), storing a finished row, and the error row of a design.
+struct BatchHooks {
+  std::function<Unit(const Unit&)> claim;
+  std::function<void(ResultStore::Row&)> store;
+  std::function<ResultStore::Row(const MaterialisedDesign&, const std::string&)> error_row;
+};
+
+void run_unit_chunk(UnitJob& job, int c, const SweepSpec& spec, const Dataset& dataset, detail::FrameCache& frames,
+                    const BatchHooks& hooks) {
+  std::call_once(job.claimed, [&] {
+    job.mine = hooks.claim(job.unit);
+    if (job.mine.size() < 2) return;
+    try {
+      std::vector<FrameRef> refs = list_frames(dataset, spec.gt == "occ" ? GtKind::occ : GtKind::noc, spec.frames);
+      if (refs.empty())
+        throw InputError(dataset.root.string() + ": no frame with ground truth matches '" + spec.frames + "'");
+      prepare_group(spec, job.mine, std::move(refs), job.g);
+    } catch (const std::exception& e) {
+      job.fail(e.what());
+    }
+  });
+  if (!job.failed() && job.mine.size() >= 2) {
+    const std::size_t n = job.g.refs.size(), chunks = std::size_t(job.chunks);
+    try {
+      evaluate_group_frames(spec, job.g, n * std::size_t(c) / chunks, n * std::size_t(c + 1) / chunks, frames);
+    } catch (const std::exception& e) {
+      job.fail(e.what());
+    }
+  }
+  if (job.left.fetch_sub(1) != 1 || job.mine.empty()) return;  // not the unit's last piece, or none of it here
+  std::vector<ResultStore::Row> rows;
+  try {
+    if (job.failed()) throw std::runtime_error(job.error);
+    if (job.mine.size() == 1)
+      rows.push_back(evaluate_one(spec, *job.mine.front(), dataset));
+    else
+      rows = finish_group(spec, job.g, dataset);
+  } catch (const std::exception& e) {
+    rows.clear();
+    for (const auto* m : job.mine) rows.push_back(hooks.error_row(*m, e.what()));
+  }
+  for (auto& r : rows) hooks.store(r);
+}
+
+// The units on `jobs` threads, each cut into frame chunks (frame_chunks), every unit's chunks in
+// order in one queue.
+void run_units_in_chunks(const std::vector<Unit>& units, int jobs, const SweepSpec& spec, const Dataset& dataset,
+                         detail::FrameCache& frames, const BatchHooks& hooks) {
+  const std::size_t frame_count =
+      list_frames(dataset, spec.gt == "occ" ? GtKind::occ : GtKind::noc, spec.frames).size();
+  std::size_t designs_in_batch = 0;
+  for (const Unit& u : units) designs_in_batch += u.size();
+  std::vector<std::unique_ptr<UnitJob>> unit_jobs;
+  std::vector<std::pair<std::size_t, int>> pieces;  // (unit, chunk)
+  for (const Unit& u : units) {
+    auto job = std::make_unique<UnitJob>();
+    job->unit = u;
+    job->chunks = frame_chunks(u.size(), designs_in_batch, frame_count, jobs, spec.avoidance);
+    job->left = job->chunks;
+    for (int c = 0; c < job->chunks; ++c) pieces.emplace_back(unit_jobs.size(), c);
+    unit_jobs.push_back(std::move(job));
+  }
+  for_each_on_threads(pieces.size(), jobs, [&](std::size_t i) {
+    run_unit_chunk(*unit_jobs[pieces[i].first], pieces[i].second, spec, dataset, frames, hooks);
+  });
+}
+
 // Evaluates the designs (skipping stored ones) with `jobs` threads; counts into `sum`. Designs
 // sharing the cost stage form groups (opt.share_costs) that a thread evaluates together. Each
 // group claims its designs in the store first: designs another live process claimed are left to
@@ -429,82 +519,9 @@ void evaluate_batch(const SweepSpec& spec, const std::vector<MaterialisedDesign>
     }
     return mine;
   };
-  // One unit's work in `chunks` pieces (frame ranges) that any thread takes: the first piece to
-  // start claims the designs, the last to end pools, finishes and stores them. A failure in any
-  // piece makes every design of the unit an error row carrying the first message.
-  struct Job {
-    Unit unit;
-    int chunks = 1;
-    std::once_flag claimed;
-    Unit mine;
-    GroupFrames g;
-    std::atomic<int> left{0};
-    std::mutex mu;
-    std::string error;  // the first failure
-  };
-  const GtKind gt_kind = spec.gt == "occ" ? GtKind::occ : GtKind::noc;
-  auto fail = [](Job& job, const std::string& what) {
-    std::lock_guard<std::mutex> lock(job.mu);
-    if (job.error.empty()) job.error = what.empty() ? "evaluation failed" : what;
-  };
-  auto run_chunk = [&](Job& job, int c) {
-    std::call_once(job.claimed, [&] {
-      job.mine = claim_unit(job.unit);
-      if (job.mine.size() < 2) return;
-      try {
-        std::vector<FrameRef> refs = list_frames(dataset, gt_kind, spec.frames);
-        if (refs.empty())
-          throw InputError(dataset.root.string() + ": no frame with ground truth matches '" + spec.frames + "'");
-        prepare_group(spec, job.mine, std::move(refs), job.g);
-      } catch (const std::exception& e) {
-        fail(job, e.what());
-      }
-    });
-    bool ok = true;
-    {
-      std::lock_guard<std::mutex> lock(job.mu);
-      ok = job.error.empty();
-    }
-    if (ok && job.mine.size() >= 2) {
-      const std::size_t n = job.g.refs.size(), chunks = std::size_t(job.chunks);
-      const std::size_t lo = n * std::size_t(c) / chunks, hi = n * std::size_t(c + 1) / chunks;
-      try {
-        evaluate_group_frames(spec, job.g, lo, hi, frames);
-      } catch (const std::exception& e) {
-        fail(job, e.what());
-      }
-    }
-    if (job.left.fetch_sub(1) != 1) return;  // not the last piece of the unit
-    if (job.mine.empty()) return;
-    std::vector<ResultStore::Row> rows;
-    try {
-      if (!job.error.empty()) throw std::runtime_error(job.error);
-      if (job.mine.size() == 1)
-        rows.push_back(evaluate_one(spec, *job.mine.front(), dataset));
-      else
-        rows = finish_group(spec, job.g, dataset);
-    } catch (const std::exception& e) {
-      rows.clear();
-      for (const auto* m : job.mine) rows.push_back(error_row(*m, e.what()));
-    }
-    for (auto& r : rows) store_row(r);
-  };
-  const std::size_t frame_count = list_frames(dataset, gt_kind, spec.frames).size();
+  const BatchHooks hooks{claim_unit, store_row, error_row};
   auto run_units = [&](const std::vector<Unit>& units) {
-    std::size_t designs_in_batch = 0;
-    for (const Unit& u : units) designs_in_batch += u.size();
-    std::vector<std::unique_ptr<Job>> jobs_of;
-    std::vector<std::pair<std::size_t, int>> pieces;  // (job, chunk), each unit's chunks in order
-    for (const Unit& u : units) {
-      auto job = std::make_unique<Job>();
-      job->unit = u;
-      job->chunks = frame_chunks(u.size(), designs_in_batch, frame_count, jobs, spec.avoidance);
-      job->left = job->chunks;
-      for (int c = 0; c < job->chunks; ++c) pieces.emplace_back(jobs_of.size(), c);
-      jobs_of.push_back(std::move(job));
-    }
-    for_each_on_threads(pieces.size(), jobs,
-                        [&](std::size_t i) { run_chunk(*jobs_of[pieces[i].first], pieces[i].second); });
+    run_units_in_chunks(units, jobs, spec, dataset, frames, hooks);
   };
   run_units(cost_sharing_units(todo, opt.share_costs));
   // Designs other processes are evaluating: wait for their results; take over a design whose

@@ -124,7 +124,8 @@ struct CycleReport {
   std::string input_overrun;
   int64_t rectify_window_misses = 0;  // map taps outside the rectify line buffers (both cameras)
   int64_t rows_fast_forwarded = 0;    // output rows the schedule applied at once (CycleOptions::fast_forward)
-  int64_t first_pass_rows_fast_forwarded = 0;  // two-pass designs: rows of pass 1 applied at once
+  // Two-pass designs: rows of pass 1 (to the frame buffer) applied at once.
+  int64_t first_pass_rows_fast_forwarded = 0;
   // Two-pass designs: the DDR traffic of one frame (kernels/frame_buffer.hpp). Pass 1 writes and
   // pass 2 reads every word of the frame buffer once (words of ddr_word_bits, the packed pair's
   // next power of two); the map writer writes one 16-bit code per pixel. 0 for one pass.
